@@ -1,0 +1,112 @@
+"""Diagnostics as data (rule, severity, where, message) and the exit codes.
+
+One function per output format renders them (see report.py); nothing here prints.
+"""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+
+class ExitCode(enum.IntEnum):
+    OK = 0
+    FINDINGS = 1      # the input has errors (compile: nothing written)
+    USAGE = 2         # bad command line
+    UNREADABLE = 3    # an input could not be read at all
+    INTERNAL = 70     # a bug in dcf2bin (EX_SOFTWARE); --debug shows the traceback
+
+
+class Severity(str, enum.Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    INFO = "info"
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    severity: Severity
+    message: str
+    file: str = ""
+    line: int | None = None
+    column: int | None = None
+    offset: int | None = None     # byte offset, for binary inputs
+    rule: str = ""
+    hint: str = ""
+
+    @property
+    def location(self) -> str:
+        loc = self.file or "<input>"
+        if self.line is not None:
+            loc += f":{self.line}"
+            if self.column is not None:
+                loc += f":{self.column}"
+        elif self.offset is not None:
+            loc += f":0x{self.offset:X}"
+        return loc
+
+    def format(self) -> str:
+        text = f"{self.location}: {self.severity.value}: {self.message}"
+        if self.rule:
+            text += f" [{self.rule}]"
+        return text
+
+
+@dataclass
+class Where:
+    """A place in an input file: every model element carries one."""
+    file: str
+    line: int | None = None
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}" if self.line is not None else self.file
+
+
+class DcfError(Exception):
+    """A problem in user input; carries the diagnostic that explains it."""
+
+    def __init__(self, message: str, where: Where | None = None, *, rule: str = "",
+                 offset: int | None = None, hint: str = ""):
+        super().__init__(message)
+        self.diagnostic = Diagnostic(Severity.ERROR, message, where.file if where else "",
+                                     where.line if where else None, None, offset, rule, hint)
+
+    def __str__(self) -> str:
+        return self.diagnostic.format()
+
+
+@dataclass
+class Diagnostics:
+    """A collector: code adds findings, the CLI decides what they mean for the exit code."""
+    items: list[Diagnostic] = field(default_factory=list)
+
+    def add(self, severity: Severity, message: str, where: Where | None = None, *,
+            rule: str = "", column: int | None = None, offset: int | None = None,
+            hint: str = "") -> None:
+        self.items.append(Diagnostic(severity, message, where.file if where else "",
+                                     where.line if where else None, column, offset, rule, hint))
+
+    def error(self, message: str, where: Where | None = None, **kw) -> None:
+        self.add(Severity.ERROR, message, where, **kw)
+
+    def warning(self, message: str, where: Where | None = None, **kw) -> None:
+        self.add(Severity.WARNING, message, where, **kw)
+
+    def info(self, message: str, where: Where | None = None, **kw) -> None:
+        self.add(Severity.INFO, message, where, **kw)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.items if d.severity is Severity.ERROR]
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is Severity.ERROR for d in self.items)
+
+    def extend(self, other: "Diagnostics") -> None:
+        self.items.extend(other.items)
+
+    def __iter__(self):
+        return iter(self.items)
+
+    def __len__(self) -> int:
+        return len(self.items)
