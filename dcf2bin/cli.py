@@ -1,0 +1,195 @@
+"""The command line: a thin click layer, and the only place that exits.
+
+Imports of the real work (construct, canopen, the model) happen inside the
+commands, so ``dcf2bin --help`` and ``--version`` stay fast.
+"""
+from __future__ import annotations
+
+import functools
+import os
+import sys
+import tempfile
+
+import click
+
+from dcf2bin import __version__
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+
+CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
+
+
+class Failure(Exception):
+    """End the command with diagnostics already printed and this exit code."""
+
+    def __init__(self, code: ExitCode):
+        self.code = code
+
+
+def _emit(diags, quiet: bool = False) -> None:
+    from dcf2bin.report import render_text
+    shown = [d for d in diags if not (quiet and d.severity is not Severity.ERROR)]
+    render_text(shown, sys.stderr, hints=True)
+
+
+def _fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
+    _emit([Diagnostic(Severity.ERROR, message, where)])
+    raise Failure(code)
+
+
+def guarded(fn):
+    """Turn Failure into its exit code and any bug into one line plus exit 70."""
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        ctx = click.get_current_context()
+        debug = (ctx.find_root().params or {}).get("debug", False) or ctx.params.get("debug")
+        try:
+            return fn(*args, **kwargs)
+        except Failure as f:
+            ctx.exit(int(f.code))
+        except (click.exceptions.Exit, click.ClickException, click.Abort):
+            raise
+        except KeyboardInterrupt:
+            click.echo("dcf2bin: interrupted", err=True)
+            ctx.exit(130)
+        except BrokenPipeError:
+            ctx.exit(int(ExitCode.OK))
+        except Exception as exc:  # a bug: never a traceback unless asked
+            if debug or os.environ.get("DCF2BIN_DEBUG"):
+                raise
+            click.echo(f"dcf2bin: internal error: {type(exc).__name__}: {exc} "
+                       "(run with --debug for the traceback, and please report it)", err=True)
+            ctx.exit(int(ExitCode.INTERNAL))
+    return wrapper
+
+
+def read_input(path: str) -> bytes:
+    """Read a file or '-' (stdin); an unreadable input ends with exit 3."""
+    try:
+        if path == "-":
+            return sys.stdin.buffer.read()
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError as exc:
+        _fail(f"cannot read: {exc.strerror}", path, ExitCode.UNREADABLE)
+
+
+def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: bool) -> None:
+    """Write atomically (temp file + rename); never over an input; no binary to a terminal."""
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    if output == "-":
+        if binary and sys.stdout.isatty():
+            _fail("refusing to write binary data to a terminal; use -o FILE or a pipe",
+                  code=ExitCode.USAGE)
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
+        return
+    out_abs = os.path.realpath(output)
+    for inp in inputs:
+        if inp != "-" and os.path.exists(inp) and os.path.realpath(inp) == out_abs:
+            _fail(f"output '{output}' is the input file; refusing to overwrite it",
+                  code=ExitCode.USAGE)
+    folder = os.path.dirname(out_abs) or "."
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".dcf2bin-", suffix=".tmp", dir=folder)
+    except OSError as exc:
+        _fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, output)
+    except OSError as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        _fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
+
+
+@click.group(context_settings=CONTEXT)
+@click.version_option(__version__, "-V", "--version", prog_name="dcf2bin")
+@click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")
+def main(debug: bool) -> None:
+    """Compile CANopen DCF/EDS files into the SYS TEC binary DCF segment container,
+    inspect containers, and turn them back into text."""
+
+
+# -- compile ------------------------------------------------------------------------------------
+
+_SELECT = click.Choice(["auto", "all"])
+_SEQ = click.Choice(["cia301", "none"])
+
+
+def _profile_choice():
+    return click.Choice(["cia301", "dis2"])
+
+
+@main.command("compile", context_settings=CONTEXT)
+@click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+              help="Output file ('-' for stdout). Default: INPUT with the suffix .bin.")
+@click.option("--node-id", type=click.IntRange(1, 127),
+              help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
+@click.option("--select", "select_", type=_SELECT, default="auto", show_default=True,
+              help="Which entries to write (SPEC D-8).")
+@click.option("--pdo-sequence", type=_SEQ, default="cia301", show_default=True,
+              help="How a PDO block is written: CiA 301 reconfiguration, or as configured.")
+@click.option("--static-od", type=click.Path(dir_okay=False, exists=True),
+              help="EDS of the target's static OD: objects absent from it are created.")
+@click.option("--no-process-image", is_flag=True,
+              help="Omit the PI address and PI parameter segments.")
+@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+              show_default=True, help="Alignment of the output area's start (D-4).")
+@click.option("--pi-size", type=click.IntRange(0), help="PI memory of the target in bytes.")
+@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+              show_default=True, help="PI addresses from the image start or the area (D-10).")
+@click.option("--container-version", type=click.IntRange(0, 0xFFFF), default=1,
+              show_default=True, help="Header version field (D-5).")
+@click.option("--allow-external-files", is_flag=True,
+              help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
+@click.option("--profile", type=_profile_choice(), default="cia301", show_default=True,
+              help="Device profile for PDO writes (dis2: Metronix DIS-2).")
+@click.option("--from", "from_", type=click.Choice(["dcf", "json"]),
+              help="Input format (default: by extension; .json = lossless dump).")
+@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@click.option("-v", "--verbose", is_flag=True, help="Print a summary of what was written.")
+@guarded
+def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_process_image,
+                pi_align, pi_size, address_base, container_version, allow_external_files,
+                profile, from_, quiet, verbose):
+    """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
+    from dcf2bin.compiler import CompileOptions, compile_path
+    data_in = read_input(input)
+    if output is None:
+        if input == "-":
+            _fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
+        output = os.path.splitext(input)[0] + ".bin"
+    fmt = from_ or ("json" if input.lower().endswith(".json") else "dcf")
+    name = "<stdin>" if input == "-" else input
+    if fmt == "json":
+        from dcf2bin.dump import from_json_bytes
+        data, diags = from_json_bytes(data_in, name)
+        _emit(diags, quiet)
+        if data is None:
+            raise Failure(ExitCode.FINDINGS)
+        write_output(data, output, [input], binary=True)
+        return
+    opts = CompileOptions(node_id=node_id, select=select_, pdo_sequence=pdo_sequence,
+                          static_od=static_od, process_image=not no_process_image,
+                          pi_align=int(pi_align), pi_size=pi_size, address_base=address_base,
+                          container_version=container_version,
+                          allow_external_files=allow_external_files, profile=profile)
+    res = compile_path(name, opts, data=data_in)
+    _emit(res.diagnostics, quiet)
+    if not res.ok:
+        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+        click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
+        raise Failure(ExitCode.FINDINGS)
+    write_output(res.data, output, [input], binary=True)
+    if verbose:
+        c = res.container
+        msg = f"{name} -> {output}: {len(res.data)} bytes, {len(c.entries)} entries"
+        if c.pi is not None:
+            msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
+                    f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
+        click.echo(msg, err=True)

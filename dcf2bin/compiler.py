@@ -1,0 +1,125 @@
+"""DCF/EDS -> container: the ``compile`` job as a library call.
+
+    >>> from dcf2bin.compiler import compile_file, CompileOptions
+    >>> data = compile_file("samples/plc.dcf", CompileOptions())   # doctest: +SKIP
+
+Errors vs warnings (SPEC.md): a problem stops the build only when it touches an
+entry the container writes (or the layout); problems elsewhere become warnings.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from dcf2bin import layout as layout_mod
+from dcf2bin import model
+from dcf2bin import select as select_mod
+from dcf2bin.container import BinContainer, read as read_container
+from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
+
+
+@dataclass
+class CompileOptions:
+    node_id: int | None = None
+    select: str = select_mod.AUTO
+    pdo_sequence: str = select_mod.CIA301
+    static_od: str | None = None              # path of the target's static OD (EDS)
+    process_image: bool = True
+    pi_align: int = 8
+    pi_size: int | None = None
+    address_base: str = "image"
+    container_version: int = 1
+    allow_external_files: bool = False
+    profile: str = "cia301"
+
+
+@dataclass
+class Result:
+    data: bytes | None                      # None when errors stop the build
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    device: model.Device | None = None
+    container: BinContainer | None = None
+    layout: layout_mod.Layout | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.data is not None
+
+
+class CompileError(Exception):
+    def __init__(self, diagnostics: list[Diagnostic]):
+        self.diagnostics = diagnostics
+        errors = [d for d in diagnostics if d.severity is Severity.ERROR]
+        super().__init__("\n".join(d.format() for d in errors))
+
+
+def pdo_rules(profile: str) -> select_mod.PdoRules:
+    from dcf2bin.profiles import get_profile
+    return get_profile(profile).pdo_rules()
+
+
+def static_od_indexes(path: str) -> set[int]:
+    dev = model.load(path)
+    return set(dev.objects)
+
+
+def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
+    static = static_od_indexes(opts.static_od) if opts.static_od else None
+    lay = None
+    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
+                 for i, o in dev.objects.items())
+    if any(model.is_network_variable_index(i) for i in dev.objects):
+        lay = layout_mod.compute(dev, align=opts.pi_align, pi_size=opts.pi_size,
+                                 address_base=opts.address_base)
+    sel = select_mod.select(dev, policy=opts.select, pdo_sequence=opts.pdo_sequence,
+                            static_od=static, rules=pdo_rules(opts.profile))
+    diags: list[Diagnostic] = []
+    for p in dev.problems:
+        d = p.diagnostic
+        if d.severity is Severity.ERROR and p.index is not None:
+            touched = ((p.index, p.sub) in sel.emitted if p.sub is not None
+                       else p.index in sel.emitted_objects)
+            if not touched:
+                d = Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
+                               d.file, d.line, d.column, d.offset, d.rule, d.hint)
+        diags.append(d)
+    diags.extend(sel.errors)
+    if any(d.severity is Severity.ERROR for d in diags):
+        return Result(None, diags, dev, None, lay)
+    c = BinContainer(entries=[(w.index, w.sub, w.data) for w in sel.writes],
+                     attributes=bytes(w.attr for w in sel.writes),
+                     version=opts.container_version)
+    if lay is not None and has_nv and opts.process_image:
+        seen = set()
+        addrs = []
+        for w in sel.writes:
+            key = (w.index, w.sub)
+            if key in lay.variables and key not in seen:
+                seen.add(key)
+                addrs.append(lay.address(*key))
+        c.addresses = addrs
+        c.pi = lay.pi_parameters
+    data = c.to_bytes()
+    # self-check: what we wrote must read back as what we meant
+    back, _ = read_container(data)
+    if back.entries != c.entries or back.attributes != c.attributes or \
+            back.addresses != c.addresses or back.pi != c.pi:  # pragma: no cover
+        raise AssertionError("container self-check failed: read-back differs")
+    return Result(data, diags, dev, c, lay)
+
+
+def compile_path(path: str, opts: CompileOptions, data: bytes | None = None) -> Result:
+    dev = model.load(path, node_id=opts.node_id, allow_external_files=opts.allow_external_files,
+                     data=data)
+    return compile_device(dev, opts)
+
+
+def compile_file(path: str, opts: CompileOptions | None = None) -> bytes:
+    """Compile and return the container bytes; raises CompileError on errors."""
+    res = compile_path(path, opts or CompileOptions())
+    if res.data is None:
+        raise CompileError(res.diagnostics)
+    return res.data
+
+
+__all__ = ["CompileOptions", "CompileError", "Result", "compile_file", "compile_path",
+           "compile_device", "DcfError"]

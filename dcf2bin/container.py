@@ -1,0 +1,198 @@
+"""The binary DCF segment container as data, and its bytes (SPEC.md §3).
+
+``BinContainer`` is the neutral binary model: the index entries as stored
+(repeated writes kept), the attribute bytes (undefined bits kept), the address
+words and the PI parameters. ``to_bytes`` builds the canonical layout of D-5...D-7
+through ``schema.Container``; a container read from another tool keeps its
+header as stored and any bytes between segments, so it is rebuilt byte for byte.
+"""
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass, field
+
+from dcf2bin import schema
+from dcf2bin.diagnostics import Diagnostic, Severity
+
+
+class ContainerError(Exception):
+    """A container that cannot be read; names the byte offset."""
+
+    def __init__(self, message: str, offset: int):
+        super().__init__(message)
+        self.offset = offset
+
+
+@dataclass
+class BinContainer:
+    entries: list[tuple[int, int, bytes]] = field(default_factory=list)
+    attributes: bytes | None = None         # extended info segment; None = absent
+    addresses: list[int] | None = None      # PI address segment; None = absent
+    pi: tuple[int, int, int, int, int] | None = None  # PI parameter segment; None = absent
+    version: int = 1
+    # As stored, for containers whose layout is not the canonical one (SPEC §3.1):
+    header: dict[str, int] | None = None
+    gaps: list[tuple[int, bytes]] = field(default_factory=list)
+    raw_piparam: bytes | None = None        # a PI parameter segment that is not 20 bytes
+
+    # -- segments ---------------------------------------------------------------------------
+    def index_bytes(self) -> bytes:
+        pack = schema.ENTRY_HEAD.pack
+        parts = [schema.COUNT.pack(len(self.entries))]
+        append = parts.append
+        for index, sub, data in self.entries:
+            append(pack(index, sub, len(data)))
+            append(data)
+        return b"".join(parts)
+
+    def address_bytes(self) -> bytes:
+        if not self.addresses:
+            return b""
+        return struct.pack(f"<{len(self.addresses)}H", *self.addresses)
+
+    def extinfo_bytes(self) -> bytes:
+        return bytes(self.attributes or b"")
+
+    def piparam_bytes(self) -> bytes:
+        if self.raw_piparam is not None:
+            return self.raw_piparam
+        return schema.PIPARAMS.pack(*self.pi) if self.pi is not None else b""
+
+    def segments(self) -> dict[str, bytes]:
+        return {"index": self.index_bytes(), "address": self.address_bytes(),
+                "extinfo": self.extinfo_bytes(), "piparam": self.piparam_bytes()}
+
+    # -- bytes --------------------------------------------------------------------------------
+    def canonical_header(self) -> dict[str, int]:
+        segs = self.segments()
+        built = schema.Container.build(dict(version=self.version, **segs))
+        parsed = schema.HeaderC.parse(built[:schema.HEADER_SIZE])
+        return {k: parsed[k] for k in schema.HEADER_FIELDS}
+
+    def to_bytes(self) -> bytes:
+        segs = self.segments()
+        if self.header is None:
+            return schema.Container.build(dict(version=self.version, **segs))
+        return self._build_as_stored(segs)
+
+    def _build_as_stored(self, segs: dict[str, bytes]) -> bytes:
+        h = self.header
+        out = bytearray(h["total_size"])
+        out[:schema.HEADER_SIZE] = schema.HEADER.pack(*(h[k] for k in schema.HEADER_FIELDS))
+        for name in schema.SEGMENTS:
+            data = segs[name]
+            off, size = h[f"{name}_offset"], h[f"{name}_size"]
+            if len(data) != size:
+                raise ContainerError(f"the {name} segment holds {len(data)} bytes but the "
+                                     f"stored header says {size}", 8)
+            if size and off + size > len(out):
+                raise ContainerError(f"the {name} segment ends past the stored total size", off)
+            out[off:off + size] = data
+        for off, data in self.gaps:
+            out[off:off + len(data)] = data
+        return bytes(out)
+
+
+def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
+    """Decode a container (SPEC §3.1 reader rules). Raises ContainerError."""
+    warnings: list[Diagnostic] = []
+
+    def warn(msg: str, offset: int) -> None:
+        warnings.append(Diagnostic(Severity.WARNING, msg, offset=offset))
+
+    n = len(data)
+    if n < schema.HEADER_SIZE:
+        raise ContainerError(f"truncated header: {n} bytes, a header needs "
+                             f"{schema.HEADER_SIZE}", 0)
+    values = schema.HEADER.unpack_from(data, 0)
+    h = dict(zip(schema.HEADER_FIELDS, values))
+    total = h["total_size"]
+    if total > n:
+        raise ContainerError(f"truncated container: header says {total} bytes, file has {n}", 0)
+    if total < n:
+        raise ContainerError(f"{n - total} trailing bytes after the container's total size "
+                             f"{total}", total)
+    spans = []
+    for i, name in enumerate(schema.SEGMENTS):
+        off, size = h[f"{name}_offset"], h[f"{name}_size"]
+        field_off = 8 + 8 * i
+        if size == 0:
+            if off != 0:
+                warn(f"empty {name} segment has offset {off} (expected 0)", field_off)
+            continue
+        if off < schema.HEADER_SIZE or off + size > total:
+            raise ContainerError(f"{name} segment [{off}, {off + size}) lies outside the "
+                                 f"container [40, {total})", field_off)
+        spans.append((off, off + size, name))
+    spans.sort()
+    for (s1, e1, a), (s2, e2, b) in zip(spans, spans[1:]):
+        if s2 < e1:
+            raise ContainerError(f"{b} segment at {s2} overlaps {a} segment [{s1}, {e1})", s2)
+    present = len(spans)
+    if h["segment_count"] != present:
+        warn(f"header counts {h['segment_count']} segments, {present} are present", 6)
+    c = BinContainer(version=h["version"])
+    if "index" not in {s[2] for s in spans}:
+        raise ContainerError("the container has no index segment", 12)
+    for off, end, name in spans:
+        seg = data[off:end]
+        if name == "index":
+            c.entries = _read_index(seg, off)
+        elif name == "address":
+            if len(seg) % schema.ADDRESS_SIZE:
+                raise ContainerError(f"PI address segment has odd size {len(seg)}", off)
+            c.addresses = list(struct.unpack(f"<{len(seg) // 2}H", seg))
+        elif name == "extinfo":
+            c.attributes = bytes(seg)
+        else:
+            if len(seg) == schema.PIPARAMS.size:
+                c.pi = schema.PIPARAMS.unpack(seg)
+            else:
+                warn(f"PI parameter segment has {len(seg)} bytes, expected 20", off)
+                c.raw_piparam = bytes(seg)
+    # gaps and order: kept as stored
+    pos = schema.HEADER_SIZE
+    for off, end, name in spans:
+        if off > pos:
+            c.gaps.append((pos, bytes(data[pos:off])))
+        pos = max(pos, end)
+    if pos < total:
+        c.gaps.append((pos, bytes(data[pos:total])))
+    if c.gaps:
+        warn(f"{sum(len(g) for _, g in c.gaps)} bytes between segments are not part of any "
+             "segment", c.gaps[0][0])
+    if [s[2] for s in spans] != [s for s in schema.SEGMENTS if s in {x[2] for x in spans}]:
+        warn("segments are not in the header's order", spans[0][0])
+    if c.to_bytes() != bytes(data):
+        c.header = h
+        if c.to_bytes() != bytes(data):  # pragma: no cover - a bug in this module
+            raise AssertionError("container reader lost data")
+    return c, warnings
+
+
+def _read_index(seg: bytes, base: int) -> list[tuple[int, int, bytes]]:
+    n = len(seg)
+    if n < 4:
+        raise ContainerError(f"index segment has {n} bytes, too short for its count", base)
+    (count,) = schema.COUNT.unpack_from(seg, 0)
+    # every entry needs at least 7 bytes: never allocate from an untrusted count
+    if count * schema.ENTRY_HEAD.size > n - 4:
+        raise ContainerError(f"index segment claims {count} entries, but {n - 4} bytes hold at "
+                             f"most {(n - 4) // schema.ENTRY_HEAD.size}", base)
+    entries = []
+    pos = 4
+    unpack = schema.ENTRY_HEAD.unpack_from
+    head = schema.ENTRY_HEAD.size
+    for i in range(count):
+        if pos + head > n:
+            raise ContainerError(f"index entry {i + 1} of {count} is truncated", base + pos)
+        index, sub, size = unpack(seg, pos)
+        pos += head
+        if pos + size > n:
+            raise ContainerError(f"index entry {i + 1} (0x{index:04X}sub{sub:X}) claims "
+                                 f"{size} data bytes, only {n - pos} remain", base + pos - 4)
+        entries.append((index, sub, bytes(seg[pos:pos + size])))
+        pos += size
+    if pos != n:
+        raise ContainerError(f"{n - pos} bytes after the last index entry", base + pos)
+    return entries

@@ -1,0 +1,313 @@
+"""Network variables and the process image (SPEC.md §2, D-1...D-4).
+
+``attach_channels`` runs while the model is built: it parses ``[DynamicChannels]``
+and gives network variables their range's DataType. ``compute`` places every
+variable in the input or output area and derives the PI parameters.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from dcf2bin import datatypes as dt
+from dcf2bin import values
+from dcf2bin.diagnostics import Where
+
+INPUT, OUTPUT = "input", "output"
+PER_INDEX = 254          # SPEC §2.2: subindex 1..254 per index
+RANGE_LEN = 0x40
+INPUT_FIRST, OUTPUT_FIRST, TABLE_END = 0xA000, 0xA480, 0xA900
+
+# CiA 405 / seed Tabelle 2 (SPEC §2.1): the type of each 0x40-index range, in order.
+# The 40/48/56-bit groups really list Unsigned before Integer.
+_ORDER = ["INTEGER8", "UNSIGNED8", "BOOLEAN", "INTEGER16", "UNSIGNED16", "INTEGER24",
+          "UNSIGNED24", "INTEGER32", "UNSIGNED32", "REAL32", "UNSIGNED40", "INTEGER40",
+          "UNSIGNED48", "INTEGER48", "UNSIGNED56", "INTEGER56", "INTEGER64", "UNSIGNED64"]
+TABLE_405: dict[int, tuple[dt.DataType, str]] = {}
+for _i, _name in enumerate(_ORDER):
+    TABLE_405[INPUT_FIRST + _i * RANGE_LEN] = (dt.BY_NAME[_name], INPUT)
+    TABLE_405[OUTPUT_FIRST + _i * RANGE_LEN] = (dt.BY_NAME[_name], OUTPUT)
+# OpenPCS supports only these (seed 000 Tabelle 2, "x"/"(x)"); lint reports the others as info.
+OPENPCS_TYPES = frozenset({"INTEGER8", "UNSIGNED8", "INTEGER16", "UNSIGNED16", "INTEGER32",
+                           "UNSIGNED32", "REAL32"})
+
+
+@dataclass
+class Channel:
+    """One ``[DynamicChannels]`` segment (CiA 306-3), or a CiA 405 table range."""
+    number: int                     # k of Type<k>; 0 for a table range
+    dtype: dt.DataType
+    direction: str
+    first: int
+    last: int
+    pp_offset: int = 0
+    max_count: int | None = None
+    where: Where | None = None
+
+    @property
+    def label(self) -> str:
+        if self.number:
+            return f"[DynamicChannels] segment {self.number}"
+        return f"range 0x{self.first:04X}-0x{self.last:04X}"
+
+
+def table_channel(index: int) -> Channel | None:
+    if not INPUT_FIRST <= index < TABLE_END:
+        return None
+    first = INPUT_FIRST + (index - INPUT_FIRST) // RANGE_LEN * RANGE_LEN
+    dtype, direction = TABLE_405[first]
+    return Channel(0, dtype, direction, first, first + RANGE_LEN - 1)
+
+
+def channel_for(dev, index: int) -> Channel | None:
+    """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3)."""
+    for ch in dev.channels:
+        if ch.first <= index <= ch.last:
+            return ch
+    return table_channel(index)
+
+
+_RANGE_RE = re.compile(r"\s*(\S+?)\s*-\s*(\S+)\s*")
+_DIRS = {"ro": INPUT, "rww": OUTPUT, "rwr": OUTPUT, "rw": OUTPUT}
+
+
+def parse_channels(dev) -> list[Channel]:
+    """Parse ``[DynamicChannels]`` (SPEC §2.3 and D-2, D-3)."""
+    sec = dev.ini.section("dynamicchannels") if dev.ini else None
+    if sec is None:
+        return []
+    w = lambda key: Where(dev.path, sec.line_of(key))  # noqa: E731
+
+    def num(key: str) -> int | None:
+        text = sec.get(key)
+        if text is None:
+            return None
+        try:
+            return values.parse_int(values.split_numeric_comment(text)[0])
+        except values.ValueProblem as exc:
+            dev.error(f"[DynamicChannels] {sec.keys[key].name}: {exc}", w(key), rule="DCF310")
+            return None
+
+    for key in ("pioffset", "maxcnt", "range"):
+        if key in sec.keys:
+            dev.warning(f"[DynamicChannels] unnumbered '{sec.keys[key].name}' is ignored "
+                        "(use the numbered form, e.g. PIOffset1)", w(key), rule="DCF311")
+    n = num("nrofseg") or 0
+    channels: list[Channel] = []
+    for k in range(1, n + 1):
+        missing = [name for name in ("Type", "Dir", "Range") if f"{name.lower()}{k}" not in sec.keys]
+        if missing:
+            dev.error(f"[DynamicChannels] segment {k} lacks {', '.join(m + str(k) for m in missing)}",
+                      Where(dev.path, sec.line), rule="DCF312")
+            continue
+        code = num(f"type{k}")
+        dtype = dt.BY_CODE.get(code) if code is not None else None
+        if dtype is None or dtype.size is None:
+            if code is not None:
+                dev.error(f"[DynamicChannels] Type{k}=0x{code:04X} is not a fixed-size data type",
+                          w(f"type{k}"), rule="DCF313")
+            continue
+        dtext = (sec.get(f"dir{k}") or "").strip().lower()
+        direction = _DIRS.get(dtext)
+        if direction is None:
+            dev.error(f"[DynamicChannels] Dir{k}='{dtext}' must be ro, rw, rwr or rww",
+                      w(f"dir{k}"), rule="DCF313")
+            continue
+        m = _RANGE_RE.fullmatch(sec.get(f"range{k}") or "")
+        try:
+            if not m:
+                raise values.ValueProblem("expected 0xSSSS-0xEEEE")
+            first, last = values.parse_int(m.group(1)), values.parse_int(m.group(2))
+            if not 0xA000 <= first <= last <= 0xAFFF:
+                raise values.ValueProblem(f"0x{first:04X}-0x{last:04X} is not an ascending range "
+                                          "inside 0xA000-0xAFFF")
+        except values.ValueProblem as exc:
+            dev.error(f"[DynamicChannels] Range{k}: {exc}", w(f"range{k}"), rule="DCF313")
+            continue
+        pp_key, pi_key = f"ppoffset{k}", f"pioffset{k}"
+        if pp_key in sec.keys and pi_key in sec.keys:
+            dev.error(f"[DynamicChannels] segment {k} gives both PPOffset{k} and PIOffset{k}",
+                      w(pi_key), rule="DCF314")
+        off_key = pp_key if pp_key in sec.keys else pi_key  # D-3: PIOffset<k> is a synonym
+        offset = 0
+        text = sec.get(off_key)
+        if text is not None:
+            parts = [p.strip() for p in values.split_numeric_comment(text)[0].split(",")]
+            try:
+                offset = values.parse_int(parts[0])
+                if len(parts) > 2:
+                    raise values.ValueProblem("expected 'offset' or 'offset, step'")
+                if len(parts) == 2:
+                    step = values.parse_int(parts[1])
+                    if dtype.code != dt.BOOLEAN.code:
+                        raise values.ValueProblem("a step is only allowed for BOOLEAN segments")
+                    if step != 1:  # D-2
+                        raise values.ValueProblem(f"step {step} is not supported (D-2: BOOLEANs "
+                                                  "are not bit-packed, the step must be 1)")
+                if offset < 0:
+                    raise values.ValueProblem("offset must not be negative")
+            except values.ValueProblem as exc:
+                dev.error(f"[DynamicChannels] {sec.keys[off_key].name}: {exc}", w(off_key),
+                          rule="DCF313")
+                offset = 0
+        max_count = num(f"maxcnt{k}")
+        channels.append(Channel(k, dtype, direction, first, last, offset, max_count,
+                                w(f"range{k}")))
+    for i, a in enumerate(channels):
+        for b in channels[i + 1:]:
+            if a.first <= b.last and b.first <= a.last:
+                dev.error(f"[DynamicChannels] Range{b.number} overlaps Range{a.number} "
+                          f"(line {a.where.line})", b.where, rule="DCF315")
+    return channels
+
+
+def attach_channels(dev) -> None:
+    """Parse channels and give network variables their range's type and direction."""
+    from dcf2bin.model import NV_FIRST, NV_LAST
+    dev.channels = parse_channels(dev)
+    for idx, obj in dev.objects.items():
+        if not NV_FIRST <= idx <= NV_LAST:
+            continue
+        ch = channel_for(dev, idx)
+        for sub, e in obj.entries.items():
+            if sub == 0:
+                continue
+            if ch is None:
+                continue
+            if e.dtype is None:
+                e.dtype = ch.dtype
+            if e.access is None:
+                e.access = "ro" if ch.direction == INPUT else "rw"
+
+
+@dataclass(slots=True)
+class Variable:
+    index: int
+    sub: int
+    dtype: dt.DataType
+    area: str
+    offset: int          # within its area
+    channel: Channel
+    where: Where | None
+
+
+@dataclass
+class Layout:
+    variables: dict[tuple[int, int], Variable] = field(default_factory=dict)
+    input_size: int = 0
+    output_offset: int = 0
+    output_size: int = 0
+    total_size: int = 0
+    address_base: str = "image"
+
+    @property
+    def pi_parameters(self) -> tuple[int, int, int, int, int]:
+        """SPEC §3.5: complete size, input offset, input size, output offset, output size."""
+        return (self.total_size, 0, self.input_size, self.output_offset, self.output_size)
+
+    def address(self, index: int, sub: int) -> int:
+        """D-10: offset from the start of the complete image (or within the area)."""
+        v = self.variables[(index, sub)]
+        if self.address_base == "area" or v.area == INPUT:
+            return v.offset
+        return self.output_offset + v.offset
+
+
+def compute(dev, *, align: int = 8, pi_size: int | None = None,
+            address_base: str = "image") -> Layout:
+    """Place every network variable (SPEC §2.2-2.4). Errors go to ``dev.problems``."""
+    from dcf2bin.model import NV_FIRST, NV_LAST
+    lay = Layout(address_base=address_base)
+    items: dict[str, list[tuple[int, int, object]]] = {INPUT: [], OUTPUT: []}
+    for idx in sorted(dev.objects):
+        if not NV_FIRST <= idx <= NV_LAST:
+            continue
+        obj = dev.objects[idx]
+        ch = channel_for(dev, idx)
+        if ch is None:
+            dev.error(f"[{idx:04X}] lies in 0xA900-0xAFFF, which needs a [DynamicChannels] "
+                      "segment covering it", obj.where, idx, rule="DCF301")
+            continue
+        size = ch.dtype.size
+        for sub, e in obj.entries.items():
+            if sub == 0:
+                continue
+            if sub > PER_INDEX:
+                dev.error(f"{e.label}: subindex {sub} is above 254, the last network "
+                          "variable of an index", e.where, idx, sub, rule="DCF302")
+                continue
+            if e.dtype is not None and e.dtype.code != ch.dtype.code:
+                dev.error(f"{e.label}: DataType {e.dtype.name} does not match {ch.label} "
+                          f"({ch.dtype.name})", e.key_where("datatype"), idx, sub, rule="DCF303")
+                continue
+            element = (idx - ch.first) * PER_INDEX + (sub - 1)
+            if ch.max_count is not None and element >= ch.max_count:
+                dev.error(f"{e.label}: variable {element + 1} exceeds MaxCnt{ch.number}="
+                          f"{ch.max_count}", e.where, idx, sub, rule="DCF304")
+                continue
+            offset = ch.pp_offset + element * size
+            v = Variable(idx, sub, ch.dtype, ch.direction, offset, ch, e.where)
+            lay.variables[(idx, sub)] = v
+            items[ch.direction].append((offset, offset + size, v))
+    # MaxCnt capacities reserve their whole segment (D-3)
+    for ch in dev.channels:
+        if ch.max_count is not None:
+            items[ch.direction].append(
+                (ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size, ch))
+    sizes = {}
+    for area, spans in items.items():
+        spans.sort(key=lambda t: (t[0], t[1]))
+        _check_overlaps(dev, spans)
+        sizes[area] = max((end for _, end, _ in spans), default=0)
+    lay.input_size, lay.output_size = sizes[INPUT], sizes[OUTPUT]
+    if lay.output_size:
+        lay.output_offset = -(-lay.input_size // align) * align
+        lay.total_size = lay.output_offset + lay.output_size
+    else:
+        lay.total_size = lay.input_size
+    if pi_size is not None and lay.total_size > pi_size:
+        dev.error(f"process image needs {lay.total_size} bytes, more than --pi-size {pi_size}",
+                  Where(dev.path), rule="DCF305")
+    for (idx, sub), v in lay.variables.items():
+        addr = lay.address(idx, sub)
+        if addr > 0xFFFF:
+            dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
+                      "the PI address segment", v.where, idx, sub, rule="DCF306")
+    return lay
+
+
+def _check_overlaps(dev, spans) -> None:
+    """Two variables (or reserved MaxCnt segments) of one area must not intersect."""
+    reach_end, reach_item = -1, None
+    for start, end, item in spans:
+        if start < reach_end and not _inside_own(item, reach_item):
+            a, b = reach_item, item
+            idx = b.index if isinstance(b, Variable) else None
+            sub = b.sub if isinstance(b, Variable) else None
+            where = b.where
+            dev.error(f"{_describe(b)} overlaps {_describe(a)} in the {_area(b)} area",
+                      where, idx, sub, rule="DCF307")
+        if end > reach_end:
+            reach_end, reach_item = end, item
+
+
+def _inside_own(a, b) -> bool:
+    """A variable inside the MaxCnt reservation of its own segment is no overlap."""
+    if isinstance(a, Variable) and isinstance(b, Channel):
+        return a.channel is b
+    if isinstance(a, Channel) and isinstance(b, Variable):
+        return b.channel is a
+    return False
+
+
+def _area(item) -> str:
+    return item.area if isinstance(item, Variable) else item.direction
+
+
+def _describe(item) -> str:
+    if isinstance(item, Variable):
+        line = f" (line {item.where.line})" if item.where and item.where.line else ""
+        return (f"0x{item.index:04X}sub{item.sub:X} [bytes {item.offset}.."
+                f"{item.offset + item.dtype.size - 1}]{line}")
+    return (f"{item.label} [bytes {item.pp_offset}.."
+            f"{item.pp_offset + item.max_count * item.dtype.size - 1}]")

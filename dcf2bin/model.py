@@ -1,0 +1,606 @@
+"""The neutral model: a device's objects and entries, built from an INI file.
+
+Every object and entry keeps where it came from (file:line of its section and
+of each key), so every diagnostic can point at the line that caused it.
+Values stay text here; they are encoded on demand (``Device.encode``) so that
+``compile`` only fails for values it actually writes (SPEC "Errors vs warnings").
+"""
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+
+from dcf2bin import datatypes as dt
+from dcf2bin import ini as ini_mod
+from dcf2bin import values
+from dcf2bin.diagnostics import DcfError, Diagnostic, Diagnostics, Severity, Where
+
+NV_FIRST, NV_LAST = 0xA000, 0xAFFF
+RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
+
+_OBJ_RE = re.compile(r"[0-9a-f]{4}")
+_SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]+)")
+_AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
+
+
+def is_network_variable_index(index: int) -> bool:
+    return NV_FIRST <= index <= NV_LAST
+
+
+def is_pdo_comm(index: int) -> bool:
+    return 0x1400 <= index <= 0x15FF or 0x1800 <= index <= 0x19FF
+
+
+def is_pdo_mapping(index: int) -> bool:
+    return 0x1600 <= index <= 0x17FF or 0x1A00 <= index <= 0x1BFF
+
+
+def is_pdo_object(index: int) -> bool:
+    return is_pdo_comm(index) or is_pdo_mapping(index)
+
+
+@dataclass(slots=True)
+class Problem:
+    """A diagnostic about the model, tagged with the object/entry it touches.
+
+    ``compile`` turns an error into a warning when it touches nothing it writes.
+    """
+    diagnostic: Diagnostic
+    index: int | None = None
+    sub: int | None = None   # None: the whole object
+
+
+@dataclass(slots=True, eq=False)
+class Entry:
+    index: int
+    sub: int
+    name: str = ""
+    dtype: dt.DataType | None = None
+    access: str | None = None
+    pdo_mapping: bool = False
+    obj_flags: int = 0
+    default: str | None = None
+    param: str | None = None
+    download_file: str | None = None
+    low: str | None = None
+    high: str | None = None
+    denotation: str | None = None
+    where: Where | None = None               # the section (or the object's, for compact subs)
+    lines: dict[str, int] = field(default_factory=dict)  # key -> line of that key
+    implicit: bool = False                   # created by the tool (sub 0, CompactPDO)
+    section: ini_mod.Section | None = None
+
+    @property
+    def configured(self) -> bool:
+        """SPEC §1: an entry is configured when it has a ParameterValue or a DownloadFile."""
+        return self.param is not None or self.download_file is not None
+
+    @property
+    def value_text(self) -> str | None:
+        """The text of the effective value (ParameterValue, else DefaultValue)."""
+        return self.param if self.param is not None else self.default
+
+    @property
+    def has_value(self) -> bool:
+        return self.param is not None or self.download_file is not None or self.default is not None
+
+    def key_where(self, key: str) -> Where:
+        w = self.where or Where("")
+        return Where(w.file, self.lines.get(key, w.line))
+
+    @property
+    def value_where(self) -> Where:
+        for key in ("parametervalue", "downloadfile", "defaultvalue"):
+            if key in self.lines:
+                return self.key_where(key)
+        return self.where or Where("")
+
+    @property
+    def label(self) -> str:
+        return f"0x{self.index:04X}sub{self.sub:X}"
+
+
+@dataclass(slots=True, eq=False)
+class Obj:
+    index: int
+    name: str = ""
+    object_type: int = dt.OT_VAR
+    entries: dict[int, Entry] = field(default_factory=dict)
+    where: Where | None = None
+    section: ini_mod.Section | None = None
+    compact: int = 0           # CompactSubObj
+    sub_number: int | None = None
+    implicit: bool = False     # created from CompactPDO
+    complex: bool = False      # ARRAY/RECORD
+
+    def sorted_entries(self) -> list[Entry]:
+        return [self.entries[k] for k in sorted(self.entries)]
+
+
+@dataclass
+class Device:
+    path: str
+    encoding: str = "utf-8"
+    objects: dict[int, Obj] = field(default_factory=dict)
+    node_id: int | None = None
+    node_id_where: Where | None = None
+    node_id_from_cli: bool = False
+    dummy_usage: set[int] = field(default_factory=set)
+    problems: list[Problem] = field(default_factory=list)
+    ini: ini_mod.IniFile | None = None
+    allow_external_files: bool = False
+    channels: list = field(default_factory=list)  # layout.Channel, parsed by layout
+
+    # -- diagnostics -----------------------------------------------------------------
+    def problem(self, severity: Severity, message: str, where: Where | None,
+                index: int | None = None, sub: int | None = None, *, rule: str = "",
+                hint: str = "") -> None:
+        d = Diagnostic(severity, message, where.file if where else self.path,
+                       where.line if where else None, None, None, rule, hint)
+        self.problems.append(Problem(d, index, sub))
+
+    def error(self, message, where, index=None, sub=None, **kw):
+        self.problem(Severity.ERROR, message, where, index, sub, **kw)
+
+    def warning(self, message, where, index=None, sub=None, **kw):
+        self.problem(Severity.WARNING, message, where, index, sub, **kw)
+
+    # -- access ------------------------------------------------------------------------
+    def entry(self, index: int, sub: int) -> Entry | None:
+        o = self.objects.get(index)
+        return o.entries.get(sub) if o else None
+
+    def sorted_objects(self) -> list[Obj]:
+        return [self.objects[k] for k in sorted(self.objects)]
+
+    def where(self, line: int | None = None) -> Where:
+        return Where(self.path, line)
+
+    # -- values ------------------------------------------------------------------------
+    def encode(self, entry: Entry, text: str | None = None) -> bytes:
+        """Encode an entry's effective value (or ``text``) to its exact bytes.
+
+        Raises DcfError naming the value's file:line.
+        """
+        dtype = entry.dtype
+        if dtype is None:
+            raise DcfError(f"{entry.label} has no valid DataType", entry.where)
+        if text is None:
+            if entry.param is None and entry.download_file is not None:
+                return self._download(entry)
+            text = entry.value_text
+            where = entry.value_where
+        else:
+            where = entry.where
+        if text is None:
+            return values.zero(dtype)
+        if dtype.is_numeric or dtype.kind == dt.BOOL:
+            number, comment = values.split_numeric_comment(text)
+            if comment is not None:
+                text = number
+        try:
+            return values.encode(dtype, text, node_id=self.node_id, encoding=self.encoding)
+        except values.NeedsNodeId:
+            raise DcfError(
+                f"value '{text}' of {entry.label} uses $NODEID but no node-ID is known",
+                where, rule="DCF201",
+                hint="give --node-id N or set NodeID in [DeviceComissioning]") from None
+        except values.ValueProblem as exc:
+            raise DcfError(f"{entry.label}: {exc}", where, rule="DCF200") from None
+
+    def _download(self, entry: Entry) -> bytes:
+        where = entry.key_where("downloadfile")
+        name = entry.download_file or ""
+        base = os.path.dirname(os.path.abspath(self.path))
+        if os.path.isabs(name) and not self.allow_external_files:
+            raise DcfError(f"DownloadFile '{name}' is an absolute path", where, rule="DCF202",
+                           hint="use a path relative to the DCF, or --allow-external-files")
+        full = os.path.normpath(os.path.join(base, name))
+        if not self.allow_external_files and os.path.commonpath([base, full]) != base:
+            raise DcfError(f"DownloadFile '{name}' leaves the DCF's folder", where,
+                           rule="DCF202", hint="use --allow-external-files to permit it")
+        try:
+            with open(full, "rb") as f:
+                return f.read()
+        except OSError as exc:
+            raise DcfError(f"cannot read DownloadFile '{name}': {exc.strerror}", where,
+                           rule="DCF202") from None
+
+    def effective_int(self, entry: Entry) -> int:
+        """The effective value of an integer entry as a Python int (raises DcfError)."""
+        data = self.encode(entry)
+        signed = entry.dtype is not None and entry.dtype.kind == dt.SINT
+        return int.from_bytes(data, "little", signed=signed)
+
+    # -- interop -----------------------------------------------------------------------
+    def to_canopen(self):
+        """This model as a ``canopen.objectdictionary.ObjectDictionary``.
+
+        Values that cannot be encoded (bad value, missing node-ID) are left at the
+        type's zero; use ``dcf2bin validate`` to see them.
+        """
+        from dcf2bin.interop import to_canopen
+        return to_canopen(self)
+
+
+# -- building ----------------------------------------------------------------------------
+
+def load(path: str, *, node_id: int | None = None, allow_external_files: bool = False,
+         data: bytes | None = None) -> Device:
+    """Read a DCF/EDS file into a Device. Problems are collected, never raised."""
+    if data is None:
+        with open(path, "rb") as f:
+            data = f.read()
+    parsed = ini_mod.parse_bytes(data, path)
+    return build(parsed, node_id=node_id, allow_external_files=allow_external_files)
+
+
+def build(parsed: ini_mod.IniFile, *, node_id: int | None = None,
+          allow_external_files: bool = False) -> Device:
+    dev = Device(parsed.path, parsed.encoding, ini=parsed,
+                 allow_external_files=allow_external_files)
+    for d in parsed.diagnostics:
+        dev.problems.append(Problem(d))
+    _Builder(dev, parsed).run(node_id)
+    return dev
+
+
+def _int_or(text: str | None, default: int) -> int:
+    if text is None:
+        return default
+    return values.parse_int(values.split_numeric_comment(text)[0])
+
+
+class _Builder:
+    def __init__(self, dev: Device, parsed: ini_mod.IniFile):
+        self.dev = dev
+        self.ini = parsed
+        self.path = parsed.path
+
+    def w(self, line: int | None) -> Where:
+        return Where(self.path, line)
+
+    def run(self, node_id: int | None) -> None:
+        self._duplicates()
+        self._node_id(node_id)
+        self._dummy_usage()
+        subs: dict[int, dict[int, ini_mod.Section]] = {}
+        aux: dict[tuple[int, str], ini_mod.Section] = {}
+        mains: dict[int, ini_mod.Section] = {}
+        for canon, sec in self.ini.sections.items():
+            if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
+                mains[int(canon, 16)] = sec
+                continue
+            m = _SUB_RE.fullmatch(canon)
+            if m:
+                sub = int(m.group(2), 16)
+                idx = int(m.group(1), 16)
+                if sub > 0xFF:
+                    self.dev.error(f"subindex 0x{sub:X} of [{sec.name}] is above 0xFF",
+                                   self.w(sec.line), idx, rule="DCF005")
+                    continue
+                subs.setdefault(idx, {})[sub] = sec
+                continue
+            m = _AUX_RE.fullmatch(canon)
+            if m:
+                aux[(int(m.group(1), 16), m.group(2))] = sec
+        for idx in sorted(set(subs) - set(mains)):
+            first = min(subs[idx].values(), key=lambda s: s.line)
+            self.dev.error(f"[{first.name}] has no object section [{idx:04X}]",
+                           self.w(first.line), idx, rule="DCF006")
+        for idx in sorted(mains):
+            try:
+                self._object(idx, mains[idx], subs.get(idx, {}), aux)
+            except values.ValueProblem as exc:  # defensive: a bad structural number
+                self.dev.error(f"[{mains[idx].name}]: {exc}", self.w(mains[idx].line), idx)
+        for (idx, kind), sec in aux.items():
+            if idx not in mains and kind in ("name", "value", "denotation"):
+                self.dev.warning(f"[{sec.name}] has no object section [{idx:04X}]; ignored",
+                                 self.w(sec.line), rule="DCF007")
+        self._compact_pdo()
+        from dcf2bin import layout
+        layout.attach_channels(self.dev)
+
+    # -- file-level keys ---------------------------------------------------------------
+    def _duplicates(self) -> None:
+        for d in self.ini.duplicates:
+            idx, sub = _section_target(d.section)
+            sec = self.ini.sections.get(d.section)
+            shown = sec.name if sec else d.section
+            if d.key is None:
+                msg = f"section [{shown}] repeated (first at line {d.first_line})"
+            else:
+                key = sec.keys[d.key].name if sec and d.key in sec.keys else d.key
+                msg = f"key '{key}' repeated in [{shown}] (first at line {d.first_line})"
+            self.dev.error(msg, self.w(d.line), idx, sub, rule="DCF010",
+                           hint="remove one of them; dcf2bin does not guess which is meant")
+
+    def _node_id(self, cli_node_id: int | None) -> None:
+        sec1 = self.ini.section("devicecomissioning")
+        sec2 = self.ini.section("devicecommissioning")
+        if sec1 is not None and sec2 is not None:
+            self.dev.warning("both [DeviceComissioning] and [DeviceCommissioning] present; "
+                             "[DeviceComissioning] wins", self.w(sec2.line), rule="DCF011")
+        sec = sec1 if sec1 is not None else sec2
+        if cli_node_id is not None:
+            self.dev.node_id = cli_node_id
+            self.dev.node_id_from_cli = True
+            return
+        if sec is None:
+            return
+        text = sec.get("nodeid")
+        if text is None:
+            return
+        where = self.w(sec.line_of("nodeid"))
+        if values.uses_nodeid(text):
+            self.dev.error("NodeID cannot itself use $NODEID", where, rule="DCF012")
+            return
+        try:
+            nid = values.parse_int(values.split_numeric_comment(text)[0])
+        except values.ValueProblem as exc:
+            self.dev.error(f"NodeID: {exc}", where, rule="DCF012")
+            return
+        if not 1 <= nid <= 127:
+            self.dev.error(f"NodeID {nid} is outside 1..127", where, rule="DCF012")
+            return
+        self.dev.node_id = nid
+        self.dev.node_id_where = where
+
+    def _dummy_usage(self) -> None:
+        sec = self.ini.section("dummyusage")
+        if sec is None:
+            return
+        for key, k in sec.keys.items():
+            if key.startswith("dummy") and len(key) == 9:
+                try:
+                    code = int(key[5:], 16)
+                    if k.value and values.parse_int(values.split_numeric_comment(k.value)[0]) == 1:
+                        self.dev.dummy_usage.add(code)
+                except (ValueError, values.ValueProblem):
+                    self.dev.warning(f"bad [DummyUsage] entry '{k.name}={k.value}'",
+                                     self.w(k.line), rule="DCF013")
+
+    # -- objects -----------------------------------------------------------------------
+    def _int_key(self, sec: ini_mod.Section, key: str, default: int | None,
+                 idx: int, sub: int | None = None) -> int | None:
+        text = sec.get(key)
+        if text is None:
+            return default
+        try:
+            return values.parse_int(values.split_numeric_comment(text)[0])
+        except values.ValueProblem as exc:
+            self.dev.error(f"[{sec.name}] {sec.keys[key].name}: {exc}",
+                           self.w(sec.line_of(key)), idx, sub, rule="DCF020")
+            return default
+
+    def _object(self, idx: int, sec: ini_mod.Section, subsecs: dict[int, ini_mod.Section],
+                aux: dict[tuple[int, str], ini_mod.Section]) -> None:
+        dev = self.dev
+        obj = Obj(idx, sec.get("parametername") or "", where=self.w(sec.line), section=sec)
+        ot = self._int_key(sec, "objecttype", None, idx)
+        obj.sub_number = self._int_key(sec, "subnumber", None, idx)
+        obj.compact = self._int_key(sec, "compactsubobj", 0, idx) or 0
+        if obj.compact and not 1 <= obj.compact <= 0xFE:
+            dev.error(f"CompactSubObj={obj.compact} is outside 1..254", self.w(
+                sec.line_of("compactsubobj")), idx, rule="DCF021")
+            obj.compact = 0
+        has_subs = bool(subsecs) or bool(obj.sub_number) or obj.compact > 0
+        if ot is not None and ot not in dt.OBJECT_TYPES:
+            dev.error(f"[{sec.name}] unknown ObjectType 0x{ot:X}", self.w(sec.line_of("objecttype")),
+                      idx, rule="DCF022")
+            ot = None
+        if ot in (dt.OT_ARRAY, dt.OT_RECORD):
+            obj.complex = True
+        elif has_subs:
+            obj.complex = True
+            if ot is not None:
+                dev.warning(f"[{sec.name}] has ObjectType 0x{ot:X} but sub-objects; "
+                            "treated as ARRAY/RECORD", self.w(sec.line_of("objecttype")), idx,
+                            rule="DCF023")
+            ot = dt.OT_RECORD if not is_network_variable_index(idx) else dt.OT_ARRAY
+        obj.object_type = ot if ot is not None else dt.OT_VAR
+        dev.objects[idx] = obj
+        obj_flags = self._int_key(sec, "objflags", 0, idx) or 0
+        obj_map = _pdo_flag(sec.get("pdomapping"))
+        nv = is_network_variable_index(idx)
+
+        if not obj.complex:
+            if nv:
+                dev.error(f"[{sec.name}] is a VAR; objects in 0xA000-0xAFFF must be ARRAYs",
+                          self.w(sec.line), idx, rule="DCF300")
+            e = self._entry(idx, 0, sec, obj_flags=obj_flags, obj_map=obj_map)
+            obj.entries[0] = e
+            return
+
+        if obj.compact:
+            for s in sorted(subsecs):
+                if s != 0:
+                    dev.warning(f"[{subsecs[s].name}] given although [{sec.name}] has "
+                                "CompactSubObj; the sub-section wins", self.w(subsecs[s].line),
+                                idx, s, rule="DCF024")
+            if sec.get("parametervalue") is not None:
+                dev.warning(f"ParameterValue in [{sec.name}] of a CompactSubObj object is "
+                            "ignored (use [%04XValue])" % idx,
+                            self.w(sec.line_of("parametervalue")), idx, rule="DCF025")
+            names = aux.get((idx, "name"))
+            vals = aux.get((idx, "value"))
+            dens = aux.get((idx, "denotation"))
+            base_name = obj.name
+            for s in range(1, obj.compact + 1):
+                if s in subsecs:
+                    continue
+                e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map, compact=True)
+                e.name = f"{base_name}{s}"
+                e.param = None
+                e.lines.pop("parametervalue", None)
+                obj.entries[s] = e
+            for kind, asec in (("name", names), ("value", vals), ("denotation", dens)):
+                if asec is None:
+                    continue
+                for key, k in asec.keys.items():
+                    if key == "nrofentries":
+                        continue
+                    try:
+                        s = int(key, 10)  # SPEC §1: decimal subindexes
+                    except ValueError:
+                        dev.warning(f"[{asec.name}] key '{k.name}' is not a decimal subindex",
+                                    self.w(k.line), idx, rule="DCF026")
+                        continue
+                    e = obj.entries.get(s)
+                    if e is None or s == 0:
+                        dev.warning(f"[{asec.name}] subindex {s} is outside CompactSubObj="
+                                    f"{obj.compact}; ignored", self.w(k.line), idx, rule="DCF026")
+                        continue
+                    if kind == "name":
+                        e.name = k.value
+                    elif kind == "value":
+                        e.param = k.value if k.value != "" else None
+                        e.lines["parametervalue"] = k.line
+                    else:
+                        e.denotation = k.value
+        else:
+            vsec = aux.get((idx, "value"))
+            if vsec is not None:
+                dev.warning(f"[{vsec.name}] without CompactSubObj in [{sec.name}] is ignored",
+                            self.w(vsec.line), idx, rule="DCF027")
+
+        for s in sorted(subsecs):
+            ssec = subsecs[s]
+            if s == 0:
+                e = self._entry(idx, 0, ssec, sub0=True)
+            else:
+                e = self._entry(idx, s, ssec, obj_flags=obj_flags, obj_map=obj_map)
+            obj.entries[s] = e
+        if 0 not in obj.entries:
+            highest = max((s for s in obj.entries), default=0)
+            obj.entries[0] = Entry(idx, 0, "Highest sub-index supported", dt.UNSIGNED8, "ro",
+                                   default=str(obj.compact or highest), where=obj.where,
+                                   implicit=True)
+        else:
+            e0 = obj.entries[0]
+            if e0.default is None and e0.param is None:
+                e0.default = str(obj.compact or max(obj.entries))
+        # keep entries sorted for fast ordered iteration
+        obj.entries = dict(sorted(obj.entries.items()))
+
+    def _entry(self, idx: int, sub: int, sec: ini_mod.Section, *, obj_flags: int = 0,
+               obj_map: bool = False, sub0: bool = False, compact: bool = False) -> Entry:
+        dev = self.dev
+        keys = sec.keys
+        e = Entry(idx, sub, sec.get("parametername") or "", where=self.w(sec.line), section=sec,
+                  lines={k: v.line for k, v in keys.items()})
+        e.default = sec.get("defaultvalue")
+        e.param = sec.get("parametervalue")
+        e.download_file = sec.get("downloadfile")
+        e.low = sec.get("lowlimit")
+        e.high = sec.get("highlimit")
+        e.denotation = sec.get("denotation")
+        e.obj_flags = self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
+        pm = sec.get("pdomapping")
+        e.pdo_mapping = _pdo_flag(pm) if pm is not None else (obj_map and not sub0)
+        nv = is_network_variable_index(idx) and sub >= 1
+        text = sec.get("datatype")
+        if text is not None:
+            try:
+                code = values.parse_int(values.split_numeric_comment(text)[0])
+                e.dtype = dt.BY_CODE.get(code)
+                if e.dtype is None:
+                    dev.error(f"[{sec.name}] unknown or unsupported DataType 0x{code:04X}",
+                              self.w(sec.line_of("datatype")), idx, sub, rule="DCF030")
+            except values.ValueProblem as exc:
+                dev.error(f"[{sec.name}] DataType: {exc}", self.w(sec.line_of("datatype")),
+                          idx, sub, rule="DCF030")
+        elif sub0:
+            e.dtype = dt.UNSIGNED8
+        elif not nv:
+            dev.error(f"[{sec.name}] has no DataType", self.w(sec.line), idx, sub,
+                      rule="DCF031")
+        text = sec.get("accesstype")
+        if text is not None:
+            acc = text.strip().lower()
+            if acc in dt.ACCESS_ATTR:
+                e.access = acc
+            else:
+                dev.error(f"[{sec.name}] unknown AccessType '{text}'",
+                          self.w(sec.line_of("accesstype")), idx, sub, rule="DCF032")
+        elif sub0:
+            e.access = "ro"
+        elif not nv:
+            dev.error(f"[{sec.name}] has no AccessType", self.w(sec.line), idx, sub,
+                      rule="DCF033")
+        return e
+
+    # -- CompactPDO (CiA 306 §4.6.3.4.1, SPEC §1) -------------------------------------------
+    def _compact_pdo(self) -> None:
+        dev = self.dev
+        info = self.ini.section("deviceinfo")
+        if info is None:
+            return
+        try:
+            mask = _int_or(info.get("compactpdo"), 0)
+            n_rx = _int_or(info.get("nrofrxpdo"), 0)
+            n_tx = _int_or(info.get("nroftxpdo"), 0)
+        except values.ValueProblem as exc:
+            dev.error(f"[DeviceInfo]: {exc}", self.w(info.line), rule="DCF040")
+            return
+        if not mask:
+            return
+        where = self.w(info.line_of("compactpdo"))
+        for base, n, cob_bases in ((RPDO_COMM, n_rx, (0x200, 0x300, 0x400, 0x500)),
+                                   (TPDO_COMM, n_tx, (0x180, 0x280, 0x380, 0x480))):
+            for k in range(min(n, 512)):
+                comm, mapping = base + k, base + 0x200 + k
+                if comm not in dev.objects:
+                    obj = Obj(comm, "PDO communication parameter", dt.OT_RECORD, where=where,
+                              implicit=True, complex=True)
+                    present = [s for s in range(1, 7) if mask & (1 << (s - 1))]
+                    obj.entries[0] = Entry(comm, 0, "Highest sub-index supported", dt.UNSIGNED8,
+                                           "ro", default=str(max(present, default=0)),
+                                           where=where, implicit=True)
+                    for s in present:
+                        if s == 1:
+                            cob = (f"$NODEID+0x{cob_bases[k]:X}" if k < 4 else "0x80000000")
+                            e = Entry(comm, 1, "COB-ID", dt.UNSIGNED32, "rw", default=cob)
+                        elif s == 2:
+                            e = Entry(comm, 2, "Transmission type", dt.UNSIGNED8, "rw",
+                                      default="255")
+                        elif s in (3, 5):
+                            e = Entry(comm, s, "Inhibit time" if s == 3 else "Event timer",
+                                      dt.UNSIGNED16, "rw", default="0")
+                        else:
+                            e = Entry(comm, s, "Reserved" if s == 4 else "SYNC start value",
+                                      dt.UNSIGNED8, "rw", default="0")
+                        e.where, e.implicit = where, True
+                        obj.entries[s] = e
+                    dev.objects[comm] = obj
+                if mapping not in dev.objects:
+                    obj = Obj(mapping, "PDO mapping parameter", dt.OT_RECORD, where=where,
+                              implicit=True, complex=True)
+                    obj.entries[0] = Entry(mapping, 0, "Number of mapped objects", dt.UNSIGNED8,
+                                           "rw", default="0", where=where, implicit=True)
+                    for s in range(1, 9):
+                        obj.entries[s] = Entry(mapping, s, f"Mapped object {s}", dt.UNSIGNED32,
+                                               "rw", default="0", where=where, implicit=True)
+                    dev.objects[mapping] = obj
+
+
+def _pdo_flag(text: str | None) -> bool:
+    if text is None:
+        return False
+    try:
+        return values.parse_int(values.split_numeric_comment(text)[0]) == 1
+    except values.ValueProblem:
+        return False
+
+
+def _section_target(canon: str) -> tuple[int | None, int | None]:
+    if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
+        return int(canon, 16), None
+    m = _SUB_RE.fullmatch(canon)
+    if m:
+        return int(m.group(1), 16), int(m.group(2), 16)
+    m = _AUX_RE.fullmatch(canon)
+    if m:
+        return int(m.group(1), 16), None
+    return None, None

@@ -1,0 +1,202 @@
+"""Which entries the index segment writes, in which order (SPEC.md §3.2, D-8).
+
+The result is a list of ``Write``: (index, subindex, data bytes, attribute byte),
+already encoded. Encoding errors of written entries are collected, not raised,
+so one run reports all of them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from dcf2bin import datatypes as dt
+from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
+from dcf2bin.model import (Device, Entry, NV_FIRST, NV_LAST, is_pdo_comm, is_pdo_mapping,
+                           is_pdo_object)
+
+AUTO, ALL = "auto", "all"
+CIA301, NONE = "cia301", "none"
+COB_INVALID = 0x80000000
+MAX_MAPPED = 64
+
+
+@dataclass(slots=True)
+class Write:
+    index: int
+    sub: int
+    data: bytes
+    attr: int
+
+
+@dataclass
+class PdoRules:
+    """How a PDO block disables and enables a PDO (SPEC §3.2 a/f, §6 for DIS-2)."""
+    disable_mask: int = COB_INVALID
+    enable_mask: int = 0
+    max_mapped: int = MAX_MAPPED
+
+
+@dataclass
+class Selection:
+    writes: list[Write] = field(default_factory=list)
+    errors: list[Diagnostic] = field(default_factory=list)
+    emitted: set[tuple[int, int]] = field(default_factory=set)
+    emitted_objects: set[int] = field(default_factory=set)
+
+
+def attribute(entry: Entry) -> int:
+    """The extended-info attribute byte of an entry (SPEC §3.3, D-9)."""
+    if NV_FIRST <= entry.index <= NV_LAST:
+        return 0x30 if entry.sub == 0 else 0xF0
+    attr = entry.dtype.type_attr if entry.dtype is not None else 0
+    attr |= dt.ACCESS_ATTR.get(entry.access or "", 0)
+    if entry.pdo_mapping:
+        attr |= dt.ATTR_PDO
+    return attr
+
+
+class _Selector:
+    def __init__(self, dev: Device, policy: str, pdo_sequence: str,
+                 static_od: set[int] | None, rules: PdoRules):
+        self.dev = dev
+        self.policy = policy
+        self.pdo_sequence = pdo_sequence
+        self.static_od = static_od
+        self.rules = rules
+        self.sel = Selection()
+
+    def error(self, exc_or_msg, where=None) -> None:
+        if isinstance(exc_or_msg, DcfError):
+            self.sel.errors.append(exc_or_msg.diagnostic)
+        else:
+            self.sel.errors.append(Diagnostic(Severity.ERROR, exc_or_msg,
+                                              where.file if where else self.dev.path,
+                                              where.line if where else None))
+
+    def write(self, entry: Entry, data: bytes | None = None) -> None:
+        if data is None:
+            try:
+                data = self.dev.encode(entry)
+            except DcfError as exc:
+                self.error(exc)
+                data = b""
+        self.sel.writes.append(Write(entry.index, entry.sub, data, attribute(entry)))
+        self.sel.emitted.add((entry.index, entry.sub))
+        self.sel.emitted_objects.add(entry.index)
+
+    def counts(self, entry: Entry) -> bool:
+        """Configured (auto) or has any value (all)."""
+        return entry.configured if self.policy == AUTO else entry.has_value
+
+    def run(self) -> Selection:
+        dev = self.dev
+        objs = [o for o in dev.sorted_objects() if o.index >= 0x1000]
+        created = set()
+        # 1. creation
+        for obj in objs:
+            if NV_FIRST <= obj.index <= NV_LAST or (
+                    self.static_od is not None and obj.index not in self.static_od):
+                created.add(obj.index)
+                for e in obj.entries.values():
+                    self.write(e)
+        # 2. configuration
+        for obj in objs:
+            if obj.index in created or is_pdo_object(obj.index):
+                continue
+            for e in obj.entries.values():
+                if e.obj_flags & 1:
+                    continue
+                if self.policy == AUTO:
+                    if e.configured and e.access not in ("ro", "const"):
+                        self.write(e)
+                elif e.has_value:
+                    self.write(e)
+        # 3. PDOs
+        self.check_pairs()
+        for base in (0x1400, 0x1800):
+            for comm in range(base, base + 0x200):
+                if comm in created or comm not in dev.objects:
+                    continue
+                mapping = dev.objects.get(comm + 0x200)
+                if self.pdo_is_configured(comm) and (comm + 0x200) not in created:
+                    self.pdo_block(comm)
+        return self.sel
+
+    def pdo_is_configured(self, comm: int) -> bool:
+        for idx in (comm, comm + 0x200):
+            obj = self.dev.objects.get(idx)
+            if obj is not None and any(self.counts(e) for e in obj.entries.values()):
+                return True
+        return False
+
+    def check_pairs(self) -> None:
+        """Every comm object needs its mapping object; a configured mapping its comm."""
+        dev = self.dev
+        for idx, obj in sorted(dev.objects.items()):
+            if is_pdo_comm(idx) and (idx + 0x200) not in dev.objects:
+                self.error(f"PDO communication object 0x{idx:04X} has no mapping object "
+                           f"0x{idx + 0x200:04X}", obj.where)
+            elif is_pdo_mapping(idx) and (idx - 0x200) not in dev.objects and any(
+                    self.counts(e) for e in obj.entries.values()):
+                self.error(f"configured PDO mapping object 0x{idx:04X} has no communication "
+                           f"object 0x{idx - 0x200:04X}", obj.where)
+
+    def pdo_block(self, comm_idx: int) -> None:
+        dev = self.dev
+        comm = dev.objects[comm_idx]
+        mapping = dev.objects.get(comm_idx + 0x200)
+        if mapping is None:
+            return  # reported by check_pairs
+        if self.pdo_sequence == NONE:
+            for obj in (comm, mapping):
+                for e in obj.entries.values():
+                    if self.counts(e):
+                        self.write(e)
+            return
+        cob = comm.entries.get(1)
+        if cob is None:
+            self.error(f"PDO 0x{comm_idx:04X} has no COB-ID (sub 1)", comm.where)
+            return
+        if cob.dtype is None or cob.dtype.code != dt.UNSIGNED32.code:
+            self.error(f"{cob.label}: the COB-ID must be UNSIGNED32", cob.key_where("datatype"))
+            return
+        try:
+            final = dev.effective_int(cob)
+        except DcfError as exc:
+            self.error(exc)
+            return
+        # a) disable
+        self.write(cob, (final | self.rules.disable_mask).to_bytes(4, "little"))
+        # b) transmission type, inhibit time, event timer, SYNC start
+        for s in (2, 3, 5, 6):
+            e = comm.entries.get(s)
+            if e is not None and self.counts(e) and not e.obj_flags & 1:
+                self.write(e)
+        # c) d) e) mapping
+        sub0 = mapping.entries.get(0)
+        try:
+            n = dev.effective_int(sub0) if sub0 is not None else 0
+        except DcfError as exc:
+            self.error(exc)
+            return
+        if n > self.rules.max_mapped:
+            self.error(f"{sub0.label}: {n} mapped objects, more than {self.rules.max_mapped}",
+                       sub0.value_where)
+            return
+        size0 = sub0.dtype.size if sub0.dtype and sub0.dtype.size else 1
+        self.write(sub0, (0).to_bytes(size0, "little"))
+        for k in range(1, n + 1):
+            e = mapping.entries.get(k)
+            if e is None:
+                self.error(f"PDO mapping 0x{mapping.index:04X} maps {n} objects but has no "
+                           f"sub {k}", sub0.value_where)
+                continue
+            self.write(e)
+        self.write(sub0, n.to_bytes(size0, "little"))
+        # f) enable
+        if not final & COB_INVALID:
+            self.write(cob, (final | self.rules.enable_mask).to_bytes(4, "little"))
+
+
+def select(dev: Device, *, policy: str = AUTO, pdo_sequence: str = CIA301,
+           static_od: set[int] | None = None, rules: PdoRules | None = None) -> Selection:
+    return _Selector(dev, policy, pdo_sequence, static_od, rules or PdoRules()).run()
