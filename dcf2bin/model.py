@@ -187,7 +187,7 @@ class Device:
                 where, rule="DCF201",
                 hint="give --node-id N or set NodeID in [DeviceComissioning]") from None
         except values.ValueProblem as exc:
-            raise DcfError(f"{entry.label}: {exc}", where, rule="DCF200") from None
+            raise DcfError(f"{entry.label}: {_clip(str(exc))}", where, rule="DCF200") from None
 
     def _download(self, entry: Entry) -> bytes:
         where = entry.key_where("downloadfile")
@@ -583,6 +583,11 @@ class _Builder:
                         obj.entries[s] = Entry(mapping, s, f"Mapped object {s}", dt.UNSIGNED32,
                                                "rw", default="0", where=where, implicit=True)
                     dev.objects[mapping] = obj
+
+
+def _clip(message: str, n: int = 160) -> str:
+    """Keep diagnostics one readable line even for a 4 KiB DOMAIN value."""
+    return message if len(message) <= n else message[:n - 20] + "..." + message[-17:]
 
 
 def _pdo_flag(text: str | None) -> bool:

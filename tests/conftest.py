@@ -1,0 +1,26 @@
+"""Shared fixtures. Corpus tests skip, with a reason, when ../shared is absent."""
+from __future__ import annotations
+
+import pathlib
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+SAMPLES = ROOT / "samples"
+CORPUS = ROOT.parent / "shared" / "corpus" / "files"
+
+
+def corpus_files(*suffixes: str) -> list[pathlib.Path]:
+    if not CORPUS.is_dir():
+        return []
+    suffixes = suffixes or (".eds", ".dcf")
+    return sorted(p for p in CORPUS.rglob("*") if p.is_file() and p.suffix.lower() in suffixes)
+
+
+def corpus_params(*suffixes: str):
+    """pytest params over the corpus, or one param that skips with the reason."""
+    files = corpus_files(*suffixes)
+    if not files:
+        return [pytest.param(None, marks=pytest.mark.skip(
+            reason=f"corpus not found at {CORPUS} (a fresh clone without ../shared)"))]
+    return [pytest.param(p, id=str(p.relative_to(CORPUS))) for p in files]
