@@ -5,106 +5,13 @@ commands, so ``dcf2bin --help`` and ``--version`` stay fast.
 """
 from __future__ import annotations
 
-import functools
 import os
-import sys
-import tempfile
 
 import click
 
 from dcf2bin import __version__
-from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
-
-CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
-
-
-class Failure(Exception):
-    """End the command with diagnostics already printed and this exit code."""
-
-    def __init__(self, code: ExitCode):
-        self.code = code
-
-
-def _emit(diags, quiet: bool = False) -> None:
-    from dcf2bin.report import render_text
-    shown = [d for d in diags if not (quiet and d.severity is not Severity.ERROR)]
-    render_text(shown, sys.stderr, hints=True)
-
-
-def _fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
-    _emit([Diagnostic(Severity.ERROR, message, where)])
-    raise Failure(code)
-
-
-def guarded(fn):
-    """Turn Failure into its exit code and any bug into one line plus exit 70."""
-    @functools.wraps(fn)
-    def wrapper(*args, **kwargs):
-        ctx = click.get_current_context()
-        debug = (ctx.find_root().params or {}).get("debug", False) or ctx.params.get("debug")
-        try:
-            return fn(*args, **kwargs)
-        except Failure as f:
-            ctx.exit(int(f.code))
-        except (click.exceptions.Exit, click.ClickException, click.Abort):
-            raise
-        except KeyboardInterrupt:
-            click.echo("dcf2bin: interrupted", err=True)
-            ctx.exit(130)
-        except BrokenPipeError:
-            ctx.exit(int(ExitCode.OK))
-        except Exception as exc:  # a bug: never a traceback unless asked
-            if debug or os.environ.get("DCF2BIN_DEBUG"):
-                raise
-            click.echo(f"dcf2bin: internal error: {type(exc).__name__}: {exc} "
-                       "(run with --debug for the traceback, and please report it)", err=True)
-            ctx.exit(int(ExitCode.INTERNAL))
-    return wrapper
-
-
-def read_input(path: str) -> bytes:
-    """Read a file or '-' (stdin); an unreadable input ends with exit 3."""
-    try:
-        if path == "-":
-            return sys.stdin.buffer.read()
-        with open(path, "rb") as f:
-            return f.read()
-    except OSError as exc:
-        _fail(f"cannot read: {exc.strerror}", path, ExitCode.UNREADABLE)
-
-
-def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: bool) -> None:
-    """Write atomically (temp file + rename); never over an input; no binary to a terminal."""
-    if isinstance(data, str):
-        data = data.encode("utf-8")
-    if output == "-":
-        if binary and sys.stdout.isatty():
-            _fail("refusing to write binary data to a terminal; use -o FILE or a pipe",
-                  code=ExitCode.USAGE)
-        sys.stdout.buffer.write(data)
-        sys.stdout.buffer.flush()
-        return
-    out_abs = os.path.realpath(output)
-    for inp in inputs:
-        if inp != "-" and os.path.exists(inp) and os.path.realpath(inp) == out_abs:
-            _fail(f"output '{output}' is the input file; refusing to overwrite it",
-                  code=ExitCode.USAGE)
-    folder = os.path.dirname(out_abs) or "."
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=".dcf2bin-", suffix=".tmp", dir=folder)
-    except OSError as exc:
-        _fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, output)
-    except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        _fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
-
+from dcf2bin.clitools import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.diagnostics import ExitCode, Severity
 
 @click.group(context_settings=CONTEXT)
 @click.version_option(__version__, "-V", "--version", prog_name="dcf2bin")
@@ -162,14 +69,14 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
     data_in = read_input(input)
     if output is None:
         if input == "-":
-            _fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
+            fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
         output = os.path.splitext(input)[0] + ".bin"
     fmt = from_ or ("json" if input.lower().endswith(".json") else "dcf")
     name = "<stdin>" if input == "-" else input
     if fmt == "json":
         from dcf2bin.dump import from_json_bytes
         data, diags = from_json_bytes(data_in, name)
-        _emit(diags, quiet)
+        emit(diags, quiet)
         if data is None:
             raise Failure(ExitCode.FINDINGS)
         write_output(data, output, [input], binary=True)
@@ -180,7 +87,7 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
                           container_version=container_version,
                           allow_external_files=allow_external_files, profile=profile)
     res = compile_path(name, opts, data=data_in)
-    _emit(res.diagnostics, quiet)
+    emit(res.diagnostics, quiet)
     if not res.ok:
         n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
         click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
@@ -193,3 +100,11 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
             msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
                     f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
         click.echo(msg, err=True)
+
+
+# Commands that live in their own modules (each imports only click at module level).
+from dcf2bin import cli_dump, cli_export, cli_validate  # noqa: E402
+
+for _module in (cli_dump, cli_validate, cli_export):
+    for _command in _module.COMMANDS:
+        main.add_command(_command)

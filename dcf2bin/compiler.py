@@ -101,7 +101,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     data = c.to_bytes()
     # self-check: what we wrote must read back as what we meant
     back, _ = read_container(data)
-    if back.entries != c.entries or back.attributes != c.attributes or \
+    if back.entries != c.entries or (back.attributes or b"") != c.attributes or \
             back.addresses != c.addresses or back.pi != c.pi:  # pragma: no cover
         raise AssertionError("container self-check failed: read-back differs")
     return Result(data, diags, dev, c, lay)
