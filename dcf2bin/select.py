@@ -73,7 +73,9 @@ class _Selector:
                                               where.line if where else None))
 
     def write(self, entry: Entry, data: bytes | None = None) -> None:
-        if data is None:
+        if data is None and entry.dtype is None:
+            data = b""  # the model already reported the missing/unknown DataType
+        elif data is None:
             try:
                 data = self.dev.encode(entry)
             except DcfError as exc:
@@ -116,7 +118,6 @@ class _Selector:
             for comm in range(base, base + 0x200):
                 if comm in created or comm not in dev.objects:
                     continue
-                mapping = dev.objects.get(comm + 0x200)
                 if self.pdo_is_configured(comm) and (comm + 0x200) not in created:
                     self.pdo_block(comm)
         return self.sel
