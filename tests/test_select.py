@@ -1,0 +1,184 @@
+"""Entry selection and order (SPEC §3.2, D-8) and attribute bytes (§3.3, D-9)."""
+from __future__ import annotations
+
+import pytest
+
+from helpers import compile_text, messages, nv_objects
+
+
+def writes(res):
+    assert res.ok, messages(res)
+    return [(i, s, d.hex(), a) for (i, s, d), a in zip(res.container.entries,
+                                                        res.container.attributes)]
+
+
+VAR = "[{i:04X}]\nParameterName=x\nDataType={t}\nAccessType={a}\n{extra}\n"
+
+
+def var(i, t="0x0007", a="rw", extra=""):
+    return VAR.format(i=i, t=t, a=a, extra=extra)
+
+
+PDO = """
+[1800]
+ObjectType=0x9
+[1800sub0]
+DataType=0x0005
+AccessType=ro
+DefaultValue=5
+[1800sub1]
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x180
+{cob}
+[1800sub2]
+DataType=0x0005
+AccessType=rw
+DefaultValue=255
+{tt}
+[1800sub3]
+DataType=0x0006
+AccessType=rw
+DefaultValue=0
+[1800sub4]
+DataType=0x0005
+AccessType=rw
+ParameterValue=9
+[1800sub5]
+DataType=0x0006
+AccessType=rw
+ObjFlags=1
+ParameterValue=100
+[1A00]
+ObjectType=0x9
+[1A00sub0]
+DataType=0x0005
+AccessType=rw
+ParameterValue=2
+[1A00sub1]
+DataType=0x0007
+AccessType=rw
+ParameterValue=0x20000020
+[1A00sub2]
+DataType=0x0007
+AccessType=rw
+DefaultValue=0x20010010
+[1A00sub3]
+DataType=0x0007
+AccessType=rw
+ParameterValue=0x20020008
+"""
+
+
+def test_groups_and_order():
+    """Creation (NV objects), then configuration (ascending), then PDO blocks."""
+    text = (var(0x2001, extra="ParameterValue=2") + var(0x2000, extra="ParameterValue=1")
+            + var(0x1017, "0x0006", extra="ParameterValue=0x64")
+            + var(0x1000, a="ro", extra="ParameterValue=1")        # ro: not written
+            + var(0x2002, a="const", extra="ParameterValue=1")     # const: not written
+            + var(0x2003, extra="ObjFlags=1\nParameterValue=1")    # ObjFlags bit 0
+            + var(0x2004, extra="DefaultValue=5")                  # not configured
+            + PDO.format(cob="ParameterValue=0x181", tt="")
+            + nv_objects({0xA040: [1]}))
+    assert writes(compile_text(text)) == [
+        (0xA040, 0, "01", 0x30), (0xA040, 1, "00", 0xF0),
+        (0x1017, 0, "6400", 0x70),
+        (0x2000, 0, "01000000", 0x70), (0x2001, 0, "02000000", 0x70),
+        # PDO block (CiA 301): disable, configured comm subs 2/3/5/6 (none here: sub4 never,
+        # sub5 has ObjFlags), mapping sub0 := 0, subs 1..n, sub0 := n, enable
+        (0x1800, 1, "81010080", 0x70),
+        (0x1A00, 0, "00", 0x70),
+        (0x1A00, 1, "20000020", 0x70), (0x1A00, 2, "10000120", 0x70),
+        (0x1A00, 0, "02", 0x70),
+        (0x1800, 1, "81010000", 0x70),
+    ]
+
+
+def test_pdo_block_invalid_final_cob_and_transmission_type():
+    text = PDO.format(cob="ParameterValue=0x80000181", tt="ParameterValue=254")
+    assert writes(compile_text(text)) == [
+        (0x1800, 1, "81010080", 0x70),
+        (0x1800, 2, "fe", 0x70),
+        (0x1A00, 0, "00", 0x70),
+        (0x1A00, 1, "20000020", 0x70), (0x1A00, 2, "10000120", 0x70),
+        (0x1A00, 0, "02", 0x70),
+        # f) skipped: the final COB-ID itself has bit 31 set
+    ]
+
+
+def test_pdo_block_uses_node_id():
+    text = PDO.format(cob="ParameterValue=$NODEID+0x180", tt="")
+    res = compile_text(text)
+    assert messages(res) == [
+        "test.dcf:11: error: value '$NODEID+0x180' of 0x1800sub1 uses $NODEID but no node-ID "
+        "is known [DCF201]"]
+    assert writes(compile_text(text, node_id=5))[0] == (0x1800, 1, "85010080", 0x70)
+
+
+def test_pdo_sequence_none():
+    text = PDO.format(cob="ParameterValue=0x181", tt="")
+    assert writes(compile_text(text, pdo_sequence="none")) == [
+        (0x1800, 1, "81010000", 0x70), (0x1800, 4, "09", 0x70), (0x1800, 5, "6400", 0x70),
+        (0x1A00, 0, "02", 0x70), (0x1A00, 1, "20000020", 0x70), (0x1A00, 3, "08000220", 0x70),
+    ]
+
+
+def test_dis2_profile_masks():
+    text = PDO.format(cob="ParameterValue=0x40000181", tt="")
+    w = writes(compile_text(text, profile="dis2"))
+    assert w[0] == (0x1800, 1, "810100c0", 0x70)
+    assert w[-1] == (0x1800, 1, "81010040", 0x70)
+
+
+def test_select_all_takes_default_values():
+    text = (var(0x1000, a="ro", extra="DefaultValue=0x191") + var(0x2000, extra="DefaultValue=7")
+            + var(0x2003, extra="ObjFlags=1\nDefaultValue=1") + var(0x2005))
+    assert writes(compile_text(text, select="all")) == [
+        (0x1000, 0, "91010000", 0x30), (0x2000, 0, "07000000", 0x70)]
+
+
+def test_mapping_count_errors():
+    text = PDO.format(cob="ParameterValue=0x181", tt="").replace(
+        "[1A00sub0]\nDataType=0x0005\nAccessType=rw\nParameterValue=2",
+        "[1A00sub0]\nDataType=0x0005\nAccessType=rw\nParameterValue=4")
+    assert messages(compile_text(text)) == [
+        "test.dcf:35: error: PDO mapping 0x1A00 maps 4 objects but has no sub 4"]
+
+
+def test_comm_without_mapping_is_an_error():
+    text = "[1400]\nObjectType=0x9\n[1400sub1]\nDataType=0x0007\nAccessType=rw\n"
+    assert messages(compile_text(text)) == [
+        "test.dcf:1: error: PDO communication object 0x1400 has no mapping object 0x1600"]
+
+
+@pytest.mark.parametrize("dtype, access, mapping, attr", [
+    ("0x0001", "rw", "0", 0x61),   # BOOLEAN rw (SPEC §3.3 example)
+    ("0x0009", "ro", "0", 0x28),   # VISIBLE_STRING ro -> selected only with --select all
+    ("0x000F", "rw", "0", 0x60),   # DOMAIN rw
+    ("0x0007", "rw", "1", 0xF0),   # UNSIGNED32 rw mappable
+    ("0x0007", "wo", "0", 0x50),
+    ("0x000A", "rww", "0", 0x60),  # OCTET_STRING: byte copy, no type bit
+    ("0x0008", "rwr", "1", 0xF0),  # REAL32 is NUMERIC
+])
+def test_attribute_bytes(dtype, access, mapping, attr):
+    value = "0" if dtype not in ("0x0009", "0x000F", "0x000A") else '""'
+    text = var(0x2000, dtype, access, f"PDOMapping={mapping}\nDefaultValue={value}")
+    assert writes(compile_text(text, select="all"))[0][3] == attr
+
+
+def test_static_od_creates_missing_objects(tmp_path):
+    static = tmp_path / "static.eds"
+    static.write_text(var(0x2000, extra="DefaultValue=0"))
+    text = (var(0x2000, extra="ParameterValue=1")
+            + var(0x2100, a="ro", extra="DefaultValue=3"))
+    assert writes(compile_text(text, static_od=str(static))) == [
+        (0x2100, 0, "03000000", 0x30), (0x2000, 0, "01000000", 0x70)]
+
+
+def test_error_in_unwritten_entry_is_a_warning():
+    text = var(0x2000, extra="DefaultValue=0x1FFFFFFFF") + var(0x2001, extra="ParameterValue=1")
+    res = compile_text(text)
+    assert writes(res) == [(0x2001, 0, "01000000", 0x70)]
+    text = var(0x2000, "0x0005", extra="ParameterValue=256")
+    assert messages(compile_text(text)) == [
+        "test.dcf:5: error: 0x2000sub0: value 256 out of range for UNSIGNED8 (0..255) [DCF200]"]
