@@ -31,7 +31,7 @@ def emit(diags, quiet: bool = False) -> None:
 
 
 def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
-    emit([Diagnostic(Severity.ERROR, message, where)])
+    emit([Diagnostic(Severity.ERROR, message, where or "dcf2bin")])
     raise Failure(code)
 
 
