@@ -1,0 +1,116 @@
+"""Building the model from INI text (SPEC §1)."""
+from __future__ import annotations
+
+from dcf2bin import datatypes as dt
+from helpers import compile_text, load_text, messages
+
+
+def problems(dev):
+    return [p.diagnostic.format() for p in dev.problems]
+
+
+def test_sub0_created_and_defaults():
+    dev = load_text("[2000]\nObjectType=0x9\n[2000sub2]\nDataType=0x0005\nAccessType=rw\n"
+                    "PDOMapping=1\n")
+    e0 = dev.entry(0x2000, 0)
+    assert (e0.dtype, e0.access, e0.default, e0.implicit, e0.pdo_mapping) == (
+        dt.UNSIGNED8, "ro", "2", True, False)
+    assert dev.entry(0x2000, 2).pdo_mapping
+
+
+def test_array_without_subs_holds_only_sub0():
+    dev = load_text("[2000]\nObjectType=0x8\n")
+    assert list(dev.objects[0x2000].entries) == [0]
+    assert dev.encode(dev.entry(0x2000, 0)) == b"\x00"
+
+
+def test_sub_flags_inherit_from_object():
+    dev = load_text("[2000]\nObjectType=0x8\nObjFlags=1\nPDOMapping=1\n"
+                    "[2000sub1]\nDataType=0x0005\nAccessType=rw\n")
+    e = dev.entry(0x2000, 1)
+    assert (e.obj_flags, e.pdo_mapping) == (1, True)
+    assert (dev.entry(0x2000, 0).obj_flags, dev.entry(0x2000, 0).pdo_mapping) == (0, False)
+
+
+def test_compact_sub_obj_with_names_and_values():
+    dev = load_text("[1016]\nParameterName=HB\nObjectType=0x8\nDataType=0x0007\nAccessType=rw\n"
+                    "DefaultValue=0\nCompactSubObj=3\nParameterValue=9\n"
+                    "[1016Name]\nNrOfEntries=1\n2=Node 2\n[1016Value]\nNrOfEntries=1\n2=0x20064\n")
+    obj = dev.objects[0x1016]
+    assert list(obj.entries) == [0, 1, 2, 3]
+    assert dev.entry(0x1016, 0).default == "3"
+    assert dev.entry(0x1016, 2).name == "Node 2"
+    assert dev.entry(0x1016, 2).configured and not dev.entry(0x1016, 1).configured
+    assert problems(dev) == ["test.dcf:8: warning: ParameterValue in [1016] of a CompactSubObj "
+                             "object is ignored (use [1016Value]) [DCF025]"]
+
+
+def test_compact_pdo_creates_implicit_objects():
+    dev = load_text("[DeviceInfo]\nCompactPDO=0x21\nNrOfRXPDO=1\nNrOfTXPDO=0\n"
+                    "[1600]\nObjectType=0x9\n[1600sub0]\nDataType=0x0005\nAccessType=rw\n"
+                    "ParameterValue=0\n", node_id=4)
+    comm = dev.objects[0x1400]
+    assert comm.implicit and list(comm.entries) == [0, 1, 6]
+    assert dev.encode(comm.entries[0]) == b"\x06"
+    assert dev.encode(comm.entries[1]) == (0x204).to_bytes(4, "little")
+    assert not dev.objects[0x1600].implicit
+    # the implicit comm object takes part in the PDO block of its configured mapping
+    res = compile_text("[DeviceInfo]\nCompactPDO=0x01\nNrOfRXPDO=1\n"
+                       "[1600]\nObjectType=0x9\n[1600sub0]\nDataType=0x0005\nAccessType=rw\n"
+                       "ParameterValue=0\n", node_id=4)
+    assert [(i, s, d.hex()) for i, s, d in res.container.entries] == [
+        (0x1400, 1, "04020080"), (0x1600, 0, "00"), (0x1600, 0, "00"), (0x1400, 1, "04020000")]
+
+
+def test_structural_errors():
+    dev = load_text("[2000sub1]\nDataType=0x0005\n[2001]\nAccessType=rw\n"
+                    "[2002]\nDataType=0x0099\nAccessType=rw\n[2003]\nDataType=0x0005\n"
+                    "AccessType=rx\n")
+    assert problems(dev) == [
+        "test.dcf:1: error: [2000sub1] has no object section [2000] [DCF006]",
+        "test.dcf:3: error: [2001] has no DataType [DCF031]",
+        "test.dcf:6: error: [2002] unknown or unsupported DataType 0x0099 [DCF030]",
+        "test.dcf:10: error: [2003] unknown AccessType 'rx' [DCF032]",
+    ]
+
+
+def test_node_id_sources():
+    text = "[DeviceComissioning]\nNodeID=0x10\n[DeviceCommissioning]\nNodeID=5\n"
+    dev = load_text(text)
+    assert dev.node_id == 16
+    assert problems(dev) == ["test.dcf:3: warning: both [DeviceComissioning] and "
+                             "[DeviceCommissioning] present; [DeviceComissioning] wins [DCF011]"]
+    assert load_text(text, node_id=7).node_id == 7
+    assert load_text("[DeviceCommissioning]\nNodeID=012\n").node_id == 10   # octal
+    assert problems(load_text("[DeviceComissioning]\nNodeID=128\n")) == [
+        "test.dcf:2: error: NodeID 128 is outside 1..127 [DCF012]"]
+
+
+def test_duplicate_touching_written_entry_is_error_else_warning():
+    text = "[2000]\nDataType=0x0005\nAccessType=rw\nParameterValue=1\nParameterValue=2\n"
+    assert messages(compile_text(text)) == [
+        "test.dcf:5: error: key 'ParameterValue' repeated in [2000] (first at line 4) [DCF010]"]
+    text = "[2000]\nDataType=0x0005\nAccessType=rw\nDefaultValue=1\nDefaultValue=2\n"
+    res = compile_text(text)
+    assert res.ok
+    assert messages(res, "warning") == [
+        "test.dcf:5: warning: key 'DefaultValue' repeated in [2000] (first at line 4) "
+        "(not written by compile) [DCF010]"]
+
+
+def test_numeric_comment_is_ignored():
+    res = compile_text("[2000]\nDataType=0x0005\nAccessType=rw\nParameterValue=5 ; five\n")
+    assert [(i, s, d) for i, s, d in res.container.entries] == [(0x2000, 0, b"\x05")]
+
+
+def test_download_file(tmp_path):
+    (tmp_path / "blob.bin").write_bytes(b"\x01\x02")
+    dcf = tmp_path / "d.dcf"
+    dcf.write_text("[2000]\nDataType=0x000F\nAccessType=rw\nDownloadFile=blob.bin\n")
+    from dcf2bin.compiler import CompileOptions, compile_path
+    res = compile_path(str(dcf), CompileOptions())
+    assert res.container.entries == [(0x2000, 0, b"\x01\x02")]
+    dcf.write_text("[2000]\nDataType=0x000F\nAccessType=rw\nDownloadFile=../etc/passwd\n")
+    res = compile_path(str(dcf), CompileOptions())
+    assert messages(res) == [f"{dcf}:4: error: DownloadFile '../etc/passwd' leaves the DCF's "
+                             "folder [DCF202]"]
