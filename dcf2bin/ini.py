@@ -31,22 +31,58 @@ class Key:
     line: int
 
 
-@dataclass(slots=True)
 class Section:
-    name: str   # as written
-    line: int
-    keys: dict[str, Key] = field(default_factory=dict)  # lower-case key name -> Key
+    """One section: its values by lower-case key, and (lazily) each key's name and line.
+
+    The fast reader fills only ``values`` and remembers where the section's lines
+    are; ``keys`` (name, value and line of every key) is worked out on first use, so
+    the common case, which never prints a diagnostic, pays nothing for it.
+    """
+    __slots__ = ("name", "line", "values", "_keys", "_src")
+
+    def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
+                 keys: dict[str, Key] | None = None, src=None):
+        self.name = name            # as written
+        self.line = line
+        self.values = values if values is not None else {}
+        self._keys = keys
+        self._src = src             # the file's lines, for working out ``keys`` lazily
+
+    @property
+    def keys(self) -> dict[str, Key]:
+        """lower-case key name -> Key(name as written, value, line)."""
+        if self._keys is None:
+            keys: dict[str, Key] = {}
+            lines = self._src
+            for i in range(self.line, len(lines)):   # the lines after the header
+                raw = lines[i]
+                k, eq, v = raw.partition("=")
+                k = k.strip(" \t\r")
+                if eq and k and k[0] not in ";#[":
+                    keys.setdefault(k.lower(), Key(k, v.strip(" \t\r"), i + 1))
+                elif raw.lstrip(" \t")[:1] == "[":
+                    break
+            self._keys = keys
+        return self._keys
+
+    def has(self, key: str) -> bool:
+        return key in self.values
 
     def get(self, key: str) -> str | None:
         """The value of ``key`` (lower case), or None when absent or empty."""
-        k = self.keys.get(key)
-        if k is None or k.value == "":
-            return None
-        return k.value
+        return self.values.get(key) or None
 
     def line_of(self, key: str) -> int:
-        k = self.keys.get(key)
-        return k.line if k is not None else self.line
+        if key not in self.values:
+            return self.line
+        return self.keys[key].line
+
+    def add(self, key: Key) -> None:
+        low = key.name.lower()
+        self.values[low] = key.value
+        if self._keys is None:
+            self._keys = {}
+        self._keys[low] = key
 
 
 @dataclass(slots=True)
@@ -94,6 +130,76 @@ def read(path: str) -> IniFile:
 
 
 def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
+    """Parse INI text. A fast path handles clean files; anything unusual (a bad line,
+    a duplicate, a comment after a header) goes through the exact line-by-line
+    reader, which reports every problem with its line."""
+    fast = _parse_fast(text, path, encoding)
+    if fast is not None:
+        return fast
+    return _parse_exact(text, path, encoding)
+
+
+# Blanks around '=' or at either end of a line make the fast path strip every key/value
+# (plain substring tests: a multi-line regex would cost more than the whole parse).
+_BLANK_MARKS = (" =", "\t=", "= ", "=\t", "\n ", "\n\t", " \n", "\t\n")
+
+
+def _needs_strip(text: str) -> bool:
+    return (any(m in text for m in _BLANK_MARKS) or text[:1] in (" ", "\t")
+            or text[-1:] in (" ", "\t"))
+
+
+def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
+    try:
+        return _parse_fast_lines(text, path, encoding)
+    except TypeError:  # a key before the first section ('values' is still None)
+        return None
+
+
+def _parse_fast_lines(text: str, path: str, encoding: str) -> IniFile | None:
+    if "\r" in text:
+        text = text.replace("\r\n", "\n")
+        if "\r" in text:
+            return None  # a lone CR: let the exact reader deal with it
+    lines = text.split("\n")
+    strip = _needs_strip(text)
+    sections: dict[str, Section] = {}
+    values: dict[str, str] | None = None
+    kv_lines = 0
+    i = 0
+    for i, raw in enumerate(lines, 1):
+        k, eq, v = raw.partition("=")
+        if eq and k and k[0] not in " \t;#[":
+            if strip:
+                k = k.rstrip(" \t")
+                v = v.strip(" \t")
+            values[k.lower()] = v  # TypeError before the first section: see below
+            kv_lines += 1
+            continue
+        s = raw.strip(" \t") if strip else raw
+        if not s or s[0] == ";" or s[0] == "#":
+            continue
+        if s[0] != "[" or s[-1] != "]":
+            return None                          # bad line, or text after a header
+        name = s[1:-1]
+        if strip:
+            name = name.strip(" \t")
+        canon = name.lower()
+        if (len(canon) > 8 and canon[7] == "0") or not canon or "[" in canon or "]" in canon:
+            canon = canonical_section(name)
+            if not canon or "[" in canon or "]" in canon:
+                return None
+        if canon in sections:
+            return None                          # a repeated section
+        values = {}
+        sections[canon] = Section(name, i, values, src=lines)
+    # A key repeated within a section overwrote its first value: the counts tell.
+    if sum(len(sec.values) for sec in sections.values()) != kv_lines:
+        return None
+    return IniFile(path, encoding, sections, [], Diagnostics(), i)
+
+
+def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     diags = Diagnostics()
     sections: dict[str, Section] = {}
     duplicates: list[Duplicate] = []
@@ -137,7 +243,7 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
                 duplicates.append(Duplicate(canon, None, first.line, lineno))
                 current, skipping = first, True
             else:
-                current = Section(name, lineno)
+                current = Section(name, lineno, keys={})
                 sections[canon] = current
                 skipping = False
             continue
@@ -160,7 +266,7 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
         if prev is not None:
             duplicates.append(Duplicate(canonical_section(current.name), klow, prev.line, lineno))
             continue
-        current.keys[klow] = Key(kname, value, lineno)
+        current.add(Key(kname, value, lineno))
     return IniFile(path, encoding, sections, duplicates, diags, lineno)
 
 

@@ -194,6 +194,7 @@ class Variable:
 @dataclass
 class Layout:
     variables: dict[tuple[int, int], Variable] = field(default_factory=dict)
+    addresses: dict[tuple[int, int], int] = field(default_factory=dict)  # D-10 values
     input_size: int = 0
     output_offset: int = 0
     output_size: int = 0
@@ -268,9 +269,13 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
     if pi_size is not None and lay.total_size > pi_size:
         dev.error(f"process image needs {lay.total_size} bytes, more than --pi-size {pi_size}",
                   Where(dev.path), rule="DCF305")
-    for (idx, sub), v in lay.variables.items():
-        addr = lay.address(idx, sub)
+    out_base = 0 if address_base == "area" else lay.output_offset
+    addresses = lay.addresses
+    for key, v in lay.variables.items():
+        addr = v.offset + out_base if v.area == OUTPUT else v.offset
+        addresses[key] = addr
         if addr > 0xFFFF:
+            idx, sub = key
             dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
                       "the PI address segment", v.where, idx, sub, rule="DCF306")
     return lay

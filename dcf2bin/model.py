@@ -67,7 +67,7 @@ class Entry:
     high: str | None = None
     denotation: str | None = None
     where: Where | None = None               # the section (or the object's, for compact subs)
-    lines: dict[str, int] = field(default_factory=dict)  # key -> line of that key
+    lines: dict[str, int] | None = None      # key -> line, where not the section's own
     implicit: bool = False                   # created by the tool (sub 0, CompactPDO)
     section: ini_mod.Section | None = None
 
@@ -85,14 +85,22 @@ class Entry:
     def has_value(self) -> bool:
         return self.param is not None or self.download_file is not None or self.default is not None
 
+    def has_key(self, key: str) -> bool:
+        return bool(self.lines and key in self.lines) or (
+            self.section is not None and self.section.has(key))
+
     def key_where(self, key: str) -> Where:
         w = self.where or Where("")
-        return Where(w.file, self.lines.get(key, w.line))
+        if self.lines and key in self.lines:
+            return Where(w.file, self.lines[key])
+        if self.section is not None and self.section.has(key):
+            return Where(w.file, self.section.line_of(key))
+        return w
 
     @property
     def value_where(self) -> Where:
         for key in ("parametervalue", "downloadfile", "defaultvalue"):
-            if key in self.lines:
+            if self.has_key(key):
                 return self.key_where(key)
         return self.where or Where("")
 
@@ -170,7 +178,7 @@ class Device:
             if entry.param is None and entry.download_file is not None:
                 return self._download(entry)
             text = entry.value_text
-            where = entry.value_where
+            where = None  # worked out only for a diagnostic (entry.value_where)
         else:
             where = entry.where
         if text is None:
@@ -182,11 +190,13 @@ class Device:
         try:
             return values.encode(dtype, text, node_id=self.node_id, encoding=self.encoding)
         except values.NeedsNodeId:
+            where = where or entry.value_where
             raise DcfError(
                 f"value '{text}' of {entry.label} uses $NODEID but no node-ID is known",
                 where, rule="DCF201",
                 hint="give --node-id N or set NodeID in [DeviceComissioning]") from None
         except values.ValueProblem as exc:
+            where = where or entry.value_where
             raise DcfError(f"{entry.label}: {_clip(str(exc))}", where, rule="DCF200") from None
 
     def _download(self, entry: Entry) -> bytes:
@@ -433,7 +443,8 @@ class _Builder:
                 e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map, compact=True)
                 e.name = f"{base_name}{s}"
                 e.param = None
-                e.lines.pop("parametervalue", None)
+                e.section = None            # its keys are the object's: lines by hand
+                e.lines = {k: sec.line_of(k) for k in sec.values if k != "parametervalue"}
                 obj.entries[s] = e
             for kind, asec in (("name", names), ("value", vals), ("denotation", dens)):
                 if asec is None:
@@ -487,38 +498,30 @@ class _Builder:
     def _entry(self, idx: int, sub: int, sec: ini_mod.Section, *, obj_flags: int = 0,
                obj_map: bool = False, sub0: bool = False, compact: bool = False) -> Entry:
         dev = self.dev
-        keys = sec.keys
-        e = Entry(idx, sub, sec.get("parametername") or "", where=self.w(sec.line), section=sec,
-                  lines={k: v.line for k, v in keys.items()})
-        e.default = sec.get("defaultvalue")
-        e.param = sec.get("parametervalue")
-        e.download_file = sec.get("downloadfile")
-        e.low = sec.get("lowlimit")
-        e.high = sec.get("highlimit")
-        e.denotation = sec.get("denotation")
-        e.obj_flags = self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
-        pm = sec.get("pdomapping")
+        get = sec.values.get  # hot path: one Entry per sub-object; '' counts as absent
+        e = Entry(idx, sub, get("parametername") or "", where=Where(self.path, sec.line),
+                  section=sec, default=get("defaultvalue") or None,
+                  param=get("parametervalue") or None, download_file=get("downloadfile") or None,
+                  low=get("lowlimit") or None, high=get("highlimit") or None,
+                  denotation=get("denotation") or None)
+        e.obj_flags = (self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
+                       if get("objflags") else obj_flags)
+        pm = get("pdomapping") or None
         e.pdo_mapping = _pdo_flag(pm) if pm is not None else (obj_map and not sub0)
         nv = is_network_variable_index(idx) and sub >= 1
-        text = sec.get("datatype")
-        if text is not None:
-            try:
-                code = values.parse_int(values.split_numeric_comment(text)[0])
-                e.dtype = dt.BY_CODE.get(code)
-                if e.dtype is None:
-                    dev.error(f"[{sec.name}] unknown or unsupported DataType 0x{code:04X}",
-                              self.w(sec.line_of("datatype")), idx, sub, rule="DCF030")
-            except values.ValueProblem as exc:
-                dev.error(f"[{sec.name}] DataType: {exc}", self.w(sec.line_of("datatype")),
-                          idx, sub, rule="DCF030")
+        text = get("datatype")
+        if text:
+            e.dtype = _DTYPES.get(text)
+            if e.dtype is None:
+                e.dtype = self._datatype(sec, text, idx, sub)
         elif sub0:
             e.dtype = dt.UNSIGNED8
         elif not nv:
             dev.error(f"[{sec.name}] has no DataType", self.w(sec.line), idx, sub,
                       rule="DCF031")
-        text = sec.get("accesstype")
-        if text is not None:
-            acc = text.strip().lower()
+        text = get("accesstype")
+        if text:
+            acc = _ACCESS.get(text) or text.strip().lower()
             if acc in dt.ACCESS_ATTR:
                 e.access = acc
             else:
@@ -530,6 +533,21 @@ class _Builder:
             dev.error(f"[{sec.name}] has no AccessType", self.w(sec.line), idx, sub,
                       rule="DCF033")
         return e
+
+    def _datatype(self, sec: ini_mod.Section, text: str, idx: int, sub: int):
+        try:
+            code = values.parse_int(values.split_numeric_comment(text)[0])
+        except values.ValueProblem as exc:
+            self.dev.error(f"[{sec.name}] DataType: {exc}", self.w(sec.line_of("datatype")),
+                           idx, sub, rule="DCF030")
+            return None
+        dtype = dt.BY_CODE.get(code)
+        if dtype is None:
+            self.dev.error(f"[{sec.name}] unknown or unsupported DataType 0x{code:04X}",
+                           self.w(sec.line_of("datatype")), idx, sub, rule="DCF030")
+        elif len(_DTYPES) < 256:
+            _DTYPES[text] = dtype
+        return dtype
 
     # -- CompactPDO (CiA 306 §4.6.3.4.1, SPEC §1) -------------------------------------------
     def _compact_pdo(self) -> None:
@@ -590,13 +608,25 @@ def _clip(message: str, n: int = 160) -> str:
     return message if len(message) <= n else message[:n - 20] + "..." + message[-17:]
 
 
+# Caches of the few distinct texts a file uses for these keys (hot path: one lookup
+# per entry instead of parsing "0x0007" 60,000 times).
+_DTYPES: dict[str, dt.DataType] = {}
+_ACCESS = {a: a for a in dt.ACCESS_ATTR}
+_PDO_FLAG: dict[str, bool] = {}
+
+
 def _pdo_flag(text: str | None) -> bool:
     if text is None:
         return False
-    try:
-        return values.parse_int(values.split_numeric_comment(text)[0]) == 1
-    except values.ValueProblem:
-        return False
+    flag = _PDO_FLAG.get(text)
+    if flag is None:
+        try:
+            flag = values.parse_int(values.split_numeric_comment(text)[0]) == 1
+        except values.ValueProblem:
+            flag = False
+        if len(_PDO_FLAG) < 64:
+            _PDO_FLAG[text] = flag
+    return flag
 
 
 def _section_target(canon: str) -> tuple[int | None, int | None]:
