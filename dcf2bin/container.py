@@ -69,8 +69,8 @@ class BinContainer:
         parsed = schema.HeaderC.parse(built[:schema.HEADER_SIZE])
         return {k: parsed[k] for k in schema.HEADER_FIELDS}
 
-    def to_bytes(self) -> bytes:
-        segs = self.segments()
+    def to_bytes(self, segs: dict[str, bytes] | None = None) -> bytes:
+        segs = segs if segs is not None else self.segments()
         if self.header is None:
             return schema.Container.build(dict(version=self.version, **segs))
         return self._build_as_stored(segs)

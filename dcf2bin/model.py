@@ -139,6 +139,8 @@ class Device:
     ini: ini_mod.IniFile | None = None
     allow_external_files: bool = False
     channels: list = field(default_factory=list)  # layout.Channel, parsed by layout
+    _cache: dict = field(default_factory=dict, repr=False)     # (type code, text) -> bytes
+    _warned: set = field(default_factory=set, repr=False)
 
     # -- diagnostics -----------------------------------------------------------------
     def problem(self, severity: Severity, message: str, where: Where | None,
@@ -183,12 +185,21 @@ class Device:
             where = entry.where
         if text is None:
             return values.zero(dtype)
-        if dtype.is_numeric or dtype.kind == dt.BOOL:
+        cache_key = (dtype.code, text)
+        data = self._cache.get(cache_key)
+        if data is not None:
+            return data
+        if (";" in text or "#" in text) and (dtype.is_numeric or dtype.kind == dt.BOOL):
             number, comment = values.split_numeric_comment(text)
             if comment is not None:
                 text = number
+                if (entry.index, entry.sub) not in self._warned:
+                    self._warned.add((entry.index, entry.sub))
+                    self.warning(f"{entry.label}: comment '{comment}' after the number is "
+                                 "ignored", where or entry.value_where, entry.index, entry.sub,
+                                 rule="DCF203")
         try:
-            return values.encode(dtype, text, node_id=self.node_id, encoding=self.encoding)
+            data = values.encode(dtype, text, node_id=self.node_id, encoding=self.encoding)
         except values.NeedsNodeId:
             where = where or entry.value_where
             raise DcfError(
@@ -198,6 +209,9 @@ class Device:
         except values.ValueProblem as exc:
             where = where or entry.value_where
             raise DcfError(f"{entry.label}: {_clip(str(exc))}", where, rule="DCF200") from None
+        if len(self._cache) < 4096:  # a file repeats few value texts per type ("0", "0x00")
+            self._cache[cache_key] = data
+        return data
 
     def _download(self, entry: Entry) -> bytes:
         where = entry.key_where("downloadfile")

@@ -101,6 +101,8 @@ def test_duplicate_touching_written_entry_is_error_else_warning():
 def test_numeric_comment_is_ignored():
     res = compile_text("[2000]\nDataType=0x0005\nAccessType=rw\nParameterValue=5 ; five\n")
     assert [(i, s, d) for i, s, d in res.container.entries] == [(0x2000, 0, b"\x05")]
+    assert messages(res, "warning") == [
+        "test.dcf:4: warning: 0x2000sub0: comment '; five' after the number is ignored [DCF203]"]
 
 
 def test_download_file(tmp_path):
