@@ -56,6 +56,9 @@ def _profile_choice():
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
 @click.option("--profile", type=_profile_choice(), default="cia301", show_default=True,
               help="Device profile for PDO writes (dis2: Metronix DIS-2).")
+@click.option("--append", "append", multiple=True, type=click.Path(dir_okay=False),
+              metavar="FILE", help="Extra-writes file added after all other entries "
+              "(repeatable; see dcf2bin-tunnel(1)).")
 @click.option("--from", "from_", type=click.Choice(["dcf", "json"]),
               help="Input format (default: by extension; .json = lossless dump).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
@@ -63,7 +66,7 @@ def _profile_choice():
 @guarded
 def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_process_image,
                 pi_align, pi_size, address_base, container_version, allow_external_files,
-                profile, from_, quiet, verbose):
+                profile, append, from_, quiet, verbose):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
     data_in = read_input(input)
@@ -85,7 +88,10 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
                           static_od=static_od, process_image=not no_process_image,
                           pi_align=int(pi_align), pi_size=pi_size, address_base=address_base,
                           container_version=container_version,
-                          allow_external_files=allow_external_files, profile=profile)
+                          allow_external_files=allow_external_files, profile=profile,
+                          append=tuple(append))
+    for path in append:
+        read_input(path)  # an unreadable extra-writes file is exit 3, like any input
     res = compile_path(name, opts, data=data_in)
     emit(res.diagnostics, quiet)
     if not res.ok:

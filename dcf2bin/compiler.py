@@ -31,6 +31,7 @@ class CompileOptions:
     container_version: int = 1
     allow_external_files: bool = False
     profile: str = "cia301"
+    append: tuple[str, ...] = ()              # extra-writes files, added after all groups
 
 
 @dataclass
@@ -84,10 +85,19 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                                d.file, d.line, d.column, d.offset, d.rule, d.hint)
         diags.append(d)
     diags.extend(sel.errors)
+    extra = []
+    for path in opts.append:
+        from dcf2bin.writes import ExtraWritesError, load_extra_writes
+        try:
+            extra.extend(load_extra_writes(path, node_id=dev.node_id))
+        except ExtraWritesError as exc:
+            diags.extend(exc.diagnostics)
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
-    c = BinContainer(entries=[(w.index, w.sub, w.data) for w in sel.writes],
-                     attributes=bytes(w.attr for w in sel.writes),
+    # extra writes (--append) come after every D-8 group and get no PI address
+    writes = sel.writes + extra
+    c = BinContainer(entries=[(w.index, w.sub, w.data) for w in writes],
+                     attributes=bytes(w.attr for w in writes),
                      version=opts.container_version)
     if lay is not None and has_nv and opts.process_image:
         seen = set()

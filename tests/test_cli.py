@@ -123,3 +123,28 @@ def test_python_m_entry_point():
     out = subprocess.run([sys.executable, "-m", "dcf2bin", "--version"], capture_output=True,
                          text=True)
     assert out.returncode == 0 and out.stdout == f"dcf2bin, version {__version__}\n"
+
+
+def test_append_extra_writes_after_all_groups(tmp_path):
+    """compile --append: ordered writes after every D-8 group, no PI address for them."""
+    extra = tmp_path / "x.writes"
+    extra.write_text("0x2200 0 UNSIGNED32 0x1A rw ; select KO 0x001A\n"
+                     "0x2214 0 UNSIGNED32 1 wo  ; KO := 1\n")
+    out = tmp_path / "a.bin"
+    r = run("compile", str(SAMPLES / "bild8.dcf"), "-o", str(out), "--append", str(extra))
+    assert r.exit_code == 0, r.stderr
+    golden = (SAMPLES / "bild8.bin").read_bytes()
+    data = out.read_bytes()
+    assert len(data) == len(golden) + 2 * 11 + 2
+    from dcf2bin.container import read
+    c, _ = read(data)
+    assert c.entries[-2:] == [(0x2200, 0, bytes.fromhex("1a000000")),
+                              (0x2214, 0, bytes.fromhex("01000000"))]
+    assert c.attributes[-2:] == bytes([0x70, 0x50])
+    assert c.addresses == [0, 1, 2, 4]
+    bad = tmp_path / "y.writes"
+    bad.write_text("0x2200 0 UNSIGNED8 0x1FF\n")
+    r = run("compile", str(SAMPLES / "bild8.dcf"), "-o", str(out), "--append", str(bad))
+    assert r.exit_code == 1
+    assert r.stderr.splitlines()[0] == (f"{bad}:1: error: 0x2200sub0: value 0x1FF (= 511) out "
+                                        "of range for UNSIGNED8 (0..255) [DCF200]")
