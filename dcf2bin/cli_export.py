@@ -1,4 +1,167 @@
-"""Commands: export: other systems' object dictionaries (issue 5)."""
+"""Commands: export (other systems' object dictionaries) and tunnel (DIS-2 write sequences).
+
+    dcf2bin export --format lenze-st|lenze-bin|port-c INPUT [-o OUT]
+    dcf2bin tunnel KO=VALUE ... [--read KO ...] [-o FILE.writes]
+
+Only click and the shared CLI pieces are imported here; the work is imported inside the
+commands so that ``dcf2bin --help`` stays fast.
+"""
 from __future__ import annotations
 
-COMMANDS: list = []
+import os
+
+import click
+
+from dcf2bin.clitools import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.diagnostics import ExitCode, Severity
+
+# Kept literally here (module-level imports stay light); tests check it equals
+# dcf2bin.export.FORMATS.
+FORMATS = ("lenze-st", "lenze-bin", "port-c")
+
+# Options that only one family of formats uses: name -> the formats it applies to.
+_FORMAT_OPTIONS = {
+    "var_name": ("lenze-st",), "with_type": ("lenze-st",),
+    "includes": ("port-c",), "symbol": ("port-c",), "prefix": ("port-c",),
+    "max_object_size": ("port-c",),
+}
+_OPTION_NAMES = {"var_name": "--var-name", "with_type": "--with-type",
+                 "includes": "--include", "symbol": "--symbol", "prefix": "--prefix",
+                 "max_object_size": "--max-object-size"}
+
+
+def _identifier(kind: str):
+    def check(ctx, param, value):
+        import re
+        if value is None:
+            return value
+        values = value if isinstance(value, tuple) else (value,)
+        for v in values:
+            if kind == "header":
+                if not v or '"' in v or "\n" in v:
+                    raise click.BadParameter(f"'{v}' is not a header name")
+            elif not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", v):
+                raise click.BadParameter(f"'{v}' is not {kind} identifier")
+        return value
+    return check
+
+
+@click.command("export", context_settings=CONTEXT)
+@click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), required=True,
+              help="lenze-st: IEC 61131-3 text; lenze-bin: packed records; port-c: C source.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
+              show_default=True, help="Output file ('-' for stdout; lenze-bin not to a terminal).")
+@click.option("--node-id", type=click.IntRange(1, 127),
+              help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
+@click.option("--allow-external-files", is_flag=True,
+              help="Allow DownloadFile paths that are absolute or leave the file's folder.")
+@click.option("--var-name", default="MasterOD", show_default=True,
+              callback=_identifier("an IEC 61131-3"),
+              help="lenze-st: name of the ARRAY variable.")
+@click.option("--with-type", is_flag=True,
+              help="lenze-st: also declare TYPE CanOpenODEntry (when no library provides it).")
+@click.option("--include", "includes", multiple=True, callback=_identifier("header"),
+              help="port-c: header to #include (repeatable; default co_acces.h).")
+@click.option("--symbol", default="objDir", show_default=True, callback=_identifier("a C"),
+              help="port-c: name of the LIST_ELEMENT_T array (its length: SYMBOLElements).")
+@click.option("--prefix", default="od_", show_default=True, callback=_identifier("a C"),
+              help="port-c: prefix of the data variables (od_1018).")
+@click.option("--max-object-size", type=click.IntRange(2, None), metavar="BYTES",
+              help="port-c: split ARRAY/RECORD objects with more data bytes than this "
+                   "over following indices (seed 002 names 255).")
+@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@guarded
+def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with_type,
+               includes, symbol, prefix, max_object_size, quiet):
+    """Export the object dictionary of an EDS/DCF for another system.
+
+    \b
+    lenze-st   Lenze PLC Designer master OD: ARRAY OF CanOpenODEntry in structured text
+    lenze-bin  the same records packed little-endian, 12 bytes each
+    port-c     port CANopen Library OD: LIST_ELEMENT_T / VALUE_DESC_T C source
+    """
+    ctx = click.get_current_context()
+    from click.core import ParameterSource
+    for param, formats in _FORMAT_OPTIONS.items():
+        if fmt not in formats and ctx.get_parameter_source(param) is ParameterSource.COMMANDLINE:
+            fail(f"{_OPTION_NAMES[param]} applies to --format {' / '.join(formats)} only",
+                 code=ExitCode.USAGE)
+    from dcf2bin.export import run
+    data = read_input(input)
+    name = "<stdin>" if input == "-" else input
+    res = run(fmt, name, data=data, node_id=node_id, allow_external_files=allow_external_files,
+              var_name=var_name, with_type=with_type,
+              includes=list(includes) if includes else None, symbol=symbol, prefix=prefix,
+              max_object_size=max_object_size)
+    emit(res.diagnostics, quiet)
+    if not res.ok:
+        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+        click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
+        raise Failure(ExitCode.FINDINGS)
+    write_output(res.output, output, [input], binary=(fmt == "lenze-bin"))
+
+
+def _int(text: str, what: str, hint: str) -> int:
+    from dcf2bin import values
+    try:
+        return values.parse_int(text)
+    except values.ValueProblem as exc:
+        raise click.BadParameter(f"{what} '{text}': {exc}", param_hint=hint) from None
+
+
+@click.command("tunnel", context_settings=CONTEXT)
+@click.argument("assignments", nargs=-1, metavar="[KO=VALUE]...")
+@click.option("-r", "--read", "reads", multiple=True, metavar="KO",
+              help="Select KO for reading through 0x2204 (repeatable; the last one stays "
+                   "selected).")
+@click.option("--read-mode", type=click.Choice(["value", "min", "max"]), default="value",
+              show_default=True, help="What 0x2204 returns for --read: the current value, "
+                                      "the lower or the upper limit.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
+              show_default=True, help="The extra-writes file to create ('-' for stdout).")
+@guarded
+def tunnel_cmd(assignments, reads, read_mode, output):
+    """Write an extra-writes file for the Metronix DIS-2 communication-object tunnel.
+
+    Each KO=VALUE writes 0x2200 sub 0 := KO (select the communication object), then
+    0x2214 sub 0 := VALUE (32 bits). Each --read KO writes 0x2200 sub 0 := KO so that an
+    SDO upload of 0x2204 sub 0 returns it. Numbers take the DCF forms (12, 0x1A, 012).
+    Append the file with: dcf2bin compile DRIVE.dcf --profile dis2 --append FILE
+    """
+    from dcf2bin.writes import READ_MODES, tunnel_writes
+    if not assignments and not reads:
+        raise click.UsageError("give at least one KO=VALUE or --read KO")
+    pairs = []
+    for a in assignments:
+        ko_text, sep, value_text = a.partition("=")
+        if not sep or not ko_text.strip() or not value_text.strip():
+            raise click.BadParameter(f"'{a}' is not KO=VALUE", param_hint="KO=VALUE")
+        ko = _int(ko_text, "KO number", "KO=VALUE")
+        value = _int(value_text, "value", "KO=VALUE")
+        if not 0 <= ko <= 0xFFFF:
+            raise click.BadParameter(f"KO number {ko_text} is outside 0..0xFFFF",
+                                     param_hint="KO=VALUE")
+        if not -0x80000000 <= value <= 0xFFFFFFFF:
+            raise click.BadParameter(f"value {value_text} does not fit 32 bits",
+                                     param_hint="KO=VALUE")
+        pairs.append((ko, value))
+    read_kos = []
+    for r in reads:
+        ko = _int(r, "KO number", "--read")
+        if not 0 <= ko <= 0xFFFF:
+            raise click.BadParameter(f"KO number {r} is outside 0..0xFFFF", param_hint="--read")
+        read_kos.append(ko)
+    words = ["dcf2bin tunnel"] + [f"0x{k:04X}=0x{v & 0xFFFFFFFF:08X}" for k, v in pairs]
+    words += [f"--read 0x{k:04X}" for k in read_kos]
+    if read_mode != "value" and read_kos:
+        words.append(f"--read-mode {read_mode}")
+    text = tunnel_writes(pairs, read_kos, read_mode=READ_MODES[read_mode],
+                         source=" ".join(words))
+    write_output(text, output, [], binary=False)
+    if output != "-":
+        n = 2 * len(pairs) + len(read_kos)
+        click.echo(f"{os.path.basename(output)}: {n} write{'s' if n != 1 else ''}", err=True)
+
+
+COMMANDS: list = [export_cmd, tunnel_cmd]
