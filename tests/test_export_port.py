@@ -302,9 +302,10 @@ def test_feature_file_compiles_and_walks_like_the_model(limit, tmp_path):
                                      ("-DCONFIG_LIMITS_CHECK", "-DCO_CONFIG_ENABLE_OBJ_CALLBACK")])
 def test_generated_source_fits_the_optional_struct_members(defines, tmp_path):
     res = run("port-c", "f.dcf", data=FEATURES)
-    base = build_and_walk(res.output, tmp_path / "..")
-    (tmp_path / "v").mkdir()
-    assert build_and_walk(res.output, tmp_path / "v", *defines) == base
+    (tmp_path / "plain").mkdir()
+    (tmp_path / "variant").mkdir()
+    base = build_and_walk(res.output, tmp_path / "plain")
+    assert build_and_walk(res.output, tmp_path / "variant", *defines) == base
 
 
 @needs_cc
