@@ -115,8 +115,9 @@ UNSIGNED_BY_SIZE = {1: BY_CODE[0x05], 2: BY_CODE[0x06], 3: BY_CODE[0x16], 4: BY_
 ACCESS_ATTR = {"ro": ATTR_READ, "const": ATTR_READ, "wo": ATTR_WRITE,
                "rw": ATTR_READ | ATTR_WRITE, "rwr": ATTR_READ | ATTR_WRITE,
                "rww": ATTR_READ | ATTR_WRITE}
-READABLE = frozenset({"ro", "rw", "rwr", "const"})
-WRITABLE = frozenset({"wo", "rw", "rww"})
+# PDO directions (SPEC §5), not SDO access: rww is not a TPDO source, rwr not an RPDO target.
+READABLE = frozenset({"ro", "rw", "rwr", "const"})   # may be mapped into a TPDO
+WRITABLE = frozenset({"wo", "rw", "rww"})            # may be mapped from an RPDO
 
 # ObjectType codes (SPEC §1).
 OT_DOMAIN, OT_DEFTYPE, OT_DEFSTRUCT, OT_VAR, OT_ARRAY, OT_RECORD = 0x2, 0x5, 0x6, 0x7, 0x8, 0x9
