@@ -1,4 +1,113 @@
-"""Commands: validate: lint DCF/EDS files and containers (issue 4)."""
+"""Commands: validate: lint DCF/EDS files and containers (issue 4).
+
+Findings are the command's result, so they go to stdout (or ``-o FILE``); usage errors
+and tracebacks (``--debug``) go to stderr. Exit codes: see ``ExitCode`` and
+man/dcf2bin-validate.1.
+"""
 from __future__ import annotations
 
-COMMANDS: list = []
+import sys
+
+import click
+
+from dcf2bin.clitools import CONTEXT, Failure, guarded, write_output
+from dcf2bin.diagnostics import ExitCode
+
+FORMATS = ("text", "json", "sarif", "github")
+
+
+@click.command("validate", context_settings=CONTEXT)
+@click.argument("paths", nargs=-1, type=click.Path(allow_dash=True))
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), default="text",
+              show_default=True, help="Output format.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
+              help="Write the report to this file (atomically) instead of stdout.")
+@click.option("--select", "select_", multiple=True, metavar="RULES",
+              help="Run only these rules: ids, id prefixes (DCF4, CNT) or names; "
+                   "comma-separated or repeated.")
+@click.option("--ignore", multiple=True, metavar="RULES",
+              help="Do not run these rules (ids, prefixes or names).")
+@click.option("--strict", is_flag=True, help="Warnings fail the run too (exit 1).")
+@click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
+@click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
+              show_default=True, help="Device profile for the PDO checks (dis2: Metronix DIS-2).")
+@click.option("--node-id", type=click.IntRange(1, 127),
+              help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
+@click.option("--pi-size", type=click.IntRange(0), help="PI memory of the target in bytes.")
+@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+              show_default=True, help="Alignment of the output area's start (D-4).")
+@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+              show_default=True, help="PI addresses from the image start or the area (D-10).")
+@click.option("--allow-external-files", is_flag=True,
+              help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
+@click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
+              help="File name to report for '-' (stdin).")
+@click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
+@click.option("-q", "--quiet", is_flag=True, help="Text format: no summary line.")
+@click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
+@guarded
+def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
+                 pi_size, pi_align, address_base, allow_external_files, stdin_filename, hints,
+                 quiet, debug):
+    """Lint DCF/EDS files and binary containers: every problem, with rule ids.
+
+    PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
+    case) and '-' for stdin. Exit status: 0 no errors (warnings allowed unless
+    --strict), 1 findings, 2 usage error, 3 an input could not be read, 70 internal error.
+    """
+    from dcf2bin import __version__, report
+    from dcf2bin.lint import Options, SelectorError, all_rules, resolve, run
+
+    rules = all_rules()
+    if list_rules:
+        if fmt == "json":
+            text = report.rules_json([r.as_dict() for r in rules])
+        else:
+            width = max(len(r.name) for r in rules)
+            text = "".join(f"{r.id:<7} {r.severity.value:<8} {r.name:<{width}}  "
+                           f"{r.description}\n" for r in rules)
+        _write(text, output, paths)
+        return
+    if not paths:
+        raise click.UsageError("give at least one PATH (file, directory or '-')")
+    try:
+        active = resolve(select_, ignore)
+    except SelectorError as exc:
+        raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
+    stdin = sys.stdin.buffer.read() if "-" in paths else None
+    opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
+                   address_base=address_base, profile=profile,
+                   allow_external_files=allow_external_files, active=active, strict=strict)
+    result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename)
+    diags = result.diagnostics
+    code = result.exit_code(strict)
+    table = {r.id: r.as_dict() for r in rules}
+    if fmt == "json":
+        text = report.json_report(diags, [(f.path, f.kind) for f in result.files], table,
+                                  exit_code=int(code), tool_version=__version__)
+    elif fmt == "sarif":
+        text = report.sarif_report(diags, [r.as_dict() for r in rules], exit_code=int(code),
+                                   tool_version=__version__)
+    elif fmt == "github":
+        text = report.github_report(diags, table)
+    else:
+        colour = output == "-" and report.use_colour(sys.stdout)
+        text = report.text_report(diags, len(result.files), colour=colour, hints=hints,
+                                  show_summary=not quiet)
+    _write(text, output, paths)
+    root = click.get_current_context().find_root().params or {}
+    if result.tracebacks and (debug or root.get("debug")):
+        for tb in result.tracebacks:
+            click.echo(tb, err=True, nl=False)
+    if code != ExitCode.OK:
+        raise Failure(code)
+
+
+def _write(text: str, output: str, paths) -> None:
+    if output == "-":
+        click.echo(text, nl=False)
+    else:
+        write_output(text, output, [p for p in paths if p != "-"], binary=False)
+
+
+COMMANDS: list = [validate_cmd]

@@ -1,21 +1,40 @@
-"""Render diagnostics: one function per output format (text here; json, sarif
-and github join it for ``validate``). Nothing here decides exit codes."""
+"""Render diagnostics: one function per output format. Nothing here decides exit codes.
+
+* text   -- ``file:line:col: severity: message [RULE]`` (``render_text``, ``text_report``)
+* json   -- a versioned document with stable keys (``json_report``; schema in
+            ``dcf2bin/lint/report_schema.py``)
+* sarif  -- SARIF 2.1.0 for GitHub code scanning (``sarif_report``)
+* github -- GitHub Actions workflow annotation lines (``github_report``)
+
+The report functions take plain data: diagnostics, the inputs as (path, kind) pairs and
+the rule table as dicts (``Rule.as_dict()``), so this module depends on nothing else.
+"""
 from __future__ import annotations
 
+import json
 import os
 import sys
-from typing import Iterable, TextIO
+from typing import Iterable, Sequence, TextIO
+from urllib.parse import quote
 
 from dcf2bin.diagnostics import Diagnostic, Severity
+
+JSON_FORMAT = "dcf2bin-validate"
+JSON_VERSION = 1
+SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
+INFORMATION_URI = "https://github.com/dcf2bin/dcf2bin/blob/main/docs/validate.md"
 
 _COLOURS = {Severity.ERROR: "\x1b[31m", Severity.WARNING: "\x1b[33m", Severity.INFO: "\x1b[36m"}
 
 
 def use_colour(stream: TextIO) -> bool:
+    """Colour only on a terminal, and never when NO_COLOR is set (https://no-color.org)."""
     if os.environ.get("NO_COLOR"):
         return False
     return hasattr(stream, "isatty") and stream.isatty()
 
+
+# -- text ---------------------------------------------------------------------------------------
 
 def format_text(d: Diagnostic, colour: bool = False) -> str:
     sev = d.severity.value
@@ -46,3 +65,155 @@ def summary(diags: Iterable[Diagnostic]) -> str:
         n = counts[s]
         parts.append(f"{n} {s.value}{'' if n == 1 else 's'}")
     return ", ".join(parts)
+
+
+def text_report(diags: Sequence[Diagnostic], n_files: int, *, colour: bool = False,
+                hints: bool = False, show_summary: bool = True) -> str:
+    """The text format of ``validate``: one line per finding, then a summary line."""
+    out = []
+    for d in diags:
+        out.append(format_text(d, colour))
+        if hints and d.hint:
+            out.append(f"    hint: {d.hint}")
+    if show_summary:
+        out.append(f"{summary(diags)} in {n_files} file{'' if n_files == 1 else 's'}")
+    return "".join(line + "\n" for line in out)
+
+
+# -- json ---------------------------------------------------------------------------------------
+
+def diagnostic_dict(d: Diagnostic, rules: dict[str, dict] | None = None) -> dict:
+    name = (rules or {}).get(d.rule, {}).get("name", "")
+    return {"rule": d.rule, "name": name, "severity": d.severity.value, "file": d.file,
+            "line": d.line, "column": d.column, "offset": d.offset, "message": d.message,
+            "hint": d.hint}
+
+
+def json_report(diags: Sequence[Diagnostic], files: Sequence[tuple[str, str]],
+                rules: dict[str, dict], *, exit_code: int, tool_version: str) -> str:
+    """A versioned JSON document; every key is always present (null when unknown)."""
+    per_file = {path: {"path": path, "kind": kind, "errors": 0, "warnings": 0, "infos": 0}
+                for path, kind in files}
+    totals = {"errors": 0, "warnings": 0, "infos": 0}
+    for d in diags:
+        key = d.severity.value + "s"
+        totals[key] += 1
+        if d.file in per_file:
+            per_file[d.file][key] += 1
+    doc = {
+        "format": JSON_FORMAT,
+        "version": JSON_VERSION,
+        "tool": {"name": "dcf2bin", "version": tool_version},
+        "files": list(per_file.values()),
+        "diagnostics": [diagnostic_dict(d, rules) for d in diags],
+        "summary": {"files": len(files), **totals, "exit_code": int(exit_code)},
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def rules_json(rules: Sequence[dict]) -> str:
+    return json.dumps({"format": "dcf2bin-rules", "version": JSON_VERSION, "rules": list(rules)},
+                      indent=2, ensure_ascii=False) + "\n"
+
+
+# -- sarif --------------------------------------------------------------------------------------
+
+_SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+
+
+def artifact_uri(path: str, cwd: str | None = None) -> tuple[str, bool]:
+    """(uri, relative?) for a SARIF artifactLocation: relative to the working directory
+    (GitHub resolves it from the repository root) when the file lies below it."""
+    cwd = cwd or os.getcwd()
+    if path.startswith("<"):
+        return quote(path.strip("<>")), True
+    full = os.path.abspath(path)
+    try:
+        rel = os.path.relpath(full, cwd)
+    except ValueError:   # another drive on Windows
+        rel = None
+    if rel is not None and not rel.startswith(".."):
+        return quote(rel.replace(os.sep, "/")), True
+    from pathlib import Path
+    return Path(full).as_uri(), False
+
+
+def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_code: int,
+                 tool_version: str, cwd: str | None = None) -> str:
+    index = {r["id"]: i for i, r in enumerate(rules)}
+    driver_rules = [{
+        "id": r["id"],
+        "name": r["name"],
+        "shortDescription": {"text": r["description"]},
+        "fullDescription": {"text": r["description"]},
+        "help": {"text": r["hint"] or r["description"]},
+        "defaultConfiguration": {"level": _SARIF_LEVEL[Severity(r["severity"])]},
+        "properties": {"tags": [r["family"]]},
+    } for r in rules]
+    results = []
+    for d in diags:
+        uri, relative = artifact_uri(d.file, cwd)
+        artifact = {"uri": uri}
+        if relative:
+            artifact["uriBaseId"] = "%SRCROOT%"
+        phys: dict = {"artifactLocation": artifact}
+        if d.line is not None:
+            region = {"startLine": d.line}
+            if d.column is not None:
+                region["startColumn"] = d.column
+            phys["region"] = region
+        elif d.offset is not None:
+            phys["region"] = {"byteOffset": d.offset, "byteLength": 1}
+        elif d.rule.startswith("DCF"):
+            phys["region"] = {"startLine": 1}   # a finding about the whole text file
+        result = {"ruleId": d.rule, "level": _SARIF_LEVEL[d.severity],
+                  "message": {"text": d.message}, "locations": [{"physicalLocation": phys}]}
+        if d.rule in index:
+            result["ruleIndex"] = index[d.rule]
+        results.append(result)
+    doc = {
+        "$schema": SARIF_SCHEMA,
+        "version": "2.1.0",
+        "runs": [{
+            "tool": {"driver": {"name": "dcf2bin", "version": tool_version,
+                                "informationUri": INFORMATION_URI, "rules": driver_rules}},
+            "columnKind": "unicodeCodePoints",
+            "results": results,
+            "invocations": [{"executionSuccessful": int(exit_code) in (0, 1),
+                             "exitCode": int(exit_code)}],
+        }],
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+# -- github -------------------------------------------------------------------------------------
+
+_GITHUB_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
+
+
+def _gh_data(text: str) -> str:
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _gh_prop(text: str) -> str:
+    return _gh_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def format_github(d: Diagnostic, rules: dict[str, dict] | None = None) -> str:
+    """One workflow command: ``::error file=F,line=L,col=C,title=T::message``."""
+    props = [f"file={_gh_prop(d.file)}"]
+    if d.line is not None:
+        props.append(f"line={d.line}")
+        if d.column is not None:
+            props.append(f"col={d.column}")
+    name = (rules or {}).get(d.rule, {}).get("name", "")
+    title = f"{d.rule} {name}".strip() if d.rule else "dcf2bin"
+    props.append(f"title={_gh_prop(title)}")
+    message = d.message
+    if d.line is None and d.offset is not None:
+        message += f" (at byte 0x{d.offset:X})"
+    return f"::{_GITHUB_LEVEL[d.severity]} {','.join(props)}::{_gh_data(message)}"
+
+
+def github_report(diags: Sequence[Diagnostic], rules: dict[str, dict] | None = None) -> str:
+    return "".join(format_github(d, rules) + "\n" for d in diags)

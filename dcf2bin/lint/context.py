@@ -1,0 +1,242 @@
+"""What a check sees: the parsed file and cached helpers (no findings here).
+
+``DcfContext`` holds the INI file, the model built from it (with the layout
+computed) and the options; ``BinContext`` holds a container's bytes, parsed as far
+as they can be parsed. Checks must never crash on broken input: helpers return None
+for anything they cannot work out, and the check that owns that problem reports it.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from functools import cached_property
+
+from dcf2bin import datatypes as dt
+from dcf2bin import ini as ini_mod
+from dcf2bin import schema, values
+
+_HEX4 = re.compile(r"[0-9a-f]{4}")
+_HEX = re.compile(r"[0-9a-f]+")
+
+
+@dataclass
+class Options:
+    node_id: int | None = None
+    pi_size: int | None = None
+    pi_align: int = 8
+    address_base: str = "image"
+    profile: str = "cia301"
+    allow_external_files: bool = False
+    active: set[str] | None = None      # rule ids to run; None = all
+    strict: bool = False
+
+
+class DcfContext:
+    def __init__(self, path: str, data: bytes, opts: Options, parsed: ini_mod.IniFile, dev):
+        from dcf2bin.profiles import get_profile
+        self.path = path
+        self.data = data
+        self.opts = opts
+        self.ini = parsed
+        self.dev = dev
+        self.profile = get_profile(opts.profile)
+        self.layout = None
+        self.cache: dict = {}          # for checks that share derived data
+        self._ints: dict[int, tuple[int | None, bool]] = {}
+
+    # -- raw text ----------------------------------------------------------------------------
+    @cached_property
+    def text(self) -> str:
+        return ini_mod.decode_bytes(self.data)[0]
+
+    @cached_property
+    def lines(self) -> list[str]:
+        """The raw lines (a CRLF line keeps its CR: strip it where it matters)."""
+        return self.text.split("\n")
+
+    def value_column(self, line: int | None) -> int | None:
+        """1-based column of the value on a ``key=value`` line."""
+        if line is None or not 1 <= line <= len(self.lines):
+            return None
+        raw = self.lines[line - 1].rstrip("\r")
+        eq = raw.find("=")
+        if eq < 0:
+            return None
+        col = eq + 1
+        while col < len(raw) and raw[col] in " \t":
+            col += 1
+        return col + 1
+
+    # -- sections ----------------------------------------------------------------------------
+    def section(self, name: str) -> ini_mod.Section | None:
+        return self.ini.sections.get(name)
+
+    @staticmethod
+    def key_names(sec: ini_mod.Section):
+        """Lower-case key names of a section without building per-key line records."""
+        vals = getattr(sec, "values", None)
+        return vals.keys() if isinstance(vals, dict) else sec.keys.keys()
+
+    @property
+    def kinds(self) -> dict[str, str | None]:
+        """canonical section name -> its CiA 306 kind (see rules_syntax.classify)."""
+        kinds = self.cache.get("kinds")
+        if kinds is None:
+            from dcf2bin.lint.rules_syntax import classify
+            kinds = self.cache["kinds"] = {c: classify(c) for c in self.ini.sections}
+        return kinds
+
+    def of_kind(self, *kinds: str | None) -> list[tuple[str, ini_mod.Section]]:
+        """(canonical name, section) of the sections of these kinds, in file order."""
+        groups = self.cache.get("by_kind")
+        if groups is None:
+            groups = self.cache["by_kind"] = {}
+            sections = self.ini.sections
+            for canon, kind in self.kinds.items():
+                groups.setdefault(kind, []).append((canon, sections[canon]))
+        if len(kinds) == 1:
+            return groups.get(kinds[0], [])
+        return sorted((x for k in kinds for x in groups.get(k, [])), key=lambda cs: cs[1].line)
+
+    @property
+    def sub_sections(self) -> dict[int, dict[int, ini_mod.Section]]:
+        """index -> {subindex: [XXXXsubN] section} as they stand in the file."""
+        subs = self.cache.get("sub_sections")
+        if subs is None:
+            subs = {}
+            for canon, sec in self.ini.sections.items():
+                if len(canon) > 7 and canon[4:7] == "sub":
+                    head, tail = canon[:4], canon[7:]
+                    try:
+                        idx, sub = int(head, 16), int(tail, 16)
+                    except ValueError:
+                        continue
+                    if _HEX4.fullmatch(head) and _HEX.fullmatch(tail) and sub <= 0xFF:
+                        subs.setdefault(idx, {})[sub] = sec
+            self.cache["sub_sections"] = subs
+        return subs
+
+    # -- values ------------------------------------------------------------------------------
+    def int_value(self, entry, text: str | None = None) -> tuple[int | None, bool]:
+        """(value, uses_nodeid) of an integer entry's effective value (or ``text``).
+
+        A ``$NODEID`` formula without a known node-ID is evaluated with node-ID 0, so
+        callers can still compare offsets; ``uses_nodeid`` tells them. None when the
+        value cannot be worked out (DCF200 reports it).
+        """
+        key = id(entry) if text is None else None
+        if key is not None and key in self._ints:
+            return self._ints[key]
+        result: tuple[int | None, bool] = (None, False)
+        dtype = entry.dtype
+        if text is None:
+            text = entry.value_text
+        if dtype is not None and dtype.is_integer and text is not None:
+            t = values.split_numeric_comment(text)[0] if dtype.kind != dt.BOOL else text
+            nodeid = values.uses_nodeid(t)
+            node = self.dev.node_id if self.dev.node_id is not None else 0
+            try:
+                data = values.encode(dtype, t, node_id=node)
+                result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT), nodeid)
+            except values.ValueProblem:
+                result = (None, nodeid)
+        if key is not None:
+            self._ints[key] = result
+        return result
+
+
+# -- containers ------------------------------------------------------------------------------
+
+@dataclass
+class Segment:
+    name: str
+    offset: int
+    size: int
+    field_offset: int    # where its offset field stands in the header
+
+    @property
+    def end(self) -> int:
+        return self.offset + self.size
+
+
+@dataclass
+class BinContext:
+    path: str
+    data: bytes
+    opts: Options
+    header: dict[str, int] | None = None
+    segments: list[Segment] = field(default_factory=list)      # size > 0, inside, in order
+    bad_segments: set[str] = field(default_factory=set)       # outside the container
+    cut_segments: set[str] = field(default_factory=set)       # inside it, but the file is cut
+    entries: list[tuple[int, int, int, int]] | None = None     # (index, sub, size, data offset)
+    index_problem: tuple[str, int] | None = None               # (message, offset)
+
+    def __post_init__(self) -> None:
+        data = self.data
+        if len(data) < schema.HEADER_SIZE:
+            return
+        self.header = dict(zip(schema.HEADER_FIELDS, schema.HEADER.unpack_from(data, 0)))
+        for i, name in enumerate(schema.SEGMENTS):
+            off, size = self.header[f"{name}_offset"], self.header[f"{name}_size"]
+            if size == 0:
+                continue
+            seg = Segment(name, off, size, 8 + 8 * i)
+            if off < schema.HEADER_SIZE or off + size > self.total:
+                self.bad_segments.add(name)
+                continue
+            if off + size > len(data):
+                self.cut_segments.add(name)   # CNT002 reports the truncation
+                continue
+            self.segments.append(seg)
+        self.segments.sort(key=lambda s: (s.offset, s.end))
+        idx = self.segment("index")
+        if idx is not None:
+            self._parse_index(idx)
+
+    @property
+    def total(self) -> int:
+        return self.header["total_size"] if self.header else 0
+
+    def segment(self, name: str) -> Segment | None:
+        for s in self.segments:
+            if s.name == name:
+                return s
+        return None
+
+    def segment_bytes(self, name: str) -> bytes | None:
+        s = self.segment(name)
+        return None if s is None else self.data[s.offset:s.end]
+
+    def _parse_index(self, seg: Segment) -> None:
+        data, base, n = self.data, seg.offset, seg.size
+        if n < 4:
+            self.index_problem = (f"index segment has {n} bytes, too short for its count", base)
+            return
+        (count,) = schema.COUNT.unpack_from(data, base)
+        head = schema.ENTRY_HEAD.size
+        unpack = schema.ENTRY_HEAD.unpack_from
+        entries = []
+        pos = 4
+        for i in range(count):
+            if pos + head > n:
+                self.index_problem = (f"index segment claims {count} entries, but entry {i + 1} "
+                                      "is truncated", base + pos)
+                break
+            index, sub, size = unpack(data, base + pos)
+            if pos + head + size > n:
+                self.index_problem = (f"index entry {i + 1} (0x{index:04X}sub{sub:X}) claims "
+                                      f"{size} data bytes, only {n - pos - head} remain",
+                                      base + pos + 3)
+                break
+            entries.append((index, sub, size, base + pos + head))
+            pos += head + size
+        else:
+            if pos != n:
+                self.index_problem = (f"{n - pos} bytes after the last of {count} index entries",
+                                      base + pos)
+        self.entries = entries
+
+    @cached_property
+    def entry_offsets(self) -> list[int]:
+        """Byte offset of each entry's header (for diagnostics)."""
+        return [off - schema.ENTRY_HEAD.size for _, _, _, off in self.entries or ()]

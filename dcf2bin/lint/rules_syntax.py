@@ -1,0 +1,378 @@
+"""DCF05x/06x: syntax and file structure beyond what the reader reports itself."""
+from __future__ import annotations
+
+import re
+
+from dcf2bin import values
+from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
+
+MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
+MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
+
+# -- what CiA 306 (-1, -3) defines --------------------------------------------------------------
+_OBJ_KEYS = frozenset({
+    "parametername", "objecttype", "datatype", "accesstype", "defaultvalue", "pdomapping",
+    "subnumber", "lowlimit", "highlimit", "objflags", "compactsubobj", "parametervalue",
+    "denotation", "downloadfile", "uploadfile", "srdomapping", "invertedsrad"})
+_SUB_KEYS = _OBJ_KEYS - {"subnumber", "compactsubobj"}
+_FIXED = {
+    "fileinfo": frozenset({
+        "filename", "fileversion", "filerevision", "edsversion", "description", "creationtime",
+        "creationdate", "createdby", "modificationtime", "modificationdate", "modifiedby",
+        "lasteds"}),
+    "deviceinfo": frozenset({
+        "vendorname", "vendornumber", "productname", "productnumber", "revisionnumber",
+        "ordercode", "baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125",
+        "baudrate_250", "baudrate_500", "baudrate_800", "baudrate_1000", "baudrate_auto",
+        "simplebootupmaster", "simplebootupslave", "granularity", "dynamicchannelssupported",
+        "groupmessaging", "nrofrxpdo", "nroftxpdo", "lss_supported", "compactpdo",
+        "canopensafetysupported", "ng_slave", "ng_master", "nrofng_monitorednodes"}),
+    "devicecomissioning": frozenset({
+        "nodeid", "nodename", "baudrate", "netnumber", "networkname", "canopenmanager",
+        "lss_serialnumber", "noderefd", "netrefd"}),
+    "tools": None, "supportedmodules": None, "connectedmodules": None,
+    "dummyusage": None, "comments": None, "mandatoryobjects": None, "optionalobjects": None,
+    "manufacturerobjects": None, "dynamicchannels": None,
+}
+_FIXED["devicecommissioning"] = _FIXED["devicecomissioning"]
+_NUMBERED = {  # section kind -> (plain keys, numbered key prefixes)
+    "tools": ({"items"}, ("tool",)),
+    "supportedmodules": ({"nrofentries"}, ("",)),
+    "connectedmodules": ({"nrofentries"}, ("",)),
+    "dummyusage": (set(), ()),
+    "comments": ({"lines"}, ("line",)),
+    "mandatoryobjects": ({"supportedobjects"}, ("",)),
+    "optionalobjects": ({"supportedobjects"}, ("",)),
+    "manufacturerobjects": ({"supportedobjects"}, ("",)),
+    "dynamicchannels": ({"nrofseg", "pioffset", "maxcnt", "range"},  # unnumbered: DCF311
+                        ("type", "dir", "range", "ppoffset", "pioffset", "maxcnt")),
+    "aux": ({"nrofentries"}, ("",)),
+    "objectlinks": ({"objectlinks"}, ("",)),
+    "tool": ({"name", "command"}, ()),
+    "modulelist": ({"nrofentries"}, ("",)),
+    "moduleinfo": ({"productname", "productversion", "productrevision", "ordercode"}, ()),
+    "modulecomments": ({"lines"}, ("line",)),
+}
+_OBJ_RE = re.compile(r"[0-9a-f]{4}")
+_SUB_RE = re.compile(r"[0-9a-f]{4}sub[0-9a-f]+")
+_AUX_RE = re.compile(r"[0-9a-f]{4}(name|value|denotation)")
+_LINKS_RE = re.compile(r"[0-9a-f]{4}objectlinks")
+_TOOL_RE = re.compile(r"tool[0-9]+")
+_MOD_RE = re.compile(r"m[0-9]+(moduleinfo|fixedobjects|subextends|comments|subext[0-9a-f]{4}"
+                     r"(?:sub[0-9a-f]+)?)")
+_DUMMY_RE = re.compile(r"dummy[0-9a-f]{4}")
+# Looks like an object section but is not one: wrong digit count, an 'x' template, junk.
+_ALMOST_RE = re.compile(r"([0-9a-fx]{1,8})(?:sub.*)?|([0-9a-f]{4})\S*")
+
+
+def _almost_object(canon: str) -> bool:
+    m = _ALMOST_RE.fullmatch(canon)
+    if m is None:
+        return False
+    head = m.group(1) or m.group(2)
+    return any(c.isdigit() for c in head)
+
+
+def classify(canon: str) -> str | None:
+    """The CiA 306 kind of a section (canonical name), or None when unknown."""
+    if len(canon) > 7 and canon[4:7] == "sub" and _SUB_RE.fullmatch(canon):
+        return "sub"
+    if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
+        return "object"
+    if _SUB_RE.fullmatch(canon):
+        return "sub"
+    if _AUX_RE.fullmatch(canon):
+        return "aux"
+    if _LINKS_RE.fullmatch(canon):
+        return "objectlinks"
+    if canon in _FIXED:
+        return canon
+    if _TOOL_RE.fullmatch(canon):
+        return "tool"
+    m = _MOD_RE.fullmatch(canon)
+    if m:
+        kind = m.group(1)
+        if kind.startswith("subext") and kind != "subextends":
+            return "object"
+        return {"moduleinfo": "moduleinfo", "comments": "modulecomments"}.get(kind, "modulelist")
+    return None
+
+
+def _known_key(kind: str, key: str) -> bool:
+    if kind == "object":
+        return key in _OBJ_KEYS
+    if kind == "sub":
+        return key in _SUB_KEYS
+    fixed = _FIXED.get(kind)
+    if fixed is not None:
+        return key in fixed
+    if kind == "dummyusage":
+        return _DUMMY_RE.fullmatch(key) is not None
+    plain, prefixes = _NUMBERED.get(kind, (set(), ()))
+    if key in plain:
+        return True
+    for p in prefixes:
+        if key.startswith(p) and key[len(p):].isdigit() and key[len(p):].isascii():
+            return True
+    return False
+
+
+@rule("DCF050", "unknown-key", WARNING,
+      "A key that CiA 306 does not define for its section (kept, but no tool reads it).",
+      hint="check the spelling; vendor keys belong in a vendor section")
+def unknown_key(ctx):
+    verdicts: dict[tuple, list[str]] = {}   # generated files repeat the same key sets
+    kinds = ctx.kinds
+    for canon, sec in ctx.ini.sections.items():
+        kind = kinds[canon]
+        if kind is None or kind == "aux":
+            continue   # [XXXXName]/[XXXXValue]/[XXXXDenotation] keys: DCF026
+        names = tuple(ctx.key_names(sec))
+        unknown = verdicts.get((kind, names))
+        if unknown is None:
+            unknown = verdicts[(kind, names)] = [k for k in names if not _known_key(kind, k)]
+        for key in unknown:
+            k = sec.keys.get(key)
+            name = k.name if k else key
+            yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
+                          sec.line_of(key), 1)
+
+
+@rule("DCF051", "unknown-section", INFO,
+      "A section that CiA 306 does not define (a vendor section); kept, never an error.",
+      hint="fine for vendor data; check the spelling otherwise")
+def unknown_section(ctx):
+    for canon, sec in ctx.of_kind(None):
+        if not _almost_object(canon):
+            yield Finding(f"section [{sec.name}] is not defined by CiA 306", sec.line)
+
+
+@rule("DCF052", "line-too-long", WARNING,
+      f"A line longer than {MAX_LINE} characters (the CiA 306 limit).",
+      hint="shorten the value; other tools may cut the line")
+def line_too_long(ctx):
+    text = ctx.text
+    line, pos = 1, 0
+    for m in _LONG_RE.finditer(text):
+        raw = m.group(0).rstrip("\r")
+        if len(raw) <= MAX_LINE:
+            continue
+        line += text.count("\n", pos, m.start())
+        pos = m.start()
+        low = raw.lstrip(" \t")[:14].lower()
+        if low.startswith("parametername") or low.startswith("denotation"):
+            continue  # DCF053 names it more precisely
+        yield Finding(f"line has {len(raw)} characters, more than {MAX_LINE}", line,
+                      MAX_LINE + 1)
+
+
+_LONG_RE = re.compile(r"^[^\n]{%d,}" % (MAX_LINE + 1), re.M)
+
+
+@rule("DCF053", "name-too-long", WARNING,
+      f"A ParameterName or Denotation longer than {MAX_NAME} characters (CiA 306).",
+      hint="shorten the name")
+def name_too_long(ctx):
+    for sec in ctx.ini.sections.values():
+        for key in ("parametername", "denotation"):
+            v = sec.get(key)
+            if v is not None and len(v) > MAX_NAME:
+                line = sec.line_of(key)
+                yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} characters, "
+                              f"more than {MAX_NAME}", line, ctx.value_column(line))
+
+
+@rule("DCF054", "malformed-object-section-name", WARNING,
+      "A section name that looks like an object section but is not one ([100], [1A00sub], "
+      "[14xxsub0]); it is not part of the object dictionary.",
+      hint="object sections are [XXXX] with 4 hex digits, sub-objects [XXXXsubN]")
+def malformed_object_section(ctx):
+    for canon, sec in ctx.of_kind(None):
+        if _almost_object(canon):
+            yield Finding(f"section [{sec.name}] is not a valid object section name; ignored",
+                          sec.line)
+
+
+# numeric keys outside what the model parses itself (it reports its own as DCF020/030/040)
+_NUMERIC_KEYS = {
+    "fileinfo": ("fileversion", "filerevision"),
+    "deviceinfo": ("vendornumber", "productnumber", "revisionnumber", "granularity",
+                   "baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125", "baudrate_250",
+                   "baudrate_500", "baudrate_800", "baudrate_1000", "baudrate_auto",
+                   "simplebootupmaster", "simplebootupslave", "dynamicchannelssupported",
+                   "groupmessaging", "lss_supported", "canopensafetysupported", "ng_slave",
+                   "ng_master", "nrofng_monitorednodes"),
+    "devicecomissioning": ("baudrate", "netnumber", "canopenmanager", "noderefd", "netrefd"),
+    "comments": ("lines",),
+    "aux": ("nrofentries",),
+}
+_NUMERIC_KEYS["devicecommissioning"] = _NUMERIC_KEYS["devicecomissioning"]
+_LISTS = ("mandatoryobjects", "optionalobjects", "manufacturerobjects")
+
+
+def _bad_int(text: str, _cache: dict = {}) -> str | None:  # noqa: B006 - a cache
+    if text in _cache:
+        return _cache[text]
+    try:
+        values.parse_int(values.split_numeric_comment(text)[0])
+        problem = None
+    except values.ValueProblem as exc:
+        problem = str(exc)
+    if len(_cache) < 1024:
+        _cache[text] = problem
+    return problem
+
+
+@rule("DCF055", "bad-number", WARNING,
+      "A key that holds an integer ([DeviceInfo], [FileInfo], object lists, PDOMapping, "
+      "NrOfEntries, ...) is not a valid integer.",
+      hint="decimal, 0x-hex or 0-octal integers only")
+def bad_number(ctx):
+    for canon, sec in ctx.ini.sections.items():
+        kind = ctx.kinds[canon]
+        if kind in ("object", "sub"):
+            keys = ("pdomapping",)
+        elif kind in _LISTS:
+            keys = tuple(k for k in ctx.key_names(sec) if k == "supportedobjects" or k.isdigit())
+        else:
+            keys = _NUMERIC_KEYS.get(kind or "", ())
+        for key in keys:
+            v = sec.get(key)
+            if v is None:
+                continue
+            problem = _bad_int(v)
+            if problem:
+                line = sec.line_of(key)
+                yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
+                              ctx.value_column(line))
+
+
+@rule("DCF056", "no-sections", ERROR,
+      "The file has no section at all (empty, or not an EDS/DCF).",
+      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
+def no_sections(ctx):
+    if not ctx.ini.sections:
+        what = "is empty" if not ctx.data.strip() else "has no sections"
+        yield Finding(f"the file {what}", None)
+
+
+_COMMENT_RE = re.compile(r"=[^\n]*?[ \t][;#]")
+_STRUCT_NUMERIC = ("objecttype", "datatype", "subnumber", "compactsubobj", "objflags",
+                   "pdomapping")
+
+
+@rule("DCF057", "numeric-key-comment", WARNING,
+      "A number in a structural key (DataType, ObjectType, SubNumber, [DeviceInfo], object "
+      "lists, ...) is followed by a ';' or '#' comment; the comment is ignored.",
+      hint="CiA 306 has no inline comments: put the comment on its own line")
+def numeric_key_comment(ctx):
+    if _COMMENT_RE.search(ctx.text) is None:
+        return   # no number anywhere is followed by a comment: skip the walk
+    split = values.split_numeric_comment
+    seen: set[int] = set()
+
+    def check(text, line):
+        if text and (";" in text or "#" in text) and line not in seen:
+            number, comment = split(text)
+            if comment is not None:
+                seen.add(line)
+                col = ctx.value_column(line)
+                return Finding(f"comment '{comment}' after the number '{number}' is ignored",
+                               line, col + len(number) if col else None)
+        return None
+
+    for canon, sec in ctx.ini.sections.items():
+        kind = ctx.kinds[canon]
+        if kind in ("object", "sub"):
+            keys = _STRUCT_NUMERIC
+        elif kind in _LISTS:
+            keys = tuple(ctx.key_names(sec))
+        else:
+            keys = _NUMERIC_KEYS.get(kind or "", ())
+        for key in keys:
+            v = sec.get(key)
+            if v is not None and (";" in v or "#" in v):
+                f = check(v, sec.line_of(key))
+                if f:
+                    yield f
+
+
+_FLAGS = ("baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125", "baudrate_250",
+          "baudrate_500", "baudrate_800", "baudrate_1000", "baudrate_auto",
+          "simplebootupmaster", "simplebootupslave", "groupmessaging", "lss_supported")
+
+
+@rule("DCF058", "flag-not-boolean", WARNING,
+      "A yes/no key (BaudRate_*, SimpleBootUp*, GroupMessaging, LSS_Supported, PDOMapping) "
+      "is neither 0 nor 1.",
+      hint="write 0 or 1; anything else reads as 'no'")
+def flag_not_boolean(ctx):
+    def bad(v):
+        try:
+            return values.parse_int(values.split_numeric_comment(v)[0]) not in (0, 1)
+        except values.ValueProblem:
+            return False   # DCF055
+
+    info = ctx.section("deviceinfo")
+    if info is not None:
+        for key in _FLAGS:
+            v = info.get(key)
+            if v is not None and bad(v):
+                line = info.line_of(key)
+                yield Finding(f"[DeviceInfo] {info.keys[key].name}={v} is not 0 or 1", line,
+                              ctx.value_column(line))
+    for canon, sec in ctx.ini.sections.items():
+        v = sec.get("pdomapping")
+        if v is not None and v not in ("0", "1") and ctx.kinds[canon] in ("object", "sub") \
+                and bad(v):
+            line = sec.line_of("pdomapping")
+            yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not mappable)",
+                          line, ctx.value_column(line))
+
+
+@rule("DCF059", "comments-count", WARNING,
+      "[Comments] Lines does not match the Line<k> keys 1..Lines.",
+      hint="Lines= counts the keys Line1..LineN")
+def comments_count(ctx):
+    for canon, sec in ctx.of_kind("comments", "modulecomments"):
+        numbers = sorted(int(k[4:]) for k in ctx.key_names(sec)
+                         if k.startswith("line") and k[4:].isdigit() and k[4:].isascii())
+        text = sec.get("lines")
+        try:
+            n = values.parse_int(values.split_numeric_comment(text)[0]) if text else None
+        except values.ValueProblem:
+            continue  # DCF055
+        if n is None:
+            if numbers:
+                yield Finding(f"[{sec.name}] has Line<k> keys but no Lines=", sec.line)
+            continue
+        if numbers != list(range(1, n + 1)):
+            yield Finding(f"[{sec.name}] Lines={n} but the Line<k> keys are "
+                          f"{_ranges(numbers) or 'none'}", sec.line_of("lines"),
+                          ctx.value_column(sec.line_of("lines")))
+
+
+def _ranges(numbers: list[int]) -> str:
+    out, start, prev = [], None, None
+    for n in numbers:
+        if start is None:
+            start = prev = n
+        elif n == prev + 1:
+            prev = n
+        else:
+            out.append(f"{start}" if start == prev else f"{start}-{prev}")
+            start = prev = n
+    if start is not None:
+        out.append(f"{start}" if start == prev else f"{start}-{prev}")
+    return ", ".join(out)
+
+
+@rule("DCF060", "required-section-missing", WARNING,
+      "[FileInfo] or [DeviceInfo], which every CiA 306 file has, is missing.",
+      hint="add the section; tools read vendor, product and PDO counts from it")
+def required_section_missing(ctx):
+    if not ctx.ini.sections:
+        return  # DCF056
+    for canon, shown in (("fileinfo", "FileInfo"), ("deviceinfo", "DeviceInfo")):
+        if canon not in ctx.ini.sections:
+            yield Finding(f"[{shown}] is missing", None)

@@ -1,0 +1,243 @@
+"""Run the rules over files, directories and stdin; collect diagnostics; decide the exit code.
+
+Per DCF/EDS file: read the INI text, build the model, compute the PI layout, run the
+compile selection (for the errors only compile finds), then every active check. The
+core's problems arrive with their own rule ids; each check runs guarded, so a bug in
+one check becomes an INT001 diagnostic (exit 70) and the others still run.
+"""
+from __future__ import annotations
+
+import os
+import traceback
+from dataclasses import dataclass, field
+
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+from dcf2bin.lint import registry
+from dcf2bin.lint.context import BinContext, DcfContext, Options
+from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
+
+SUFFIXES = (".eds", ".dcf", ".bin")
+DCF_SUFFIXES = (".eds", ".dcf", ".ini")
+KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
+
+
+@dataclass
+class FileResult:
+    path: str
+    kind: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    tracebacks: list[str] = field(default_factory=list)
+
+    def count(self, severity: Severity) -> int:
+        return sum(1 for d in self.diagnostics if d.severity is severity)
+
+
+@dataclass
+class RunResult:
+    files: list[FileResult] = field(default_factory=list)
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return [d for f in self.files for d in f.diagnostics]
+
+    @property
+    def tracebacks(self) -> list[str]:
+        return [t for f in self.files for t in f.tracebacks]
+
+    def exit_code(self, strict: bool = False) -> ExitCode:
+        diags = self.diagnostics
+        if any(d.rule == "INT001" for d in diags):
+            return ExitCode.INTERNAL
+        if any(d.rule == "IO001" for d in diags):
+            return ExitCode.UNREADABLE
+        failing = (Severity.ERROR, Severity.WARNING) if strict else (Severity.ERROR,)
+        if any(d.severity in failing for d in diags):
+            return ExitCode.FINDINGS
+        return ExitCode.OK
+
+
+# -- inputs ----------------------------------------------------------------------------------
+
+def discover(paths: list[str]) -> list[tuple[str, str | None]]:
+    """(shown path, error or None) for every input: files as given, directories walked
+    for *.eds, *.dcf, *.bin (any case; hidden entries skipped), '-' for stdin."""
+    out: list[tuple[str, str | None]] = []
+    for p in paths:
+        if p == "-" or not os.path.isdir(p):
+            out.append((p, None))
+            continue
+        found = []
+        errors: list[OSError] = []
+        for root, dirs, files in os.walk(p, onerror=errors.append):
+            dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+            for name in sorted(files):
+                if not name.startswith(".") and name.lower().endswith(SUFFIXES):
+                    found.append(os.path.join(root, name))
+        out.extend((f, None) for f in sorted(found, key=lambda f: f.split(os.sep)))
+        for exc in errors:
+            out.append((exc.filename or p, exc.strerror or str(exc)))
+    return out
+
+
+def _kind_of(path: str, data: bytes) -> str:
+    low = path.lower()
+    if low.endswith(".bin"):
+        return KIND_BIN
+    if low.endswith(DCF_SUFFIXES):
+        return KIND_DCF
+    # stdin or an unknown suffix: a container's first DWORD is its size; text has no NULs
+    if len(data) >= 40 and (int.from_bytes(data[:4], "little") == len(data)
+                            or b"\x00" in data[:512]):
+        return KIND_BIN
+    return KIND_DCF
+
+
+def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
+        stdin_name: str = "<stdin>") -> RunResult:
+    result = RunResult()
+    for path, error in discover(paths):
+        shown = stdin_name if path == "-" else path
+        if error is None:
+            try:
+                if path == "-":
+                    data = stdin if stdin is not None else b""
+                else:
+                    with open(path, "rb") as f:
+                        data = f.read()
+            except OSError as exc:
+                error = exc.strerror or str(exc)
+        if error is not None:
+            rule = RULES["IO001"]
+            result.files.append(FileResult(shown, KIND_UNREADABLE, [Diagnostic(
+                Severity.ERROR, f"cannot read: {error}", shown, rule="IO001", hint=rule.hint)]))
+            continue
+        result.files.append(lint_bytes(shown, data, opts))
+    return result
+
+
+def lint_bytes(name: str, data: bytes, opts: Options | None = None,
+               kind: str | None = None) -> FileResult:
+    """Lint one input given as bytes; ``name`` is used in the diagnostics."""
+    registry._load()
+    opts = opts or Options()
+    kind = kind or _kind_of(name, data)
+    res = FileResult(name, kind)
+    if kind == KIND_BIN:
+        _Run(res, opts).container(data)
+    else:
+        _Run(res, opts).dcf(data)
+    return res
+
+
+# -- one file --------------------------------------------------------------------------------
+
+_SELECT_MESSAGES = (  # select.py errors without a rule id -> the lint rule that owns them
+    ("has no mapping object", "DCF401"),
+    ("has no communication object", "DCF402"),
+    ("has no COB-ID", "DCF403"),
+    ("the COB-ID must be UNSIGNED32", "DCF403"),
+    ("more than 64", "DCF409"),
+    ("mapped objects, more than", "DCF450"),
+    ("objects but has no sub", "DCF417"),
+)
+
+
+class _Run:
+    def __init__(self, res: FileResult, opts: Options):
+        self.res = res
+        self.opts = opts
+        self.active = opts.active if opts.active is not None else set(RULES)
+        self.diags: list[Diagnostic] = []     # from the checks here
+        self.core: list[Diagnostic] = []      # from the reader, model, layout, selection
+
+    # guarded execution: a bug becomes INT001, never a traceback
+    def guard(self, what: str, fn, *args):
+        try:
+            return True, fn(*args)
+        except Exception as exc:  # noqa: BLE001 - turned into a diagnostic
+            self.res.tracebacks.append(f"{self.res.path}: {what}:\n{traceback.format_exc()}")
+            self.diags.append(Diagnostic(
+                Severity.ERROR, f"internal error in {what}: {type(exc).__name__}: {exc}",
+                self.res.path, rule="INT001", hint=RULES["INT001"].hint))
+            return False, None
+
+    def checks(self, kind: str, ctx) -> None:
+        for r in registry.all_rules():
+            if r.check is None or r.kind != kind or r.id not in self.active:
+                continue
+            ok, findings = self.guard(f"rule {r.id} ({r.name})", lambda: list(r.check(ctx)))
+            if not ok:
+                continue
+            for f in findings:
+                self.diags.append(self.to_diag(r, f))
+
+    def to_diag(self, r, f: Finding) -> Diagnostic:
+        return Diagnostic(r.severity, f.message, self.res.path, f.line, f.column, f.offset,
+                          r.id, f.hint or r.hint)
+
+    def dcf(self, data: bytes) -> None:
+        from dcf2bin import ini, layout, model
+        from dcf2bin import select as select_mod
+        from dcf2bin.profiles import get_profile
+        opts, path = self.opts, self.res.path
+        ok, dev = self.guard("reading the file", lambda: model.build(
+            ini.parse_bytes(data, path), node_id=opts.node_id,
+            allow_external_files=opts.allow_external_files))
+        if not ok:
+            return self.finish()
+        ctx = DcfContext(path, data, opts, dev.ini, dev)
+        if any(model.is_network_variable_index(i) for i in dev.objects):
+            self.guard("the process-image layout", lambda: setattr(ctx, "layout", layout.compute(
+                dev, align=opts.pi_align, pi_size=opts.pi_size,
+                address_base=opts.address_base)))
+        ok, sel = self.guard("the compile selection", lambda: select_mod.select(
+            dev, rules=get_profile(opts.profile).pdo_rules()))
+        self.checks(DCF, ctx)
+        # after the checks: DCF202's DownloadFile reads may add core problems
+        for p in dev.problems:
+            d = p.diagnostic
+            self.core.append(self._core(d, d.rule or "DCF099"))
+        if ok:
+            for d in sel.errors:
+                self.core.append(self._core(d, d.rule or self._select_rule(d.message)))
+        self.finish()
+
+    def _core(self, d: Diagnostic, rule: str) -> Diagnostic:
+        r = RULES.get(rule)
+        hint = d.hint or (r.hint if r else "")
+        return Diagnostic(d.severity, d.message, d.file or self.res.path, d.line, d.column,
+                          d.offset, rule, hint)
+
+    @staticmethod
+    def _select_rule(message: str) -> str:
+        for text, rule in _SELECT_MESSAGES:
+            if text in message:
+                return rule
+        return "DCF099"
+
+    def container(self, data: bytes) -> None:
+        ok, ctx = self.guard("reading the container",
+                             lambda: BinContext(self.res.path, data, self.opts))
+        if ok:
+            self.checks(BIN, ctx)
+        self.finish()
+
+    def finish(self) -> None:
+        # A check here and the core may report one fact under one id (DCF200, DCF202,
+        # DCF203: the core only for what compile encodes); the check's finding wins.
+        seen = {(d.rule, d.file, d.line) for d in self.diags}
+        out, keys = [], set()
+        for d in self.diags + [d for d in self.core if (d.rule, d.file, d.line) not in seen]:
+            if d.rule not in self.active:
+                continue
+            key = (d.rule, d.line, d.column, d.offset, d.message)
+            if key in keys:
+                continue
+            keys.add(key)
+            out.append(d)
+        out.sort(key=_order)
+        self.res.diagnostics = out
+
+
+def _order(d: Diagnostic):
+    return (d.line or 0, d.offset or 0, d.column or 0, registry._sort_key(d.rule), d.message)
