@@ -53,6 +53,12 @@ def _lists(ctx) -> _Lists:
     return lists
 
 
+def _n(count: int, noun: str) -> str:
+    if count == 1:
+        return f"1 {noun}"
+    return f"{count} {noun[:-1] + 'ies' if noun.endswith('y') else noun + 's'}"
+
+
 def _shown(canon: str) -> str:
     return dict(_LISTS)[canon]
 
@@ -113,13 +119,14 @@ def list_count(ctx):
         n = sum(1 for e in lists.entries if e[0] == canon)
         text = sec.get("supportedobjects")
         if text is None:
-            yield Finding(f"[{sec.name}] has no SupportedObjects (it has {n} entries)", sec.line)
+            yield Finding(f"[{sec.name}] has no SupportedObjects (it has {_n(n, 'entry')})",
+                          sec.line)
             continue
         count = _int(text)
         if count is not None and count != n:
             line = sec.line_of("supportedobjects")
-            yield Finding(f"[{sec.name}] SupportedObjects={count} but it has {n} entries", line,
-                          ctx.value_column(line))
+            yield Finding(f"[{sec.name}] SupportedObjects={count} but it has {_n(n, 'entry')}",
+                          line, ctx.value_column(line))
 
 
 @rule("DCF105", "object-list-gap", WARNING,
@@ -181,10 +188,10 @@ def list_missing(ctx):
         yield Finding("[MandatoryObjects] is missing", None)
     std = [i for i in objs if not _is_manufacturer(i) and i not in lists.first]
     if std and "optionalobjects" not in lists.sections and any(i not in MANDATORY for i in std):
-        yield Finding(f"[OptionalObjects] is missing, {len(std)} objects are not listed", None)
+        yield Finding(f"[OptionalObjects] is missing, {_n(len(std), 'object')} not listed", None)
     mfr = [i for i in objs if _is_manufacturer(i) and i not in lists.first]
     if mfr and "manufacturerobjects" not in lists.sections:
-        yield Finding(f"[ManufacturerObjects] is missing, {len(mfr)} objects are not listed",
+        yield Finding(f"[ManufacturerObjects] is missing, {_n(len(mfr), 'object')} not listed",
                       None)
 
 
@@ -312,8 +319,8 @@ def pdo_count(ctx):
         if n != present:
             kind = "RPDO" if base == 0x1400 else "TPDO"
             line = info.line_of(key)
-            yield Finding(f"[DeviceInfo] {shown}={n} but {present} {kind} communication objects "
-                          f"(0x{base:04X}-0x{base + 0x1FF:04X}) are present", line,
+            yield Finding(f"[DeviceInfo] {shown}={n} but {_n(present, kind)} (communication "
+                          f"objects 0x{base:04X}-0x{base + 0x1FF:04X}) present", line,
                           ctx.value_column(line))
 
 
