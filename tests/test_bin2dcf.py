@@ -1,0 +1,476 @@
+"""bin2dcf: containers back to DCF text (SPEC §4, issue 3).
+
+The central promise: for a container compiled with default options from a DCF,
+compile(bin2dcf(container)) == container. Where a container cannot be expressed,
+bin2dcf says so; its prediction is checked against the real compiler for generated
+DCFs and for arbitrary containers.
+
+Golden files (tests/golden/*.bin2dcf.dcf) were reviewed by hand against SPEC §4:
+one section per index, ParameterValue = last value written, earlier PDO writes as
+comments, DataType from the CiA 405 range / attribute / size, no timestamps.
+"""
+from __future__ import annotations
+
+import re
+import time
+
+import pytest
+from click.testing import CliRunner
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+from conftest import ROOT, SAMPLES, corpus_params
+from dcf2bin import datatypes as dt
+from dcf2bin import dcfwriter, dump, model, values
+from dcf2bin.cli import main
+from dcf2bin.cli_dump import bin2dcf_main
+from dcf2bin.compiler import CompileOptions, compile_device, compile_path
+from dcf2bin.container import BinContainer, read
+from test_dump import containers, models
+
+GOLDEN = ROOT / "tests" / "golden"
+SAMPLE_NAMES = ["bild8", "plc", "device"]
+PROPS = settings(max_examples=300, deadline=None,
+                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                        HealthCheck.filter_too_much])
+
+
+def convert(data: bytes, name: str = "x.bin", **kw) -> dcfwriter.Result:
+    c, diags = dump.read_bytes(data, name)
+    assert c is not None, diags
+    return dcfwriter.convert(c, name, dcf_name="x.dcf", **kw)
+
+
+def compile_text(text: bytes, name: str = "x.dcf", **opts):
+    dev = model.load(name, data=text)
+    return compile_device(dev, CompileOptions(**opts))
+
+
+def roundtrip_ok(data: bytes, res: dcfwriter.Result) -> bool:
+    back = compile_text(res.to_bytes())
+    return back.data == data
+
+
+def run(*args, input=None):
+    return CliRunner().invoke(main, [str(a) for a in args], input=input,
+                              catch_exceptions=False)
+
+
+# -- samples: compile -> bin2dcf -> compile is byte-identical; golden DCFs ----------------------
+
+@pytest.mark.parametrize("name", SAMPLE_NAMES)
+def test_sample_roundtrip(name, tmp_path):
+    """A container compiled from each sample dumps, converts to DCF and compiles back."""
+    binary = (SAMPLES / f"{name}.bin").read_bytes()
+    r = run("compile", SAMPLES / f"{name}.dcf", "-o", tmp_path / "a.bin")
+    assert r.exit_code == 0 and (tmp_path / "a.bin").read_bytes() == binary
+    r = run("dump", "-f", "json", tmp_path / "a.bin", "-o", tmp_path / "a.json")
+    assert r.exit_code == 0, r.stderr
+    r = run("compile", tmp_path / "a.json", "-o", tmp_path / "b.bin")
+    assert r.exit_code == 0 and (tmp_path / "b.bin").read_bytes() == binary
+    r = run("bin2dcf", tmp_path / "a.bin", "-o", tmp_path / "a.dcf")
+    assert (r.exit_code, r.stderr) == (0, "")
+    r = run("compile", tmp_path / "a.dcf", "-o", tmp_path / "c.bin")
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "c.bin").read_bytes() == binary
+
+
+@pytest.mark.parametrize("name", SAMPLE_NAMES)
+def test_golden_bin2dcf(name, tmp_path):
+    out = tmp_path / f"{name}.dcf"
+    r = run("bin2dcf", SAMPLES / f"{name}.bin", "-o", out)
+    assert (r.exit_code, r.stderr) == (0, "")
+    text = out.read_text().replace(str(SAMPLES / f"{name}.bin"), f"{name}.bin")
+    assert text == (GOLDEN / f"{name}.bin2dcf.dcf").read_text()
+
+
+def test_golden_bin2dcf_with_eds(tmp_path):
+    """--eds: names, exact types (INTEGER16, REAL32 ...) and access from the EDS."""
+    r = run("bin2dcf", SAMPLES / "device.bin", "--eds", SAMPLES / "device.dcf", "-o",
+            tmp_path / "device.dcf")
+    assert (r.exit_code, r.stderr) == (0, "")
+    text = (tmp_path / "device.dcf").read_text().replace(str(SAMPLES) + "/", "")
+    assert text == (GOLDEN / "device.eds.bin2dcf.dcf").read_text()
+    back = compile_path(str(tmp_path / "device.dcf"), CompileOptions())
+    assert back.data == (SAMPLES / "device.bin").read_bytes()
+
+
+def test_bin2dcf_is_deterministic(tmp_path):
+    a = run("bin2dcf", SAMPLES / "plc.bin", "-o", "-").stdout_bytes
+    time.sleep(0.01)
+    b = run("bin2dcf", SAMPLES / "plc.bin", "-o", "-").stdout_bytes
+    assert a == b
+    assert not re.search(rb"(?i)creation(time|date)|modification(time|date)", a)
+
+
+# -- the corpus: every DCF that compiles comes back -----------------------------------------------
+
+def _compile_corpus(path):
+    res = compile_path(str(path), CompileOptions())
+    if not res.ok and any(d.rule == "DCF201" for d in res.diagnostics):
+        res = compile_path(str(path), CompileOptions(node_id=1))   # $NODEID without node-ID
+    return res
+
+
+@pytest.mark.parametrize("path", corpus_params(".dcf"))
+def test_corpus_dcf_roundtrip(path):
+    res = _compile_corpus(path)
+    if not res.ok:
+        pytest.skip("does not compile (tests/test_corpus.py checks the errors)")
+    out = convert(res.data, str(path))
+    assert out.roundtrip and out.diagnostics == []
+    assert roundtrip_ok(res.data, out)
+
+
+@pytest.mark.parametrize("path", corpus_params(".eds"))
+def test_corpus_eds_roundtrip(path):
+    """EDS files compile too (network variables, DefaultValue-only objects)."""
+    res = _compile_corpus(path)
+    if not res.ok:
+        pytest.skip("does not compile (tests/test_corpus.py checks the errors)")
+    out = convert(res.data, str(path))
+    assert roundtrip_ok(res.data, out) == out.roundtrip
+    assert out.roundtrip, [d.format() for d in out.diagnostics]
+
+
+@pytest.mark.parametrize("path", corpus_params(".eds"))
+def test_corpus_eds_as_eds_option(path):
+    """With the device's own EDS, the DCF still compiles back to the same bytes."""
+    res = _compile_corpus(path)
+    if not res.ok:
+        pytest.skip("does not compile")
+    info, dev, _ = dump.load_eds(str(path))
+    out = convert(res.data, str(path), eds=info, eds_device=dev)
+    assert roundtrip_ok(res.data, out) == out.roundtrip
+    assert out.roundtrip, [d.format() for d in out.diagnostics]
+
+
+# -- generated DCFs: compile(bin2dcf(compile(dcf))) == compile(dcf) ------------------------------
+
+FIXED = [t for t in dt.BY_CODE.values()]
+ACCESS = ["ro", "wo", "rw", "rwr", "rww", "const"]
+
+
+@st.composite
+def value_text(draw, dtype: dt.DataType) -> str | None:
+    if dtype.kind == dt.VSTRING:
+        s = draw(st.text(st.characters(blacklist_categories=["Cs"], blacklist_characters="\r\n"),
+                         max_size=8))
+        return values.decode(dtype, s.encode("utf-8"))
+    if dtype.kind == dt.USTRING:
+        s = draw(st.text(st.characters(blacklist_categories=["Cs"], blacklist_characters="\r\n"),
+                         max_size=4))
+        return values.decode(dtype, s.encode("utf-16-le"))
+    size = dtype.size if dtype.size is not None else draw(st.integers(0, 6))
+    data = draw(st.binary(min_size=size, max_size=size))
+    if dtype.kind == dt.BOOL:
+        data = bytes([data[0] & 1])
+    return values.decode(dtype, data)
+
+
+@st.composite
+def entry_keys(draw, dtype: dt.DataType | None = None, configured: bool | None = None,
+               access: str | None = None) -> str:
+    t = dtype or draw(st.sampled_from(FIXED))
+    acc = access or draw(st.sampled_from(ACCESS))
+    lines = [f"DataType=0x{t.code:04X}", f"AccessType={acc}",
+             f"PDOMapping={draw(st.integers(0, 1))}"]
+    v = draw(value_text(t))
+    if v is not None:
+        lines.append(f"DefaultValue={v}")
+    if configured if configured is not None else draw(st.booleans()):
+        v = draw(value_text(t))
+        if v is not None:
+            lines.append(f"ParameterValue={v}")
+    return "\n".join(lines) + "\n"
+
+
+@st.composite
+def dcf_texts(draw) -> str:
+    out = ["[FileInfo]\nFileName=gen.dcf\n"]
+    # plain objects, VAR or RECORD
+    for idx in draw(st.lists(st.integers(0x1000, 0x2FFF).filter(
+            lambda i: not 0x1400 <= i <= 0x1BFF), unique=True, max_size=4)):
+        if draw(st.booleans()):
+            out.append(f"[{idx:04X}]\nParameterName=V\nObjectType=0x7\n" + draw(entry_keys()))
+        else:
+            subs = draw(st.lists(st.integers(0, 12), unique=True, min_size=1, max_size=4))
+            out.append(f"[{idx:04X}]\nParameterName=R\nObjectType=0x9\n")
+            for s in sorted(subs):
+                out.append(f"[{idx:04X}sub{s:X}]\nParameterName=S\n" + draw(entry_keys()))
+    # PDOs (CiA 301 block)
+    for comm in draw(st.lists(st.sampled_from([0x1400, 0x1401, 0x1402, 0x1800, 0x1801, 0x1803]),
+                              unique=True, max_size=3)):
+        cob = draw(st.integers(1, 0x7FF)) | (draw(st.sampled_from([0, 0x80000000, 0x40000000])))
+        out.append(f"[{comm:04X}]\nObjectType=0x9\n[{comm:04X}sub0]\nDataType=0x0005\n"
+                   f"AccessType=ro\nDefaultValue=6\n"
+                   f"[{comm:04X}sub1]\nDataType=0x0007\nAccessType=rw\nDefaultValue=0x{cob:X}\n"
+                   + (f"ParameterValue=0x{cob:X}\n" if draw(st.booleans()) else ""))
+        for s, t in ((2, dt.UNSIGNED8), (3, dt.UNSIGNED16), (4, dt.UNSIGNED8),
+                     (5, dt.UNSIGNED16), (6, dt.UNSIGNED8)):
+            if draw(st.booleans()):
+                out.append(f"[{comm:04X}sub{s}]\n" + draw(entry_keys(t, access="rw")))
+        mapping = comm + 0x200
+        default, n = draw(st.integers(0, 4)), draw(st.integers(0, 4))
+        configured = draw(st.booleans())
+        out.append(f"[{mapping:04X}]\nObjectType=0x9\n[{mapping:04X}sub0]\nDataType=0x0005\n"
+                   f"AccessType=rw\nDefaultValue={default}\n"
+                   + (f"ParameterValue={n}\n" if configured else ""))
+        for k in range(1, max(n, default) + 1 + draw(st.integers(0, 1))):
+            out.append(f"[{mapping:04X}sub{k}]\n" + draw(entry_keys(dt.UNSIGNED32, access="rw")))
+    # network variables: CiA 405 ranges
+    for idx in draw(st.lists(st.sampled_from([0xA000, 0xA041, 0xA080, 0xA0C0, 0xA140, 0xA240,
+                                              0xA280, 0xA4C0, 0xA4C1, 0xA500, 0xA600, 0xA6C0,
+                                              0xA8C0]), unique=True, max_size=4)):
+        t = dcfwriter.table_type(idx)[0]
+        subs = draw(st.lists(st.integers(1, 254), unique=True, max_size=4))
+        out.append(f"[{idx:04X}]\nObjectType=0x8\n")
+        if draw(st.booleans()):
+            out.append(f"[{idx:04X}sub0]\nDataType=0x0005\nAccessType=ro\n"
+                       f"DefaultValue={max(subs, default=0)}\n")
+        for s in sorted(subs):
+            out.append(f"[{idx:04X}sub{s:X}]\n" + draw(entry_keys(t, access="rw")))
+    # a [DynamicChannels] segment beyond the table (A900-AFFF), away from offset 0
+    if draw(st.booleans()):
+        t = draw(st.sampled_from([x for x in FIXED if x.size]))
+        first = draw(st.integers(0xA900, 0xAF00))
+        pp = draw(st.integers(0, 50)) * 8 + 4096
+        out.append(f"[DynamicChannels]\nNrOfSeg=1\nType1=0x{t.code:04X}\n"
+                   f"Dir1={draw(st.sampled_from(['ro', 'rw']))}\n"
+                   f"Range1=0x{first:04X}-0x{first + 3:04X}\nPPOffset1={pp}\n")
+        for idx in draw(st.lists(st.integers(first, first + 3), unique=True, max_size=2)):
+            subs = draw(st.lists(st.integers(1, 254), unique=True, max_size=3))
+            out.append(f"[{idx:04X}]\nObjectType=0x8\n")
+            for s in sorted(subs):
+                out.append(f"[{idx:04X}sub{s:X}]\n" + draw(entry_keys(t, access="rw")))
+    return "\n".join(out)
+
+
+@PROPS
+@given(dcf_texts())
+def test_generated_dcf_roundtrip(text):
+    first = compile_text(text.encode("utf-8"), "gen.dcf")
+    assume(first.ok)
+    out = convert(first.data)
+    assert [d.format() for d in out.diagnostics] == []
+    assert out.roundtrip
+    back = compile_text(out.to_bytes())
+    assert back.ok, [d.format() for d in back.diagnostics if d.severity.value == "error"]
+    assert back.data == first.data
+
+
+# -- arbitrary containers: the prediction is exact ---------------------------------------------
+
+@PROPS
+@given(containers(8))
+def test_prediction_matches_the_compiler(data):
+    c, _ = read(data)
+    res = dcfwriter.convert(c, "x.bin", dcf_name="x.dcf")
+    back = compile_text(res.to_bytes())
+    assert (back.data == data) == res.roundtrip
+    if not res.roundtrip:
+        summary = [d for d in res.diagnostics if d.rule == dcfwriter.R_SUMMARY]
+        assert len(summary) == 1
+    if res.roundtrip:
+        assert res.diagnostics == []
+
+
+@PROPS
+@given(models(6))
+def test_prediction_with_options(c):
+    """When only --container-version / --no-process-image are missing, bin2dcf says which."""
+    data = c.to_bytes()
+    res = convert(data)
+    if res.options:
+        opts = {}
+        for o in res.options:
+            if o.startswith("--container-version"):
+                opts["container_version"] = int(o.split()[1])
+            if o == "--no-process-image":
+                opts["process_image"] = False
+        back = compile_text(res.to_bytes(), **opts)
+        assert back.data == data
+
+
+# -- what cannot round-trip is named -------------------------------------------------------------
+
+def _warnings(c: BinContainer) -> list[str]:
+    data = c.to_bytes()
+    res = convert(data)
+    assert roundtrip_ok(data, res) == res.roundtrip
+    return [d.format() for d in res.diagnostics]
+
+
+def test_repeated_writes_outside_a_pdo_block():
+    c = BinContainer(entries=[(0x2200, 0, b"\x1a\x00"), (0x2214, 0, b"\x01\x00\x00\x00"),
+                              (0x2200, 0, b"\x1b\x00"), (0x2214, 0, b"\x02\x00\x00\x00")],
+                     attributes=b"\x70\x70\x70\x70")
+    assert _warnings(c) == [
+        "x.bin:0x2C: warning: 0x2200sub0 is written 2 times outside a PDO block; the DCF keeps "
+        "the last value (earlier ones are comments) [B2D003]",
+        "x.bin:0x35: warning: 0x2214sub0 is written 2 times outside a PDO block; the DCF keeps "
+        "the last value (earlier ones are comments) [B2D003]",
+        "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
+        "0x2200sub0 = 1A00 (attribute 0x70), compile writes 0x2200sub0 = 1B00 (attribute 0x70); "
+        "for a lossless copy use 'dcf2bin dump --format json' [B2D010]",
+    ]
+
+
+def test_read_only_entries_and_undefined_bits():
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
+                     attributes=b"\x30\x76")
+    assert _warnings(c) == [
+        "x.bin:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); compile does not "
+        "write ro entries in the configuration group (D-8) [B2D004]",
+        "x.bin:0x37: warning: 0x2000sub0 has undefined attribute bits 0x06 (0x76); no DCF "
+        "entry produces them [B2D002]",
+        "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
+        "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub0 = 05 (attribute "
+        "0x70); for a lossless copy use 'dcf2bin dump --format json' [B2D010]",
+    ]
+
+
+def test_version_and_missing_pi_name_the_options():
+    c = BinContainer(entries=[(0xA4C0, 0, b"\x01"), (0xA4C0, 1, b"\x07")],
+                     attributes=b"\x30\xf0", version=7)
+    assert _warnings(c) == [
+        "x.bin: warning: compile gives the same bytes only with --container-version 7 "
+        "--no-process-image [B2D010]"]
+
+
+def test_string_with_a_line_break_becomes_octet_string():
+    c = BinContainer(entries=[(0x2000, 0, b"a\nb")], attributes=b"\x68")
+    res = convert(c.to_bytes())
+    assert "DataType=0x000A\nAccessType=rw\nPDOMapping=0\nParameterValue=610A62\n" in res.text
+    assert [d.format() for d in res.diagnostics][0] == (
+        "x.bin:0x2C: warning: 0x2000sub0: 610A62 cannot be written as a VISIBLE_STRING value "
+        "in a DCF; written as OCTET_STRING [B2D007]")
+
+
+def test_latin1_strings_keep_their_bytes():
+    c = BinContainer(entries=[(0x2000, 0, b"Gr\xfc\xdf"), (0x2001, 0, "Grüß".encode())],
+                     attributes=b"\x68\x68")
+    data = c.to_bytes()
+    res = convert(data)
+    assert res.encoding == "latin-1" and res.roundtrip and res.diagnostics == []
+    assert roundtrip_ok(data, res)
+
+
+def test_dynamic_channels_are_reconstructed():
+    """Variables placed by [DynamicChannels] PPOffsets come back with the same addresses."""
+    text = ("[DynamicChannels]\nNrOfSeg=2\nType1=0x0005\nDir1=ro\nRange1=0xA040-0xA07F\n"
+            "PPOffset1=100\nType2=0x0007\nDir2=rw\nRange2=0xAA00-0xAA0F\nPPOffset2=8\n"
+            "[A040]\nObjectType=0x8\n[A040sub1]\nDataType=0x0005\nAccessType=ro\n"
+            "[AA01]\nObjectType=0x8\n[AA01sub2]\nDataType=0x0007\nAccessType=rw\n"
+            "ParameterValue=0x12345678\n")
+    first = compile_text(text.encode())
+    assert first.ok
+    res = convert(first.data)
+    assert res.roundtrip and res.diagnostics == []
+    assert ("[DynamicChannels]\nNrOfSeg=2\nType1=0x0005\nDir1=ro\nRange1=0xA040-0xA07F\n"
+            "PPOffset1=100\nType2=0x0007\nDir2=rw\nRange2=0xAA01-0xAFFF\nPPOffset2=1024\n"
+            ) in res.text
+    assert compile_text(res.to_bytes()).data == first.data
+
+
+# -- the command line -----------------------------------------------------------------------------
+
+def test_default_output_name_and_file_info(tmp_path):
+    src = tmp_path / "plc.bin"
+    src.write_bytes((SAMPLES / "plc.bin").read_bytes())
+    r = run("bin2dcf", src)
+    assert r.exit_code == 0
+    text = (tmp_path / "plc.dcf").read_text()
+    assert "\n[FileInfo]\nFileName=plc.dcf\n" in text
+    assert f"Description=Converted from the binary DCF segment container {src}\n" in text
+
+
+def test_standalone_bin2dcf_command(tmp_path):
+    r = CliRunner().invoke(bin2dcf_main, [str(SAMPLES / "bild8.bin"), "-o", "-"],
+                           catch_exceptions=False)
+    assert r.exit_code == 0
+    assert r.stdout == run("bin2dcf", SAMPLES / "bild8.bin", "-o", "-").stdout
+    assert "FileName=bild8.dcf\n" in r.stdout
+    r = CliRunner().invoke(bin2dcf_main, ["--version"])
+    assert r.stdout.startswith("bin2dcf, version ")
+
+
+def test_stdin_needs_output():
+    r = run("bin2dcf", "-", input=(SAMPLES / "bild8.bin").read_bytes())
+    assert r.exit_code == 2
+    r = run("bin2dcf", "-", "-o", "-", input=(SAMPLES / "bild8.bin").read_bytes())
+    assert r.exit_code == 0 and "FileName=stdin.dcf\n" in r.stdout
+
+
+def test_strict_writes_nothing(tmp_path):
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00")], attributes=b"\x30")
+    (tmp_path / "ro.bin").write_bytes(c.to_bytes())
+    r = run("bin2dcf", tmp_path / "ro.bin", "--strict")
+    assert r.exit_code == 1
+    assert not (tmp_path / "ro.dcf").exists()
+    lines = r.stderr.splitlines()
+    assert lines[-2].startswith(f"{tmp_path / 'ro.bin'}:0x2C: error: the DCF will not compile")
+    assert lines[-1] == (f"{tmp_path / 'ro.bin'}: the DCF would not compile back to the same "
+                         "container (--strict), nothing written")
+    r = run("bin2dcf", tmp_path / "ro.bin", "-q")
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert (tmp_path / "ro.dcf").exists()
+
+
+def test_large_container_is_fast_enough():
+    n = 20000
+    entries = [(0xA040 + i // 254, i % 254 + 1, b"\x00") for i in range(n)]
+    c = BinContainer(entries=entries, attributes=b"\xf0" * n, addresses=list(range(n)),
+                     pi=(n, 0, n, 0, 0))
+    data = c.to_bytes()
+    t = time.perf_counter()
+    res = convert(data)
+    assert time.perf_counter() - t < 10      # generous: catches quadratic behaviour only
+    assert "PI addresses" not in " ".join(d.message for d in res.diagnostics)
+
+
+@st.composite
+def edited_compiled(draw) -> bytes:
+    """A container compiled from a generated DCF, then edited a little (near misses)."""
+    first = compile_text(draw(dcf_texts()).encode("utf-8"), "gen.dcf")
+    assume(first.ok)
+    c, _ = read(first.data)
+    entries, attrs = list(c.entries), bytearray(c.attributes or b"")
+    for _ in range(draw(st.integers(0, 2))):
+        kind = draw(st.sampled_from(["swap", "attr", "dup", "drop", "data", "addr", "pi"]))
+        if kind in ("swap", "attr", "dup", "drop", "data") and not entries:
+            continue
+        i = draw(st.integers(0, len(entries) - 1)) if entries else 0
+        if kind == "swap":
+            j = draw(st.integers(0, len(entries) - 1))
+            entries[i], entries[j] = entries[j], entries[i]
+            attrs[i], attrs[j] = attrs[j], attrs[i]
+        elif kind == "attr":
+            attrs[i] = draw(st.integers(0, 255))
+        elif kind == "dup":
+            entries.insert(i, entries[i])
+            attrs.insert(i, attrs[i])
+        elif kind == "drop":
+            del entries[i]
+            del attrs[i]
+        elif kind == "data":
+            entries[i] = entries[i][:2] + (draw(st.binary(max_size=5)),)
+        elif kind == "addr" and c.addresses:
+            k = draw(st.integers(0, len(c.addresses) - 1))
+            c.addresses[k] = draw(st.integers(0, 0xFFFF))
+        elif kind == "pi" and c.pi:
+            pi = list(c.pi)
+            pi[draw(st.integers(0, 4))] = draw(st.integers(0, 300))
+            c.pi = tuple(pi)
+    c.entries, c.attributes = entries, bytes(attrs)
+    return c.to_bytes()
+
+
+@PROPS
+@given(edited_compiled())
+def test_prediction_on_near_misses(data):
+    c, _ = read(data)
+    res = dcfwriter.convert(c, "x.bin", dcf_name="x.dcf")
+    back = compile_text(res.to_bytes())
+    assert (back.data == data) == res.roundtrip, [d.format() for d in res.diagnostics]
+    assert res.roundtrip == (res.diagnostics == [])
