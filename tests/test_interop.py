@@ -12,7 +12,7 @@ def test_plc_sample_to_canopen():
     assert od[0x1017].value == 1000 and od[0x1017].default == 0
     assert od[0x1017].data_type == 0x06 and od[0x1017].access_type == "rw"
     assert od[0x1800][1].value == 0x190          # $NODEID+0x180 with NodeID 0x10
-    assert od[0x1A00][5].value == 0xA0C00310
+    assert od[0x1600][5].value == 0xA0C00310          # RPDO1 receives the inputs
     assert od[0xA0C0][3].data_type == 0x03 and od[0xA0C0][3].pdo_mappable
     assert od[0xA0C0][0].default == 4
     assert sorted(od.indices) == sorted(i for i in dev.objects if i >= 0x1000)
