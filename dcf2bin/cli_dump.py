@@ -55,7 +55,8 @@ _QUIET = click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
               "'compile' turns back into the same bytes.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
               help="Output file ('-' for stdout, the default).")
-@_EDS
+@click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+              help="EDS/DCF of the device: exact types and names in the text report.")
 @click.option("--full", is_flag=True, help="Show long data in full (text format).")
 @_QUIET
 @guarded

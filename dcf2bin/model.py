@@ -317,7 +317,8 @@ class _Builder:
             try:
                 self._object(idx, mains[idx], subs.get(idx, {}), aux)
             except values.ValueProblem as exc:  # defensive: a bad structural number
-                self.dev.error(f"[{mains[idx].name}]: {exc}", self.w(mains[idx].line), idx)
+                self.dev.error(f"[{mains[idx].name}]: {exc}", self.w(mains[idx].line), idx,
+                               rule="DCF020")
         for (idx, kind), sec in aux.items():
             if idx not in mains and kind in ("name", "value", "denotation"):
                 self.dev.warning(f"[{sec.name}] has no object section [{idx:04X}]; ignored",

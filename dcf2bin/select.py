@@ -64,13 +64,13 @@ class _Selector:
         self.rules = rules
         self.sel = Selection()
 
-    def error(self, exc_or_msg, where=None) -> None:
+    def error(self, exc_or_msg, where=None, rule: str = "") -> None:
         if isinstance(exc_or_msg, DcfError):
             self.sel.errors.append(exc_or_msg.diagnostic)
         else:
             self.sel.errors.append(Diagnostic(Severity.ERROR, exc_or_msg,
                                               where.file if where else self.dev.path,
-                                              where.line if where else None))
+                                              where.line if where else None, rule=rule))
 
     def write(self, entry: Entry, data: bytes | None = None) -> None:
         if data is None and entry.dtype is None:
@@ -135,11 +135,11 @@ class _Selector:
         for idx, obj in sorted(dev.objects.items()):
             if is_pdo_comm(idx) and (idx + 0x200) not in dev.objects:
                 self.error(f"PDO communication object 0x{idx:04X} has no mapping object "
-                           f"0x{idx + 0x200:04X}", obj.where)
+                           f"0x{idx + 0x200:04X}", obj.where, "DCF401")
             elif is_pdo_mapping(idx) and (idx - 0x200) not in dev.objects and any(
                     self.counts(e) for e in obj.entries.values()):
                 self.error(f"configured PDO mapping object 0x{idx:04X} has no communication "
-                           f"object 0x{idx - 0x200:04X}", obj.where)
+                           f"object 0x{idx - 0x200:04X}", obj.where, "DCF402")
 
     def pdo_block(self, comm_idx: int) -> None:
         dev = self.dev
@@ -155,10 +155,11 @@ class _Selector:
             return
         cob = comm.entries.get(1)
         if cob is None:
-            self.error(f"PDO 0x{comm_idx:04X} has no COB-ID (sub 1)", comm.where)
+            self.error(f"PDO 0x{comm_idx:04X} has no COB-ID (sub 1)", comm.where, "DCF403")
             return
         if cob.dtype is None or cob.dtype.code != dt.UNSIGNED32.code:
-            self.error(f"{cob.label}: the COB-ID must be UNSIGNED32", cob.key_where("datatype"))
+            self.error(f"{cob.label}: the COB-ID must be UNSIGNED32", cob.key_where("datatype"),
+                       "DCF403")
             return
         try:
             final = dev.effective_int(cob)
@@ -181,7 +182,8 @@ class _Selector:
             return
         if n > self.rules.max_mapped:
             self.error(f"{sub0.label}: {n} mapped objects, more than {self.rules.max_mapped}",
-                       sub0.value_where)
+                       sub0.value_where,
+                       "DCF409" if self.rules.max_mapped == MAX_MAPPED else "DCF450")
             return
         size0 = sub0.dtype.size if sub0.dtype and sub0.dtype.size else 1
         self.write(sub0, (0).to_bytes(size0, "little"))
@@ -189,7 +191,7 @@ class _Selector:
             e = mapping.entries.get(k)
             if e is None:
                 self.error(f"PDO mapping 0x{mapping.index:04X} maps {n} objects but has no "
-                           f"sub {k}", sub0.value_where)
+                           f"sub {k}", sub0.value_where, "DCF417")
                 continue
             self.write(e)
         self.write(sub0, n.to_bytes(size0, "little"))

@@ -352,6 +352,15 @@ def test_stale_canonical_header_is_a_warning(tmp_path):
     assert (tmp_path / "x.bin").read_bytes() == (SAMPLES / "bild8.bin").read_bytes()
 
 
+def test_compile_from_json_by_option(tmp_path):
+    (tmp_path / "dump.txt").write_text(GOOD)
+    r = _run_in(tmp_path, ["compile", "--from", "json", "dump.txt", "-o", "x.bin"])
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert (tmp_path / "x.bin").read_bytes() == (SAMPLES / "bild8.bin").read_bytes()
+    r = CliRunner().invoke(main, ["compile", "--from", "json", "-", "-o", "-"], input=GOOD)
+    assert r.exit_code == 0 and r.stdout_bytes == (SAMPLES / "bild8.bin").read_bytes()
+
+
 def test_hand_written_minimal_json(tmp_path):
     text = ('{"format": "dcf2bin-container", "schema_version": 1, "entries": ['
             '{"index": "0x2000", "subindex": 0, "data": "0102", "attribute": "0x70"}]}')
@@ -360,6 +369,61 @@ def test_hand_written_minimal_json(tmp_path):
     c, _ = read((tmp_path / "x.bin").read_bytes())
     assert c.entries == [(0x2000, 0, b"\x01\x02")] and c.attributes == b"\x70"
     assert c.version == 1 and c.addresses is None and c.pi is None
+
+
+JSON_VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers(-2**70, 2**70) | st.floats(allow_nan=False)
+    | st.text(max_size=6) | st.sampled_from(["0x30", "0xFFFF", "zz", "", "0x"]),
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=4), inner,
+                                                                max_size=3),
+    max_leaves=6)
+
+
+def _paths(doc, at=()):
+    yield at
+    if isinstance(doc, dict):
+        for k, v in doc.items():
+            yield from _paths(v, at + (k,))
+    elif isinstance(doc, list):
+        for i, v in enumerate(doc):
+            yield from _paths(v, at + (i,))
+
+
+@st.composite
+def edited_documents(draw) -> bytes:
+    """A dump with random values put in, keys deleted, or its text cut."""
+    c, _ = read(draw(containers(5)))
+    doc = dump.to_dict(c)
+    for _ in range(draw(st.integers(1, 3))):
+        path = draw(st.sampled_from(list(_paths(doc))))
+        if not path:
+            continue
+        parent = doc
+        for p in path[:-1]:
+            parent = parent[p]
+        if draw(st.integers(0, 3)) == 0 and isinstance(parent, dict):
+            del parent[path[-1]]
+        else:
+            parent[path[-1]] = draw(JSON_VALUES)
+    text = json.dumps(doc, indent=draw(st.sampled_from([None, 1])))
+    if draw(st.integers(0, 5)) == 0:
+        text = text[:draw(st.integers(0, len(text)))]
+    return text.encode()
+
+
+@PROPS
+@given(edited_documents())
+def test_any_json_compiles_or_fails_with_one_line(data):
+    out, diags = dump.from_json_bytes(data, "x.json")
+    errors = [d for d in diags if d.severity.value == "error"]
+    if out is None:
+        assert len(errors) == 1
+        text = errors[0].format()
+        assert "\n" not in text and re.match(r"^x\.json(:\d+(:\d+)?)?: error: .+ \[JSN00[12]\]$",
+                                            text), text
+    else:
+        assert errors == []
+        read(out)   # a readable container
 
 
 # -- odd containers keep every byte -------------------------------------------------------------

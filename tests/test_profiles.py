@@ -105,7 +105,7 @@ def test_dis2_violations_fixture_fails_compile_on_the_mapping_count():
     res = compile_path(str(path), CompileOptions(profile="dis2"))
     assert not res.ok
     errors = [d.format() for d in res.diagnostics if d.severity.value == "error"]
-    assert errors == [f"{path}:81: error: 0x1600sub0: 5 mapped objects, more than 4"]
+    assert errors == [f"{path}:81: error: 0x1600sub0: 5 mapped objects, more than 4 [DCF450]"]
     # the same file is fine for plain CiA 301 (64 objects allowed; bit 30 is DIS-2 only)
     assert compile_path(str(path), CompileOptions()).ok
 

@@ -142,13 +142,13 @@ def test_mapping_count_errors():
         "[1A00sub0]\nDataType=0x0005\nAccessType=rw\nParameterValue=2",
         "[1A00sub0]\nDataType=0x0005\nAccessType=rw\nParameterValue=4")
     assert messages(compile_text(text)) == [
-        "test.dcf:35: error: PDO mapping 0x1A00 maps 4 objects but has no sub 4"]
+        "test.dcf:35: error: PDO mapping 0x1A00 maps 4 objects but has no sub 4 [DCF417]"]
 
 
 def test_comm_without_mapping_is_an_error():
     text = "[1400]\nObjectType=0x9\n[1400sub1]\nDataType=0x0007\nAccessType=rw\n"
     assert messages(compile_text(text)) == [
-        "test.dcf:1: error: PDO communication object 0x1400 has no mapping object 0x1600"]
+        "test.dcf:1: error: PDO communication object 0x1400 has no mapping object 0x1600 [DCF401]"]
 
 
 @pytest.mark.parametrize("dtype, access, mapping, attr", [

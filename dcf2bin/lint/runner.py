@@ -131,17 +131,6 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
 
 # -- one file --------------------------------------------------------------------------------
 
-_SELECT_MESSAGES = (  # select.py errors without a rule id -> the lint rule that owns them
-    ("has no mapping object", "DCF401"),
-    ("has no communication object", "DCF402"),
-    ("has no COB-ID", "DCF403"),
-    ("the COB-ID must be UNSIGNED32", "DCF403"),
-    ("more than 64", "DCF409"),
-    ("mapped objects, more than", "DCF450"),
-    ("objects but has no sub", "DCF417"),
-)
-
-
 class _Run:
     def __init__(self, res: FileResult, opts: Options):
         self.res = res
@@ -199,7 +188,7 @@ class _Run:
             self.core.append(self._core(d, d.rule or "DCF099"))
         if ok:
             for d in sel.errors:
-                self.core.append(self._core(d, d.rule or self._select_rule(d.message)))
+                self.core.append(self._core(d, d.rule or "DCF099"))
         self.finish()
 
     def _core(self, d: Diagnostic, rule: str) -> Diagnostic:
@@ -207,13 +196,6 @@ class _Run:
         hint = d.hint or (r.hint if r else "")
         return Diagnostic(d.severity, d.message, d.file or self.res.path, d.line, d.column,
                           d.offset, rule, hint)
-
-    @staticmethod
-    def _select_rule(message: str) -> str:
-        for text, rule in _SELECT_MESSAGES:
-            if text in message:
-                return rule
-        return "DCF099"
 
     def container(self, data: bytes) -> None:
         ok, ctx = self.guard("reading the container",
