@@ -7,7 +7,7 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from dcf2bin.diagnostics import Diagnostics, Where
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin import ini as ini_mod
 from dcf2bin import values
-from dcf2bin.diagnostics import DcfError, Diagnostic, Diagnostics, Severity, Where
+from dcf2bin.diagnostics import DcfError, Diagnostic, Severity, Where
 
 NV_FIRST, NV_LAST = 0xA000, 0xAFFF
 RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
