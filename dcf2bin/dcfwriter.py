@@ -728,7 +728,7 @@ class _Converter:
             lines.append(f"ParameterValue={s.value}")
         return "\n".join(lines) + "\n"
 
-    # -- prediction ---------------------------------------------------------------------------------
+    # -- prediction ------------------------------------------------------------------------------
     def _predict(self) -> tuple[bool, list[str]]:
         """Replay compile's rules on the objects written; warn where the bytes would differ."""
         c = self.c

@@ -266,14 +266,16 @@ def from_dict(doc) -> Parsed:
     """Check a document and turn it into a container model. Raises JsonProblem."""
     doc = _obj(doc, (), _TOP_KEYS, ["format", "schema_version", "entries"])
     if doc["format"] != FORMAT:
-        raise JsonProblem(("format",), f"expected \"{FORMAT}\", got {json.dumps(doc['format'])[:40]}")
+        got = json.dumps(doc["format"])[:40]
+        raise JsonProblem(("format",), f"expected \"{FORMAT}\", got {got}")
     version = doc["schema_version"]
     if isinstance(version, bool) or not isinstance(version, int):
         raise JsonProblem(("schema_version",), f"expected an integer, got {_kind(version)}")
     if version != SCHEMA_VERSION:
         newer = " (written by a newer dcf2bin?)" if version > SCHEMA_VERSION else ""
-        raise JsonProblem(("schema_version",), f"schema version {version} is not supported; "
-                                               f"this dcf2bin reads version {SCHEMA_VERSION}{newer}")
+        raise JsonProblem(("schema_version",),
+                          f"schema version {version} is not supported; this dcf2bin reads "
+                          f"version {SCHEMA_VERSION}{newer}")
     layout = doc.get("layout", CANONICAL)
     if layout not in (CANONICAL, STORED):
         raise JsonProblem(("layout",), f"expected \"{CANONICAL}\" or \"{STORED}\", got "
