@@ -180,6 +180,10 @@ class _Selector:
         except DcfError as exc:
             self.error(exc)
             return
+        if n < 0:  # a signed sub 0 type (lint reports the type itself)
+            self.error(f"{sub0.label}: {n} mapped objects is negative", sub0.value_where,
+                       "DCF417")
+            return
         if n > self.rules.max_mapped:
             self.error(f"{sub0.label}: {n} mapped objects, more than {self.rules.max_mapped}",
                        sub0.value_where,

@@ -182,3 +182,11 @@ def test_error_in_unwritten_entry_is_a_warning():
     text = var(0x2000, "0x0005", extra="ParameterValue=256")
     assert messages(compile_text(text)) == [
         "test.dcf:5: error: 0x2000sub0: value 256 out of range for UNSIGNED8 (0..255) [DCF200]"]
+
+
+def test_negative_mapping_count_is_an_error_not_a_crash():
+    text = PDO.format(cob="ParameterValue=0x181", tt="").replace(
+        "[1A00sub0]\nDataType=0x0005\nAccessType=rw\nParameterValue=2",
+        "[1A00sub0]\nDataType=0x0002\nAccessType=rw\nParameterValue=-1")
+    assert messages(compile_text(text)) == [
+        "test.dcf:35: error: 0x1A00sub0: -1 mapped objects is negative [DCF417]"]
