@@ -18,9 +18,10 @@ from dcf2bin.diagnostics import Diagnostic, Severity
 class ContainerError(Exception):
     """A container that cannot be read; names the byte offset."""
 
-    def __init__(self, message: str, offset: int):
+    def __init__(self, message: str, offset: int, rule: str = "CNT099"):
         super().__init__(message)
         self.offset = offset
+        self.rule = rule      # the validate rule that names this (CNT0xx)
 
 
 @dataclass
@@ -97,50 +98,55 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
     """Decode a container (SPEC §3.1 reader rules). Raises ContainerError."""
     warnings: list[Diagnostic] = []
 
-    def warn(msg: str, offset: int) -> None:
-        warnings.append(Diagnostic(Severity.WARNING, msg, offset=offset))
+    def warn(msg: str, offset: int, rule: str) -> None:
+        warnings.append(Diagnostic(Severity.WARNING, msg, offset=offset, rule=rule))
 
     n = len(data)
     if n < schema.HEADER_SIZE:
         raise ContainerError(f"truncated header: {n} bytes, a header needs "
-                             f"{schema.HEADER_SIZE}", 0)
+                             f"{schema.HEADER_SIZE}", 0, "CNT001")
     values = schema.HEADER.unpack_from(data, 0)
     h = dict(zip(schema.HEADER_FIELDS, values))
     total = h["total_size"]
     if total > n:
-        raise ContainerError(f"truncated container: header says {total} bytes, file has {n}", 0)
+        raise ContainerError(f"truncated container: header says {total} bytes, file has {n}", 0,
+                             "CNT002")
+    if total < schema.HEADER_SIZE:
+        raise ContainerError(f"header says the container has {total} bytes, less than the "
+                             f"{schema.HEADER_SIZE}-byte header", 0, "CNT002")
     if total < n:
         raise ContainerError(f"{n - total} trailing bytes after the container's total size "
-                             f"{total}", total)
+                             f"{total}", total, "CNT003")
     spans = []
     for i, name in enumerate(schema.SEGMENTS):
         off, size = h[f"{name}_offset"], h[f"{name}_size"]
         field_off = 8 + 8 * i
         if size == 0:
             if off != 0:
-                warn(f"empty {name} segment has offset {off} (expected 0)", field_off)
+                warn(f"empty {name} segment has offset {off} (expected 0)", field_off, "CNT007")
             continue
         if off < schema.HEADER_SIZE or off + size > total:
             raise ContainerError(f"{name} segment [{off}, {off + size}) lies outside the "
-                                 f"container [40, {total})", field_off)
+                                 f"container [40, {total})", field_off, "CNT004")
         spans.append((off, off + size, name))
     spans.sort()
     for (s1, e1, a), (s2, e2, b) in zip(spans, spans[1:]):
         if s2 < e1:
-            raise ContainerError(f"{b} segment at {s2} overlaps {a} segment [{s1}, {e1})", s2)
+            raise ContainerError(f"{b} segment at {s2} overlaps {a} segment [{s1}, {e1})", s2,
+                                 "CNT005")
     present = len(spans)
     if h["segment_count"] != present:
-        warn(f"header counts {h['segment_count']} segments, {present} are present", 6)
+        warn(f"header counts {h['segment_count']} segments, {present} are present", 6, "CNT006")
     c = BinContainer(version=h["version"])
     if "index" not in {s[2] for s in spans}:
-        raise ContainerError("the container has no index segment", 12)
+        raise ContainerError("the container has no index segment", 12, "CNT010")
     for off, end, name in spans:
         seg = data[off:end]
         if name == "index":
             c.entries = _read_index(seg, off)
         elif name == "address":
             if len(seg) % schema.ADDRESS_SIZE:
-                raise ContainerError(f"PI address segment has odd size {len(seg)}", off)
+                raise ContainerError(f"PI address segment has odd size {len(seg)}", off, "CNT015")
             c.addresses = list(struct.unpack(f"<{len(seg) // 2}H", seg))
         elif name == "extinfo":
             c.attributes = bytes(seg)
@@ -148,7 +154,7 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
             if len(seg) == schema.PIPARAMS.size:
                 c.pi = schema.PIPARAMS.unpack(seg)
             else:
-                warn(f"PI parameter segment has {len(seg)} bytes, expected 20", off)
+                warn(f"PI parameter segment has {len(seg)} bytes, expected 20", off, "CNT016")
                 c.raw_piparam = bytes(seg)
     # gaps and order: kept as stored
     pos = schema.HEADER_SIZE
@@ -160,10 +166,10 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
         c.gaps.append((pos, bytes(data[pos:total])))
     if c.gaps:
         warn(f"{sum(len(g) for _, g in c.gaps)} bytes between segments are not part of any "
-             "segment", c.gaps[0][0])
+             "segment", c.gaps[0][0], "CNT008")
     order = [s[2] for s in spans]
     if order != [s for s in schema.SEGMENTS if s in order]:
-        warn("segments are not in the header's order", spans[0][0])
+        warn("segments are not in the header's order", spans[0][0], "CNT008")
     # Canonical (D-6/D-7) unless the count, the order, a gap or an empty segment's offset
     # says otherwise; then keep the header as stored so the bytes survive (SPEC §3.1).
     canonical = (not c.gaps and h["segment_count"] == present
@@ -178,26 +184,29 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
 def _read_index(seg: bytes, base: int) -> list[tuple[int, int, bytes]]:
     n = len(seg)
     if n < 4:
-        raise ContainerError(f"index segment has {n} bytes, too short for its count", base)
+        raise ContainerError(f"index segment has {n} bytes, too short for its count", base,
+                             "CNT011")
     (count,) = schema.COUNT.unpack_from(seg, 0)
     # every entry needs at least 7 bytes: never allocate from an untrusted count
     if count * schema.ENTRY_HEAD.size > n - 4:
         raise ContainerError(f"index segment claims {count} entries, but {n - 4} bytes hold at "
-                             f"most {(n - 4) // schema.ENTRY_HEAD.size}", base)
+                             f"most {(n - 4) // schema.ENTRY_HEAD.size}", base, "CNT011")
     entries = []
     pos = 4
     unpack = schema.ENTRY_HEAD.unpack_from
     head = schema.ENTRY_HEAD.size
     for i in range(count):
         if pos + head > n:
-            raise ContainerError(f"index entry {i + 1} of {count} is truncated", base + pos)
+            raise ContainerError(f"index entry {i + 1} of {count} is truncated", base + pos,
+                                 "CNT011")
         index, sub, size = unpack(seg, pos)
         pos += head
         if pos + size > n:
             raise ContainerError(f"index entry {i + 1} (0x{index:04X}sub{sub:X}) claims "
-                                 f"{size} data bytes, only {n - pos} remain", base + pos - 4)
+                                 f"{size} data bytes, only {n - pos} remain", base + pos - 4,
+                                 "CNT011")
         entries.append((index, sub, bytes(seg[pos:pos + size])))
         pos += size
     if pos != n:
-        raise ContainerError(f"{n - pos} bytes after the last index entry", base + pos)
+        raise ContainerError(f"{n - pos} bytes after the last index entry", base + pos, "CNT011")
     return entries

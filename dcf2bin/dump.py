@@ -28,7 +28,6 @@ FORMAT = "dcf2bin-container"
 SCHEMA_VERSION = 1
 CANONICAL, STORED = "canonical", "stored"
 
-RULE_CONTAINER = "CNT001"     # a container that cannot be read
 RULE_JSON_SYNTAX = "JSN001"   # not JSON at all
 RULE_JSON = "JSN002"          # JSON that is not a valid dump
 RULE_JSON_HEADER = "JSN003"   # canonical layout: a stale header field (recomputed)
@@ -99,7 +98,7 @@ def read_bytes(data: bytes, name: str) -> tuple[BinContainer | None, list[Diagno
         c, warnings = read_container(data)
     except ContainerError as exc:
         return None, [Diagnostic(Severity.ERROR, str(exc), name, offset=exc.offset,
-                                 rule=RULE_CONTAINER)]
+                                 rule=exc.rule)]
     return c, [Diagnostic(d.severity, d.message, name, d.line, d.column, d.offset, d.rule,
                           d.hint) for d in warnings]
 
@@ -165,7 +164,7 @@ def format_json(doc: dict) -> str:
         value = doc[key]
         comma = "," if k_i < len(keys) - 1 else ""
         if key == "header" and isinstance(value, dict):
-            out.append(f'  "header": {{')
+            out.append('  "header": {')
             items = list(value.items())
             for i, (hk, hv) in enumerate(items):
                 out.append(f"    {d(hk)}: {d(hv)}{',' if i < len(items) - 1 else ''}")

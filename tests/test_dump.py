@@ -241,7 +241,7 @@ def test_edited_canonical_json_recomputes_the_header(data):
 
 # -- robust reading: any bytes decode or give one error line with the offset ----------------------
 
-ERROR_LINE = re.compile(r"^x\.bin:0x[0-9A-F]+: error: [^\n]+ \[CNT001\]$")
+ERROR_LINE = re.compile(r"^x\.bin:0x[0-9A-F]+: error: [^\n]+ \[CNT0\d\d\]$")
 WARNING_LINE = re.compile(r"^x\.bin(:0x[0-9A-F]+)?: warning: [^\n]+$")
 
 
@@ -278,14 +278,14 @@ def _run_in(folder, args):
     (b"", "x.bin:0x0: error: truncated header: 0 bytes, a header needs 40 [CNT001]"),
     (bytes(39), "x.bin:0x0: error: truncated header: 39 bytes, a header needs 40 [CNT001]"),
     (struct.pack("<IHH8I", 100, 1, 1, 40, 4, 0, 0, 0, 0, 0, 0) + bytes(4),
-     "x.bin:0x0: error: truncated container: header says 100 bytes, file has 44 [CNT001]"),
+     "x.bin:0x0: error: truncated container: header says 100 bytes, file has 44 [CNT002]"),
     (struct.pack("<IHH8I", 44, 1, 1, 40, 4, 0, 0, 0, 0, 0, 0) + bytes(6),
-     "x.bin:0x2C: error: 2 trailing bytes after the container's total size 44 [CNT001]"),
+     "x.bin:0x2C: error: 2 trailing bytes after the container's total size 44 [CNT003]"),
     (struct.pack("<IHH8I", 44, 1, 1, 40, 8, 0, 0, 0, 0, 0, 0) + bytes(4),
-     "x.bin:0x8: error: index segment [40, 48) lies outside the container [40, 44) [CNT001]"),
+     "x.bin:0x8: error: index segment [40, 48) lies outside the container [40, 44) [CNT004]"),
     (struct.pack("<IHH8I", 44, 1, 1, 40, 4, 0, 0, 0, 0, 0, 0) + struct.pack("<I", 1000),
      "x.bin:0x28: error: index segment claims 1000 entries, but 0 bytes hold at most 0 "
-     "[CNT001]"),
+     "[CNT011]"),
 ])
 def test_bad_containers_name_the_offset(tmp_path, data, line):
     (tmp_path / "x.bin").write_bytes(data)
@@ -462,9 +462,9 @@ def test_dump_cli_warns_about_odd_layouts(tmp_path):
     r = _run_in(tmp_path, ["dump", "odd.bin", "-o", "odd.txt"])
     assert r.exit_code == 0
     assert r.stderr.splitlines() == [
-        "odd.bin:0x6: warning: header counts 4 segments, 3 are present",
-        "odd.bin:0x2B: warning: 11 bytes between segments are not part of any segment",
-        "odd.bin:0x28: warning: segments are not in the header's order",
+        "odd.bin:0x6: warning: header counts 4 segments, 3 are present [CNT006]",
+        "odd.bin:0x2B: warning: 11 bytes between segments are not part of any segment [CNT008]",
+        "odd.bin:0x28: warning: segments are not in the header's order [CNT008]",
     ]
     assert (tmp_path / "odd.txt").read_text() == (GOLDEN / "odd.dump.txt").read_text()
 
