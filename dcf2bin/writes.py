@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from dcf2bin import datatypes as dt
 from dcf2bin import values
 from dcf2bin.diagnostics import DcfError, Diagnostic, Where
+from dcf2bin.ini import decode_bytes
 
 __all__ = ["ExtraWrite", "ExtraWritesError", "read_extra_writes", "load_extra_writes",
            "parse_extra_writes", "tunnel_writes", "format_write", "TUNNEL_SELECT",
@@ -78,15 +79,6 @@ class ExtraWritesError(DcfError):
         super().__init__(first.message, Where(first.file, first.line), rule=first.rule,
                          hint=first.hint)
         self.diagnostics = list(diagnostics)
-
-
-def _decode(data: bytes) -> tuple[str, str]:
-    if data.startswith(b"\xef\xbb\xbf"):
-        data = data[3:]
-    try:
-        return data.decode("utf-8"), "utf-8"
-    except UnicodeDecodeError:
-        return data.decode("latin-1"), "latin-1"
 
 
 def _tokens(line: str) -> tuple[list[tuple[str, bool]], str, str | None]:
@@ -234,7 +226,7 @@ def read_extra_writes(path: str, data: bytes | None = None, *,
         except OSError as exc:
             raise ExtraWritesError([DcfError(f"cannot read: {exc.strerror}",
                                              Where(path)).diagnostic]) from None
-    text, encoding = _decode(data)
+    text, encoding = decode_bytes(data)  # as a DCF (SPEC §1)
     writes, errors = parse_extra_writes(text, path, node_id=node_id, encoding=encoding)
     if errors:
         raise ExtraWritesError(errors)
