@@ -24,3 +24,31 @@ def corpus_params(*suffixes: str):
         return [pytest.param(None, marks=pytest.mark.skip(
             reason=f"corpus not found at {CORPUS} (a fresh clone without ../shared)"))]
     return [pytest.param(p, id=str(p.relative_to(CORPUS))) for p in files]
+
+
+_COMPILED: dict = {}
+
+
+def compile_corpus_file(path: pathlib.Path):
+    """Compile a corpus file once per test session (node-ID 1 when $NODEID needs one)."""
+    if path not in _COMPILED:
+        from dcf2bin.compiler import CompileOptions, compile_path
+        res = compile_path(str(path), CompileOptions())
+        if not res.ok and any(d.rule == "DCF201" for d in res.diagnostics):
+            res = compile_path(str(path), CompileOptions(node_id=1))
+        _COMPILED[path] = res
+    return _COMPILED[path]
+
+
+def compiling_corpus_params(*suffixes: str):
+    """pytest params over the corpus files that compile (tests/test_corpus.py checks that
+    the others fail cleanly), or one param that skips with the reason."""
+    files = corpus_files(*suffixes)
+    if not files:
+        return corpus_params(*suffixes)
+    ok = []
+    for p in files:
+        res = compile_corpus_file(p)
+        if res.ok:
+            ok.append(pytest.param(p, id=str(p.relative_to(CORPUS))))
+    return ok

@@ -19,7 +19,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import ROOT, SAMPLES, corpus_params
+from conftest import ROOT, SAMPLES, compile_corpus_file, compiling_corpus_params
 from dcf2bin import datatypes as dt
 from dcf2bin import dcfwriter, dump, model, values
 from dcf2bin.cli import main
@@ -105,40 +105,30 @@ def test_bin2dcf_is_deterministic(tmp_path):
 
 # -- the corpus: every DCF that compiles comes back -----------------------------------------------
 
-def _compile_corpus(path):
-    res = compile_path(str(path), CompileOptions())
-    if not res.ok and any(d.rule == "DCF201" for d in res.diagnostics):
-        res = compile_path(str(path), CompileOptions(node_id=1))   # $NODEID without node-ID
-    return res
+# Only the files that compile (with node-ID 1 where $NODEID needs one); tests/test_corpus.py
+# checks that the others fail with clean file:line errors.
 
-
-@pytest.mark.parametrize("path", corpus_params(".dcf"))
+@pytest.mark.parametrize("path", compiling_corpus_params(".dcf"))
 def test_corpus_dcf_roundtrip(path):
-    res = _compile_corpus(path)
-    if not res.ok:
-        pytest.skip("does not compile (tests/test_corpus.py checks the errors)")
+    res = compile_corpus_file(path)
     out = convert(res.data, str(path))
     assert out.roundtrip and out.diagnostics == []
     assert roundtrip_ok(res.data, out)
 
 
-@pytest.mark.parametrize("path", corpus_params(".eds"))
+@pytest.mark.parametrize("path", compiling_corpus_params(".eds"))
 def test_corpus_eds_roundtrip(path):
     """EDS files compile too (network variables, DefaultValue-only objects)."""
-    res = _compile_corpus(path)
-    if not res.ok:
-        pytest.skip("does not compile (tests/test_corpus.py checks the errors)")
+    res = compile_corpus_file(path)
     out = convert(res.data, str(path))
     assert roundtrip_ok(res.data, out) == out.roundtrip
     assert out.roundtrip, [d.format() for d in out.diagnostics]
 
 
-@pytest.mark.parametrize("path", corpus_params(".eds"))
+@pytest.mark.parametrize("path", compiling_corpus_params(".eds"))
 def test_corpus_eds_as_eds_option(path):
     """With the device's own EDS, the DCF still compiles back to the same bytes."""
-    res = _compile_corpus(path)
-    if not res.ok:
-        pytest.skip("does not compile")
+    res = compile_corpus_file(path)
     info, dev, _ = dump.load_eds(str(path))
     out = convert(res.data, str(path), eds=info, eds_device=dev)
     assert roundtrip_ok(res.data, out) == out.roundtrip

@@ -12,8 +12,8 @@ import os
 
 import pytest
 
-from conftest import CORPUS, ROOT, corpus_files, corpus_params
-from dcf2bin.compiler import CompileOptions, compile_path
+from conftest import (CORPUS, ROOT, compile_corpus_file, compiling_corpus_params,
+                      corpus_files, corpus_params)
 from dcf2bin.lint import RULES, Options, all_rules, lint_bytes, run
 
 GOLDEN = ROOT / "tests" / "golden" / "corpus_lint_summary.txt"
@@ -35,11 +35,9 @@ def test_no_internal_error_and_well_formed_findings(path):
         assert d.severity is RULES[d.rule].severity, d.format()
 
 
-@pytest.mark.parametrize("path", corpus_params(".eds", ".dcf"))
+@pytest.mark.parametrize("path", compiling_corpus_params(".eds", ".dcf"))
 def test_what_compile_writes_validates_clean(path):
-    res = compile_path(str(path), CompileOptions())
-    if not res.ok:
-        pytest.skip("does not compile")
+    res = compile_corpus_file(path)
     found = lint_bytes("out.bin", res.data).diagnostics
     assert [d.format() for d in found] == []
 

@@ -100,7 +100,7 @@ class DcfContext:
 
     @property
     def sub_sections(self) -> dict[int, dict[int, ini_mod.Section]]:
-        """index -> {subindex: [XXXXsubN] section} as they stand in the file."""
+        """index -> {subindex: [<index>subN] section} as they stand in the file."""
         subs = self.cache.get("sub_sections")
         if subs is None:
             subs = {}

@@ -27,10 +27,10 @@ core("DCF005", "subindex-too-large", ERROR,
      "A sub-object section names a subindex above 0xFF.",
      hint="subindexes are 0x00..0xFF; check the section name")
 core("DCF006", "sub-section-without-object", ERROR,
-     "A [XXXXsubN] section has no [XXXX] object section.",
+     "A [<index>subN] section has no [<index>] object section.",
      hint="add the object section with ObjectType, SubNumber and ParameterName")
 core("DCF007", "aux-section-without-object", WARNING,
-     "A [XXXXName]/[XXXXValue]/[XXXXDenotation] section has no object section; ignored.",
+     "A [<index>Name]/[<index>Value]/[<index>Denotation] section has no object section; ignored.",
      hint="add the object section or remove the orphan")
 core("DCF010", "duplicate", ERROR,
      "A section or a key within one section appears twice (both lines named).",
@@ -42,8 +42,8 @@ core("DCF012", "bad-node-id", ERROR,
      "[DeviceComissioning] NodeID is not a number in 1..127.",
      hint="NodeID is the device's node-ID, 1..127")
 core("DCF013", "bad-dummy-usage", WARNING,
-     "A [DummyUsage] entry is not DummyXXXX=0/1.",
-     hint="write DummyXXXX=1 to allow data type XXXX as a dummy mapping")
+     "A [DummyUsage] entry is not Dummy<type>=0/1.",
+     hint="write Dummy<type>=1 to allow data type <type> as a dummy mapping")
 core("DCF020", "bad-structural-number", ERROR,
      "ObjectType, SubNumber, CompactSubObj or ObjFlags is not a valid integer.",
      hint="decimal, 0x-hex or 0-octal integers only")
@@ -61,12 +61,12 @@ core("DCF024", "compact-and-sub-sections", WARNING,
      hint="use either CompactSubObj or sub-sections, not both")
 core("DCF025", "compact-parametervalue-ignored", WARNING,
      "ParameterValue in the main section of a CompactSubObj object is ignored.",
-     hint="give the values in [XXXXValue] (keys are decimal subindexes)")
+     hint="give the values in [<index>Value] (keys are decimal subindexes)")
 core("DCF026", "compact-aux-bad-key", WARNING,
-     "A [XXXXName]/[XXXXValue]/[XXXXDenotation] key is not a decimal subindex in 1..N.",
+     "A [<index>Name]/[<index>Value]/[<index>Denotation] key is not a decimal subindex in 1..N.",
      hint="keys of these sections are decimal subindexes within CompactSubObj")
 core("DCF027", "value-section-without-compact", WARNING,
-     "[XXXXValue] is given for an object without CompactSubObj; ignored.",
+     "[<index>Value] is given for an object without CompactSubObj; ignored.",
      hint="put ParameterValue into the sub-sections instead")
 core("DCF030", "unknown-data-type", ERROR,
      "DataType is not a number or not a supported CANopen data type.",

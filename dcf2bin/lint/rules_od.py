@@ -196,7 +196,7 @@ def list_missing(ctx):
 
 
 @rule("DCF110", "subnumber-mismatch", WARNING,
-      "SubNumber differs from the number of [XXXXsubN] sections of the object.",
+      "SubNumber differs from the number of [<index>subN] sections of the object.",
       hint="SubNumber counts the sub-sections, sub 0 included")
 def subnumber_mismatch(ctx):
     subs = ctx.sub_sections

@@ -213,7 +213,7 @@ def too_many(ctx):
 @rule("DCF410", "dummy-mapping-not-enabled", ERROR,
       "A PDO maps a dummy entry (0x0001-0x0007) whose type [DummyUsage] does not enable, "
       "or with a subindex other than 0.",
-      hint="set DummyXXXX=1 in [DummyUsage]")
+      hint="set Dummy<type>=1 in [DummyUsage]")
 def dummy_not_enabled(ctx):
     for p in pdos(ctx):
         for m in p.mapped:

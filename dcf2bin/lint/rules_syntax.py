@@ -126,7 +126,7 @@ def unknown_key(ctx):
     for canon, sec in ctx.ini.sections.items():
         kind = kinds[canon]
         if kind is None or kind == "aux":
-            continue   # [XXXXName]/[XXXXValue]/[XXXXDenotation] keys: DCF026
+            continue   # [<index>Name]/[<index>Value]/[<index>Denotation] keys: DCF026
         names = tuple(ctx.key_names(sec))
         unknown = verdicts.get((kind, names))
         if unknown is None:
@@ -185,7 +185,7 @@ def name_too_long(ctx):
 @rule("DCF054", "malformed-object-section-name", WARNING,
       "A section name that looks like an object section but is not one ([100], [1A00sub], "
       "[14xxsub0]); it is not part of the object dictionary.",
-      hint="object sections are [XXXX] with 4 hex digits, sub-objects [XXXXsubN]")
+      hint="object sections are [<index>] with 4 hex digits, sub-objects [<index>subN]")
 def malformed_object_section(ctx):
     for canon, sec in ctx.of_kind(None):
         if _almost_object(canon):
