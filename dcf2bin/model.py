@@ -494,7 +494,9 @@ class _Builder:
         for s in sorted(subsecs):
             ssec = subsecs[s]
             if s == 0:
-                e = self._entry(idx, 0, ssec, sub0=True)
+                # an explicit sub 0 section inherits ObjFlags/PDOMapping like any
+                # sub-entry (SPEC §1); only an implied or created sub 0 does not
+                e = self._entry(idx, 0, ssec, obj_flags=obj_flags, obj_map=obj_map, sub0=True)
             else:
                 e = self._entry(idx, s, ssec, obj_flags=obj_flags, obj_map=obj_map)
             obj.entries[s] = e
@@ -522,7 +524,7 @@ class _Builder:
         e.obj_flags = (self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
                        if get("objflags") else obj_flags)
         pm = get("pdomapping") or None
-        e.pdo_mapping = _pdo_flag(pm) if pm is not None else (obj_map and not sub0)
+        e.pdo_mapping = _pdo_flag(pm) if pm is not None else obj_map
         nv = is_network_variable_index(idx) and sub >= 1
         text = get("datatype")
         if text:

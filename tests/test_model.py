@@ -29,6 +29,14 @@ def test_sub_flags_inherit_from_object():
                     "[2000sub1]\nDataType=0x0005\nAccessType=rw\n")
     e = dev.entry(0x2000, 1)
     assert (e.obj_flags, e.pdo_mapping) == (1, True)
+    # a created sub 0 inherits neither (SPEC §1) ...
+    assert (dev.entry(0x2000, 0).obj_flags, dev.entry(0x2000, 0).pdo_mapping) == (0, False)
+    # ... an explicit sub 0 section inherits both, unless it says otherwise
+    dev = load_text("[2000]\nObjectType=0x8\nObjFlags=1\nPDOMapping=1\n"
+                    "[2000sub0]\nDefaultValue=1\n[2000sub1]\nDataType=0x0005\nAccessType=rw\n")
+    assert (dev.entry(0x2000, 0).obj_flags, dev.entry(0x2000, 0).pdo_mapping) == (1, True)
+    dev = load_text("[2000]\nObjectType=0x8\nObjFlags=1\nPDOMapping=1\n"
+                    "[2000sub0]\nObjFlags=0\nPDOMapping=0\n")
     assert (dev.entry(0x2000, 0).obj_flags, dev.entry(0x2000, 0).pdo_mapping) == (0, False)
 
 
