@@ -6,6 +6,7 @@ variable in the input or output area and derives the PI parameters.
 """
 from __future__ import annotations
 
+import operator
 import re
 from dataclasses import dataclass, field
 
@@ -257,7 +258,7 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
                 (ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size, ch))
     sizes = {}
     for area, spans in items.items():
-        spans.sort(key=lambda t: (t[0], t[1]))
+        spans.sort(key=_START_END)
         _check_overlaps(dev, spans)
         sizes[area] = max((end for _, end, _ in spans), default=0)
     lay.input_size, lay.output_size = sizes[INPUT], sizes[OUTPUT]
@@ -279,6 +280,9 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
             dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
                       "the PI address segment", v.where, idx, sub, rule="DCF306")
     return lay
+
+
+_START_END = operator.itemgetter(0, 1)
 
 
 def _check_overlaps(dev, spans) -> None:

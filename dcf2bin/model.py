@@ -516,11 +516,12 @@ class _Builder:
                obj_map: bool = False, sub0: bool = False, compact: bool = False) -> Entry:
         dev = self.dev
         get = sec.values.get  # hot path: one Entry per sub-object; '' counts as absent
-        e = Entry(idx, sub, get("parametername") or "", where=Where(self.path, sec.line),
-                  section=sec, default=get("defaultvalue") or None,
-                  param=get("parametervalue") or None, download_file=get("downloadfile") or None,
-                  low=get("lowlimit") or None, high=get("highlimit") or None,
-                  denotation=get("denotation") or None)
+        # positional (in field order): a keyword call costs twice as much, 60,000 times
+        e = Entry(idx, sub, get("parametername") or "", None, None, False, 0,
+                  get("defaultvalue") or None, get("parametervalue") or None,
+                  get("downloadfile") or None, get("lowlimit") or None,
+                  get("highlimit") or None, get("denotation") or None,
+                  Where(self.path, sec.line), None, False, sec)
         e.obj_flags = (self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
                        if get("objflags") else obj_flags)
         pm = get("pdomapping") or None
