@@ -59,13 +59,25 @@ def pdo_rules(profile: str) -> select_mod.PdoRules:
     return get_profile(profile).pdo_rules()
 
 
-def static_od_indexes(path: str) -> set[int]:
-    dev = model.load(path)
-    return set(dev.objects)
+def static_od_indexes(path: str) -> tuple[set[int], list[Diagnostic]]:
+    """The object indexes of the target's static OD, and the errors that make that set
+    unreliable (an unreadable file, broken INI syntax, repeated sections)."""
+    try:
+        dev = model.load(path)
+    except OSError as exc:
+        return set(), [Diagnostic(Severity.ERROR, f"cannot read the static OD: {exc.strerror}",
+                                  path)]
+    errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR
+              and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010")
+              and (p.diagnostic.rule != "DCF010" or p.sub is None)]
+    return set(dev.objects), [
+        Diagnostic(d.severity, f"static OD: {d.message}", d.file, d.line, d.column, d.offset,
+                   d.rule, d.hint) for d in errors]
 
 
 def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
-    static = static_od_indexes(opts.static_od) if opts.static_od else None
+    static, static_errors = (static_od_indexes(opts.static_od) if opts.static_od
+                             else (None, []))
     lay = None
     has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
                  for i, o in dev.objects.items())
@@ -74,7 +86,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                                  address_base=opts.address_base)
     sel = select_mod.select(dev, policy=opts.select, pdo_sequence=opts.pdo_sequence,
                             static_od=static, rules=pdo_rules(opts.profile))
-    diags: list[Diagnostic] = []
+    diags: list[Diagnostic] = list(static_errors)
     for p in dev.problems:
         d = p.diagnostic
         if d.severity is Severity.ERROR and p.index is not None:

@@ -271,4 +271,7 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
 
 
 def _clip(s: str, n: int = 60) -> str:
+    """A line quoted in a diagnostic: control characters escaped, long lines cut."""
+    if not s.isprintable():
+        s = "".join(c if c.isprintable() or c == "\t" else f"\\x{ord(c):02x}" for c in s)
     return s if len(s) <= n else s[:n] + "..."

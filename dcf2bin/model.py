@@ -622,7 +622,9 @@ class _Builder:
 
 
 def _clip(message: str, n: int = 160) -> str:
-    """Keep diagnostics one readable line even for a 4 KiB DOMAIN value."""
+    """Keep diagnostics one readable line even for a 4 KiB DOMAIN value or control bytes."""
+    if not message.isprintable():
+        message = "".join(c if c.isprintable() else f"\\x{ord(c):02x}" for c in message)
     return message if len(message) <= n else message[:n - 20] + "..." + message[-17:]
 
 

@@ -190,3 +190,11 @@ def test_negative_mapping_count_is_an_error_not_a_crash():
         "[1A00sub0]\nDataType=0x0002\nAccessType=rw\nParameterValue=-1")
     assert messages(compile_text(text)) == [
         "test.dcf:35: error: 0x1A00sub0: -1 mapped objects is negative [DCF417]"]
+
+
+def test_static_od_that_is_not_an_eds_is_an_error(tmp_path):
+    static = tmp_path / "static.eds"
+    static.write_bytes(b"\x00\x01binary\n[2000]\nDataType=0x0007\n")
+    res = compile_text(var(0x2000, extra="ParameterValue=1"), static_od=str(static))
+    assert messages(res) == [
+        f"{static}:1: error: static OD: line without '=': '\\x00\\x01binary' [DCF002]"]
