@@ -85,6 +85,10 @@ def _bin2dcf(input, output, eds, strict, quiet) -> None:
         if input == "-":
             fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
         output = os.path.splitext(input)[0] + ".dcf"
+        if os.path.exists(output):
+            # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
+            fail(f"{output} exists (often the DCF this container was compiled from); "
+                 "choose the output with -o", code=ExitCode.USAGE)
     c, name = _read_container(input, quiet)
     info, dev = _read_eds(eds, quiet)
     if output != "-":

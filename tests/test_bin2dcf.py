@@ -464,3 +464,17 @@ def test_prediction_on_near_misses(data):
     back = compile_text(res.to_bytes())
     assert (back.data == data) == res.roundtrip, [d.format() for d in res.diagnostics]
     assert res.roundtrip == (res.diagnostics == [])
+
+
+def test_default_output_never_clobbers_an_existing_dcf(tmp_path):
+    """Beside plc.bin usually stands the plc.dcf it came from: bin2dcf must not overwrite it."""
+    (tmp_path / "plc.bin").write_bytes((SAMPLES / "plc.bin").read_bytes())
+    (tmp_path / "plc.dcf").write_text("; the user's own DCF\n")
+    r = run("bin2dcf", tmp_path / "plc.bin")
+    assert r.exit_code == 2
+    assert r.stderr == (f"dcf2bin: error: {tmp_path / 'plc.dcf'} exists (often the DCF this "
+                        "container was compiled from); choose the output with -o\n")
+    assert (tmp_path / "plc.dcf").read_text() == "; the user's own DCF\n"
+    (tmp_path / "plc.dcf").unlink()
+    assert run("bin2dcf", tmp_path / "plc.bin").exit_code == 0
+    assert (tmp_path / "plc.dcf").read_text().startswith("; DCF written by dcf2bin bin2dcf")
