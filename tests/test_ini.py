@@ -59,3 +59,53 @@ def test_syntax_errors():
 def test_empty_file():
     f = parse(b"")
     assert f.sections == {} and list(f.diagnostics) == []
+
+
+# -- the fast path and the exact reader agree ------------------------------------------------
+
+import pytest  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from conftest import SAMPLES, corpus_params  # noqa: E402
+
+
+def _snapshot(f: ini.IniFile):
+    return {canon: (sec.name, sec.line, dict(sec.values),
+                    {k: (key.name, key.value, key.line) for k, key in sec.keys.items()})
+            for canon, sec in f.sections.items()}
+
+
+def _agree(text: str):
+    fast = ini._parse_fast(text, "t.dcf", "utf-8")
+    exact = ini._parse_exact(text, "t.dcf", "utf-8")
+    if fast is not None:   # the fast path may decline; when it answers it must be exact
+        assert not exact.duplicates and not list(exact.diagnostics)
+        assert _snapshot(fast) == _snapshot(exact)
+    return fast
+
+
+@pytest.mark.parametrize("path", corpus_params() + [pytest.param(p, id=p.name)
+                                                    for p in sorted(SAMPLES.glob("*.dcf"))])
+def test_fast_path_equals_exact_reader_on_real_files(path):
+    text, _ = ini.decode_bytes(path.read_bytes())
+    _agree(text)
+
+
+_LINE = st.one_of(
+    st.sampled_from(["", " ", "; c=1", "# c", "[2000]", "[2000sub1]", "[2000SUB01]", " [2001]",
+                     "[2001] ; x", "[]", "[a]b]", "Key=v", "key=V2", "KEY = v ", "k\t=\tv",
+                     "=v", "novalue", "ParameterName=Motor #1", "x=a=b", "\r", "k=v\r"]),
+    st.text(alphabet="[]=;# \tkKv01\r", max_size=8))
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(_LINE, max_size=12), st.sampled_from(["\n", "\r\n"]))
+def test_fast_path_equals_exact_reader_on_generated_text(lines, eol):
+    _agree(eol.join(lines))
+
+
+def test_fast_path_takes_clean_files():
+    assert _agree("[2000]\nA=1\n\n[2000sub1]\nb=2\n") is not None
+    assert _agree("[2000]\nA = 1\n") is not None          # blanks: strip mode
+    assert _agree("[2000]\nA=1\nA=2\n") is None            # duplicate: exact reader reports it
