@@ -90,9 +90,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     for p in dev.problems:
         d = p.diagnostic
         if d.severity is Severity.ERROR and p.index is not None:
-            touched = ((p.index, p.sub) in sel.emitted if p.sub is not None
-                       else p.index in sel.emitted_objects)
-            if not touched:
+            if not sel.wrote(p.index, p.sub):
                 d = Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
                                d.file, d.line, d.column, d.offset, d.rule, d.hint)
         diags.append(d)
@@ -112,15 +110,10 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                      attributes=bytes(w.attr for w in writes),
                      version=opts.container_version)
     if lay is not None and has_nv and opts.process_image:
-        seen = set()
-        addrs = []
+        # SPEC §3.4: index-segment order, first occurrence of each variable
         lookup = lay.addresses
-        for w in sel.writes:
-            key = (w.index, w.sub)
-            if key in lookup and key not in seen:
-                seen.add(key)
-                addrs.append(lookup[key])
-        c.addresses = addrs
+        first = dict.fromkeys((w.index, w.sub) for w in sel.writes)
+        c.addresses = [lookup[key] for key in first if key in lookup]
         c.pi = lay.pi_parameters
     segs = c.segments()
     data = c.to_bytes(segs)

@@ -194,33 +194,41 @@ class Variable:
 
 @dataclass
 class Layout:
-    variables: dict[tuple[int, int], Variable] = field(default_factory=dict)
     addresses: dict[tuple[int, int], int] = field(default_factory=dict)  # D-10 values
     input_size: int = 0
     output_offset: int = 0
     output_size: int = 0
     total_size: int = 0
     address_base: str = "image"
+    # (start in area, end, channel, index, sub, entry); index None = a MaxCnt reservation
+    spans: list[tuple] = field(default_factory=list, repr=False)
 
     @property
     def pi_parameters(self) -> tuple[int, int, int, int, int]:
         """SPEC §3.5: complete size, input offset, input size, output offset, output size."""
         return (self.total_size, 0, self.input_size, self.output_offset, self.output_size)
 
+    @property
+    def variables(self) -> dict[tuple[int, int], Variable]:
+        """Every placed network variable (built on demand; compile needs only addresses)."""
+        return {(i, s): Variable(i, s, ch.dtype, ch.direction, start, ch, e.where)
+                for start, _, ch, i, s, e in self.spans if i is not None}
+
     def address(self, index: int, sub: int) -> int:
         """D-10: offset from the start of the complete image (or within the area)."""
-        v = self.variables[(index, sub)]
-        if self.address_base == "area" or v.area == INPUT:
-            return v.offset
-        return self.output_offset + v.offset
+        return self.addresses[(index, sub)]
 
 
 def compute(dev, *, align: int = 8, pi_size: int | None = None,
             address_base: str = "image") -> Layout:
-    """Place every network variable (SPEC §2.2-2.4). Errors go to ``dev.problems``."""
+    """Place every network variable (SPEC §2.2-2.4). Errors go to ``dev.problems``.
+
+    Hot path (one pass per variable): spans are plain tuples, Variables are made only
+    when asked for.
+    """
     from dcf2bin.model import NV_FIRST, NV_LAST
     lay = Layout(address_base=address_base)
-    items: dict[str, list[tuple[int, int, object]]] = {INPUT: [], OUTPUT: []}
+    areas: dict[str, list[tuple]] = {INPUT: [], OUTPUT: []}
     for idx in sorted(dev.objects):
         if not NV_FIRST <= idx <= NV_LAST:
             continue
@@ -230,7 +238,11 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
             dev.error(f"[{idx:04X}] lies in 0xA900-0xAFFF, which needs a [DynamicChannels] "
                       "segment covering it", obj.where, idx, rule="DCF301")
             continue
-        size = ch.dtype.size
+        size, code, max_count = ch.dtype.size, ch.dtype.code, ch.max_count
+        # SPEC §2.2: element = (index - range_start) * 254 + (subindex - 1)
+        before = (idx - ch.first) * PER_INDEX - 1
+        base = ch.pp_offset
+        target = areas[ch.direction]
         for sub, e in obj.entries.items():
             if sub == 0:
                 continue
@@ -238,29 +250,28 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
                 dev.error(f"{e.label}: subindex {sub} is above 254, the last network "
                           "variable of an index", e.where, idx, sub, rule="DCF302")
                 continue
-            if e.dtype is not None and e.dtype.code != ch.dtype.code:
-                dev.error(f"{e.label}: DataType {e.dtype.name} does not match {ch.label} "
+            dtype = e.dtype
+            if dtype is not None and dtype.code != code:
+                dev.error(f"{e.label}: DataType {dtype.name} does not match {ch.label} "
                           f"({ch.dtype.name})", e.key_where("datatype"), idx, sub, rule="DCF303")
                 continue
-            element = (idx - ch.first) * PER_INDEX + (sub - 1)
-            if ch.max_count is not None and element >= ch.max_count:
+            element = before + sub
+            if max_count is not None and element >= max_count:
                 dev.error(f"{e.label}: variable {element + 1} exceeds MaxCnt{ch.number}="
-                          f"{ch.max_count}", e.where, idx, sub, rule="DCF304")
+                          f"{max_count}", e.where, idx, sub, rule="DCF304")
                 continue
-            offset = ch.pp_offset + element * size
-            v = Variable(idx, sub, ch.dtype, ch.direction, offset, ch, e.where)
-            lay.variables[(idx, sub)] = v
-            items[ch.direction].append((offset, offset + size, v))
+            start = base + element * size
+            target.append((start, start + size, ch, idx, sub, e))
     # MaxCnt capacities reserve their whole segment (D-3)
     for ch in dev.channels:
         if ch.max_count is not None:
-            items[ch.direction].append(
-                (ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size, ch))
+            areas[ch.direction].append(
+                (ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size, ch, None, None, None))
     sizes = {}
-    for area, spans in items.items():
+    for area, spans in areas.items():
         spans.sort(key=_START_END)
-        _check_overlaps(dev, spans)
-        sizes[area] = max((end for _, end, _ in spans), default=0)
+        _check_overlaps(dev, spans, area)
+        sizes[area] = max((span[1] for span in spans), default=0)
     lay.input_size, lay.output_size = sizes[INPUT], sizes[OUTPUT]
     if lay.output_size:
         lay.output_offset = -(-lay.input_size // align) * align
@@ -270,53 +281,41 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
     if pi_size is not None and lay.total_size > pi_size:
         dev.error(f"process image needs {lay.total_size} bytes, more than --pi-size {pi_size}",
                   Where(dev.path), rule="DCF305")
-    out_base = 0 if address_base == "area" else lay.output_offset
     addresses = lay.addresses
-    for key, v in lay.variables.items():
-        addr = v.offset + out_base if v.area == OUTPUT else v.offset
-        addresses[key] = addr
-        if addr > 0xFFFF:
-            idx, sub = key
-            dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
-                      "the PI address segment", v.where, idx, sub, rule="DCF306")
+    for area, shift in ((INPUT, 0), (OUTPUT, 0 if address_base == "area" else lay.output_offset)):
+        for start, _, _, idx, sub, e in areas[area]:
+            if idx is None:
+                continue
+            addr = start + shift
+            addresses[(idx, sub)] = addr
+            if addr > 0xFFFF:
+                dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
+                          "the PI address segment", e.where, idx, sub, rule="DCF306")
+    lay.spans = areas[INPUT] + areas[OUTPUT]
     return lay
 
 
 _START_END = operator.itemgetter(0, 1)
 
 
-def _check_overlaps(dev, spans) -> None:
+def _check_overlaps(dev, spans: list[tuple], area: str) -> None:
     """Two variables (or reserved MaxCnt segments) of one area must not intersect."""
-    reach_end, reach_item = -1, None
-    for start, end, item in spans:
-        if start < reach_end and not _inside_own(item, reach_item):
-            a, b = reach_item, item
-            idx = b.index if isinstance(b, Variable) else None
-            sub = b.sub if isinstance(b, Variable) else None
-            where = b.where
-            dev.error(f"{_describe(b)} overlaps {_describe(a)} in the {_area(b)} area",
-                      where, idx, sub, rule="DCF307")
+    reach_end, reach = -1, None
+    for span in spans:
+        start, end, ch, idx = span[0], span[1], span[2], span[3]
+        # a variable inside the MaxCnt reservation of its own segment is no overlap
+        if start < reach_end and not (ch is reach[2] and (idx is None or reach[3] is None)):
+            e = span[5]
+            where = e.where if e is not None else ch.where
+            dev.error(f"{_describe(span)} overlaps {_describe(reach)} in the {area} area",
+                      where, idx, span[4], rule="DCF307")
         if end > reach_end:
-            reach_end, reach_item = end, item
+            reach_end, reach = end, span
 
 
-def _inside_own(a, b) -> bool:
-    """A variable inside the MaxCnt reservation of its own segment is no overlap."""
-    if isinstance(a, Variable) and isinstance(b, Channel):
-        return a.channel is b
-    if isinstance(a, Channel) and isinstance(b, Variable):
-        return b.channel is a
-    return False
-
-
-def _area(item) -> str:
-    return item.area if isinstance(item, Variable) else item.direction
-
-
-def _describe(item) -> str:
-    if isinstance(item, Variable):
-        line = f" (line {item.where.line})" if item.where and item.where.line else ""
-        return (f"0x{item.index:04X}sub{item.sub:X} [bytes {item.offset}.."
-                f"{item.offset + item.dtype.size - 1}]{line}")
-    return (f"{item.label} [bytes {item.pp_offset}.."
-            f"{item.pp_offset + item.max_count * item.dtype.size - 1}]")
+def _describe(span: tuple) -> str:
+    start, end, ch, idx, sub, e = span
+    if idx is None:
+        return f"{ch.label} [bytes {start}..{end - 1}]"
+    line = f" (line {e.where.line})" if e.where and e.where.line else ""
+    return f"0x{idx:04X}sub{sub:X} [bytes {start}..{end - 1}]{line}"

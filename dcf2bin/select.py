@@ -39,8 +39,17 @@ class PdoRules:
 class Selection:
     writes: list[Write] = field(default_factory=list)
     errors: list[Diagnostic] = field(default_factory=list)
-    emitted: set[tuple[int, int]] = field(default_factory=set)
+    emitted: set[tuple[int, int]] = field(default_factory=set)   # outside ``created``
     emitted_objects: set[int] = field(default_factory=set)
+    created: set[int] = field(default_factory=set)   # objects written whole (group 1)
+
+    def wrote(self, index: int, sub: int | None = None) -> bool:
+        """Does the index segment write this entry (sub None: any entry of the object)?"""
+        if index in self.created:
+            return True
+        if sub is None:
+            return index in self.emitted_objects
+        return (index, sub) in self.emitted
 
 
 def attribute(entry: Entry) -> int:
@@ -93,13 +102,23 @@ class _Selector:
         dev = self.dev
         objs = [o for o in dev.sorted_objects() if o.index >= 0x1000]
         created = set()
-        # 1. creation
+        # 1. creation: every sub-entry of the object (the bulk of a PLC file: kept lean)
+        writes, encode = self.sel.writes, dev.encode
         for obj in objs:
             if NV_FIRST <= obj.index <= NV_LAST or (
                     self.static_od is not None and obj.index not in self.static_od):
                 created.add(obj.index)
                 for e in obj.entries.values():
-                    self.write(e)
+                    if e.dtype is None:
+                        data = b""  # the model already reported the DataType
+                    else:
+                        try:
+                            data = encode(e)
+                        except DcfError as exc:
+                            self.error(exc)
+                            data = b""
+                    writes.append(Write(e.index, e.sub, data, attribute(e)))
+        self.sel.created = created
         # 2. configuration
         for obj in objs:
             if obj.index in created or is_pdo_object(obj.index):

@@ -187,3 +187,23 @@ def test_unnumbered_sys_tec_keys_warn():
     assert messages(res, "warning") == [
         "test.dcf:3: warning: [DynamicChannels] unnumbered 'PIOffset' is ignored (use the "
         "numbered form, e.g. PIOffset1) [DCF311]"]
+
+
+def test_maxcnt_reservation_overlap_names_the_segment():
+    """D-3: with MaxCnt a segment's whole capacity counts for the overlap check."""
+    text = """
+[DynamicChannels]
+NrOfSeg=2
+Type1=0x0005
+Dir1=ro
+Range1=0xA040-0xA07F
+MaxCnt1=4
+Type2=0x0005
+Dir2=ro
+Range2=0xA900-0xA93F
+PPOffset2=2
+""" + nv_objects({0xA040: [1], 0xA900: [1]})
+    res = compile_text(text)
+    assert messages(res) == [
+        "test.dcf:22: error: 0xA900sub1 [bytes 2..2] (line 22) overlaps [DynamicChannels] "
+        "segment 1 [bytes 0..3] in the input area [DCF307]"]
