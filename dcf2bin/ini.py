@@ -141,12 +141,12 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
 
 # Blanks around '=' or at either end of a line make the fast path strip every key/value
 # (plain substring tests: a multi-line regex would cost more than the whole parse).
-_BLANK_MARKS = (" =", "\t=", "= ", "=\t", "\n ", "\n\t", " \n", "\t\n")
+# (Blanks at the start of a line need no test: such a line leaves the fast path.)
+_BLANK_MARKS = (" =", "\t=", "= ", "=\t", " \n", "\t\n")
 
 
 def _needs_strip(text: str) -> bool:
-    return (any(m in text for m in _BLANK_MARKS) or text[:1] in (" ", "\t")
-            or text[-1:] in (" ", "\t"))
+    return any(m in text for m in _BLANK_MARKS) or text[-1:] in (" ", "\t")
 
 
 def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
@@ -176,11 +176,14 @@ def _parse_fast_lines(text: str, path: str, encoding: str) -> IniFile | None:
             values[k.lower()] = v  # TypeError before the first section: see below
             kv_lines += 1
             continue
+        if not raw:
+            continue                             # blank line
         s = raw.strip(" \t") if strip else raw
-        if not s or s[0] == ";" or s[0] == "#":
+        c = s[:1]
+        if c == ";" or c == "#" or not c:
             continue
-        if s[0] != "[" or s[-1] != "]":
-            return None                          # bad line, or text after a header
+        if c != "[" or s[-1] != "]":
+            return None                          # bad line, indented, or text after a header
         name = s[1:-1]
         if strip:
             name = name.strip(" \t")
@@ -192,7 +195,7 @@ def _parse_fast_lines(text: str, path: str, encoding: str) -> IniFile | None:
         if canon in sections:
             return None                          # a repeated section
         values = {}
-        sections[canon] = Section(name, i, values, src=lines)
+        sections[canon] = Section(name, i, values, None, lines)
     # A key repeated within a section overwrote its first value: the counts tell.
     if sum(len(sec.values) for sec in sections.values()) != kv_lines:
         return None
