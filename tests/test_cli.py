@@ -148,3 +148,19 @@ def test_append_extra_writes_after_all_groups(tmp_path):
     assert r.exit_code == 1
     assert r.stderr.splitlines()[0] == (f"{bad}:1: error: 0x2200sub0: value 0x1FF (= 511) out "
                                         "of range for UNSIGNED8 (0..255) [DCF200]")
+
+
+def test_refuses_binary_to_a_terminal():
+    import pty
+    master, slave = pty.openpty()
+    try:
+        out = subprocess.run([sys.executable, "-m", "dcf2bin", "compile",
+                              str(SAMPLES / "bild8.dcf"), "-o", "-"],
+                             stdout=slave, stderr=subprocess.PIPE, text=True,
+                             env={**os.environ, "NO_COLOR": "1"})
+    finally:
+        os.close(slave)
+        os.close(master)
+    assert out.returncode == 2
+    assert out.stderr == ("dcf2bin: error: refusing to write binary data to a terminal; "
+                          "use -o FILE or a pipe\n")
