@@ -52,3 +52,20 @@ def compiling_corpus_params(*suffixes: str):
         if res.ok:
             ok.append(pytest.param(p, id=str(p.relative_to(CORPUS))))
     return ok
+
+
+# Skips decided at collection, with their reason (the corpus lives outside the repository).
+needs_corpus = pytest.mark.skipif(
+    not CORPUS.is_dir(), reason=f"corpus not found at {CORPUS} (a fresh clone without ../shared)")
+
+
+def corpus_pick_params(picks):
+    """pytest params for named corpus files [(relative path, extra...)], each skipped with
+    its reason when the file is absent."""
+    out = []
+    for rel, *rest in picks:
+        path = CORPUS / rel
+        marks = pytest.mark.skipif(not path.is_file(),
+                                   reason=f"corpus file {rel} not found under {CORPUS}")
+        out.append(pytest.param(path, *rest, id=rel, marks=marks))
+    return out

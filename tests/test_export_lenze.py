@@ -7,7 +7,7 @@ import struct
 import pytest
 from click.testing import CliRunner
 
-from conftest import CORPUS, ROOT, SAMPLES, corpus_files, corpus_params
+from conftest import ROOT, SAMPLES, corpus_params, corpus_pick_params
 from dcf2bin import datatypes as dt
 from dcf2bin import model, values
 from dcf2bin.cli import main
@@ -289,16 +289,9 @@ CORPUS_PICKS = [("cia_profiles_kacanopen/401.eds", 1), ("canopennode/demoDevice.
                 ("lely_core/co-gw_txt-slave.dcf", 2)]
 
 
-def corpus_pick(rel: str):
-    path = CORPUS / rel
-    if path not in corpus_files():
-        pytest.skip(f"corpus file {rel} not found under {CORPUS}")
-    return path
-
-
-@pytest.mark.parametrize("rel, node_id", CORPUS_PICKS, ids=[c[0] for c in CORPUS_PICKS])
-def test_corpus_files_against_model(rel, node_id):
-    dev, rows = check_against_model(corpus_pick(rel), node_id)
+@pytest.mark.parametrize("path, node_id", corpus_pick_params(CORPUS_PICKS))
+def test_corpus_files_against_model(path, node_id):
+    dev, rows = check_against_model(path, node_id)
     assert len(rows) > 20
 
 

@@ -17,7 +17,7 @@ import subprocess
 import pytest
 from click.testing import CliRunner
 
-from conftest import CORPUS, ROOT, SAMPLES, corpus_files, corpus_params
+from conftest import ROOT, SAMPLES, corpus_params, corpus_pick_params
 from dcf2bin import datatypes as dt
 from dcf2bin import model
 from dcf2bin.cli import main
@@ -173,17 +173,10 @@ CORPUS_PICKS = [("cia_profiles_kacanopen/401.eds", 1), ("canopennode/demoDevice.
                 ("lely_core/co-gw_txt-slave.dcf", 2), ("eds_dcf_net/max_subnumber.eds", None)]
 
 
-def corpus_pick(rel: str):
-    path = CORPUS / rel
-    if path not in corpus_files():
-        pytest.skip(f"corpus file {rel} not found under {CORPUS}")
-    return path
-
-
 @needs_cc
-@pytest.mark.parametrize("rel, node_id", CORPUS_PICKS, ids=[c[0] for c in CORPUS_PICKS])
-def test_corpus_files_compile_and_walk_like_the_model(rel, node_id, tmp_path):
-    got, _ = export_and_walk(corpus_pick(rel), tmp_path, node_id=node_id)
+@pytest.mark.parametrize("path, node_id", corpus_pick_params(CORPUS_PICKS))
+def test_corpus_files_compile_and_walk_like_the_model(path, node_id, tmp_path):
+    got, _ = export_and_walk(path, tmp_path, node_id=node_id)
     assert len(got) > 2
 
 

@@ -12,7 +12,7 @@ import os
 
 import pytest
 
-from conftest import (CORPUS, ROOT, compile_corpus_file, compiling_corpus_params,
+from conftest import (CORPUS, ROOT, needs_corpus, compile_corpus_file, compiling_corpus_params,
                       corpus_files, corpus_params)
 from dcf2bin.lint import RULES, Options, all_rules, lint_bytes, run
 
@@ -53,9 +53,8 @@ def summary() -> str:
     return "\n".join(lines) + "\n"
 
 
+@needs_corpus
 def test_rule_hits_per_file_match_the_golden_summary():
-    if not corpus_files(*SUFFIXES):
-        pytest.skip(f"corpus not found at {CORPUS} (a fresh clone without ../shared)")
     text = summary()
     if os.environ.get("DCF2BIN_UPDATE_GOLDEN"):
         GOLDEN.write_text(text)
