@@ -31,13 +31,14 @@ from dcf2bin import values
 from dcf2bin.container import BinContainer
 from dcf2bin.diagnostics import Diagnostic, Severity
 from dcf2bin.dump import EdsInfo, entry_offsets, header_of
-from dcf2bin.layout import RANGE_LEN, TABLE_405
-
-INPUT, OUTPUT = "input", "output"
-PER_INDEX = 254
-NV_FIRST, NV_LAST, TABLE_END, OUTPUT_FIRST = 0xA000, 0xAFFF, 0xA900, 0xA480
-COB_INVALID = 0x80000000
-MAX_MAPPED = 64
+from dcf2bin.layout import (INPUT, OUTPUT, OUTPUT_FIRST, PER_INDEX, RANGE_LEN, TABLE_405,
+                            TABLE_END)
+from dcf2bin.model import NV_FIRST, NV_LAST
+from dcf2bin.model import is_network_variable_index as is_nv
+from dcf2bin.model import is_pdo_comm as is_comm
+from dcf2bin.model import is_pdo_mapping as is_mapping
+from dcf2bin.select import COB_INVALID, MAX_MAPPED
+from dcf2bin.select import attribute_byte as attribute
 MAX_SHOWN = 5            # warnings of one kind shown before "... and N more"
 
 # Warning rules of bin2dcf (what will not compile back to the same bytes).
@@ -69,26 +70,6 @@ _STD_NAMES = {
 }
 _COMM_SUBS = {0: "Highest sub-index supported", 1: "COB-ID", 2: "Transmission type",
               3: "Inhibit time", 4: "Reserved", 5: "Event timer", 6: "SYNC start value"}
-
-
-def is_nv(index: int) -> bool:
-    return NV_FIRST <= index <= NV_LAST
-
-
-def is_comm(index: int) -> bool:
-    return 0x1400 <= index <= 0x15FF or 0x1800 <= index <= 0x19FF
-
-
-def is_mapping(index: int) -> bool:
-    return 0x1600 <= index <= 0x17FF or 0x1A00 <= index <= 0x1BFF
-
-
-def attribute(index: int, sub: int, dtype: dt.DataType, access: str, pdo: bool) -> int:
-    """SPEC §3.3 / D-9, as ``select.attribute`` computes it."""
-    if is_nv(index):
-        return 0x30 if sub == 0 else 0xF0
-    attr = dtype.type_attr | dt.ACCESS_ATTR.get(access, 0)
-    return attr | dt.ATTR_PDO if pdo else attr
 
 
 def table_type(index: int) -> tuple[dt.DataType, str] | None:

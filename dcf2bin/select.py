@@ -52,15 +52,19 @@ class Selection:
         return (index, sub) in self.emitted
 
 
+def attribute_byte(index: int, sub: int, dtype: dt.DataType | None, access: str | None,
+                   pdo: bool) -> int:
+    """The extended-info attribute byte (SPEC §3.3, D-9); bin2dcf predicts with it too."""
+    if NV_FIRST <= index <= NV_LAST:
+        return 0x30 if sub == 0 else 0xF0
+    attr = dtype.type_attr if dtype is not None else 0
+    attr |= dt.ACCESS_ATTR.get(access or "", 0)
+    return attr | dt.ATTR_PDO if pdo else attr
+
+
 def attribute(entry: Entry) -> int:
-    """The extended-info attribute byte of an entry (SPEC §3.3, D-9)."""
-    if NV_FIRST <= entry.index <= NV_LAST:
-        return 0x30 if entry.sub == 0 else 0xF0
-    attr = entry.dtype.type_attr if entry.dtype is not None else 0
-    attr |= dt.ACCESS_ATTR.get(entry.access or "", 0)
-    if entry.pdo_mapping:
-        attr |= dt.ATTR_PDO
-    return attr
+    """The attribute byte of an entry of the model."""
+    return attribute_byte(entry.index, entry.sub, entry.dtype, entry.access, entry.pdo_mapping)
 
 
 class _Selector:
