@@ -51,7 +51,7 @@ class Diagnostic:
         return text
 
 
-@dataclass
+@dataclass(slots=True)
 class Where:
     """A place in an input file: every model element carries one."""
     file: str

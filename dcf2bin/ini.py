@@ -37,31 +37,32 @@ class Section:
     The fast reader fills only ``values`` and remembers where the section's lines
     are; ``keys`` (name, value and line of every key) is worked out on first use, so
     the common case, which never prints a diagnostic, pays nothing for it.
+
+    ``shape``, set by the fast reader when the section's first key is ParameterName,
+    is the values of all its other keys, one dict shared by every section whose
+    lines after the first are the same text: the model builds such entries once.
     """
-    __slots__ = ("name", "line", "values", "_keys", "_src")
+    __slots__ = ("name", "line", "values", "_keys", "_src", "shape")
 
     def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
-                 keys: dict[str, Key] | None = None, src=None):
+                 keys: dict[str, Key] | None = None, src=None, shape=None):
         self.name = name            # as written
         self.line = line
         self.values = values if values is not None else {}
         self._keys = keys
-        self._src = src             # the file's lines, for working out ``keys`` lazily
+        self._src = src             # the text of the lines after the header, for ``keys``
+        self.shape = shape
 
     @property
     def keys(self) -> dict[str, Key]:
         """lower-case key name -> Key(name as written, value, line)."""
         if self._keys is None:
             keys: dict[str, Key] = {}
-            lines = self._src
-            for i in range(self.line, len(lines)):   # the lines after the header
-                raw = lines[i]
+            for i, raw in enumerate((self._src or "").split("\n"), self.line + 1):
                 k, eq, v = raw.partition("=")
-                k = k.strip(" \t\r")
-                if eq and k and k[0] not in ";#[":
-                    keys.setdefault(k.lower(), Key(k, v.strip(" \t\r"), i + 1))
-                elif raw.lstrip(" \t")[:1] == "[":
-                    break
+                k = k.strip(" \t")
+                if eq and k and k[0] not in ";#":
+                    keys.setdefault(k.lower(), Key(k, v.strip(" \t"), i))
             self._keys = keys
         return self._keys
 
@@ -139,67 +140,88 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     return _parse_exact(text, path, encoding)
 
 
-# Blanks around '=' or at either end of a line make the fast path strip every key/value
-# (plain substring tests: a multi-line regex would cost more than the whole parse).
-# (Blanks at the start of a line need no test: such a line leaves the fast path.)
-_BLANK_MARKS = (" =", "\t=", "= ", "=\t", " \n", "\t\n")
-
-
-def _needs_strip(text: str) -> bool:
-    return any(m in text for m in _BLANK_MARKS) or text[-1:] in (" ", "\t")
-
-
 def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
-    try:
-        return _parse_fast_lines(text, path, encoding)
-    except TypeError:  # a key before the first section ('values' is still None)
-        return None
+    """The common case, a clean file, one section at a time instead of one line at a time.
 
-
-def _parse_fast_lines(text: str, path: str, encoding: str) -> IniFile | None:
+    The text is cut at every line that starts with '[' (a header: INI has no other
+    use for it). A section's key lines after its first are very often the same text
+    as another section's (the sub-objects of a network-variable array differ only in
+    their ParameterName, which configurators write first), so that text is parsed
+    once and its values are shared as a template. Anything the exact reader would
+    comment on (a bad line, an indented line, a duplicate, text after a header, a
+    lone CR) makes this return None, and the exact reader takes the file.
+    """
     if "\r" in text:
         text = text.replace("\r\n", "\n")
         if "\r" in text:
             return None  # a lone CR: let the exact reader deal with it
-    lines = text.split("\n")
-    strip = _needs_strip(text)
+    chunks = ("\n" + text).split("\n[")
+    # before the first header: blank and comment lines only
+    if _body_values(chunks[0]) != {}:
+        return None
     sections: dict[str, Section] = {}
-    values: dict[str, str] | None = None
-    kv_lines = 0
-    i = 0
-    for i, raw in enumerate(lines, 1):
-        k, eq, v = raw.partition("=")
+    shapes: dict[str, dict[str, str] | None] = {}
+    shapes_get = shapes.get
+    line = chunks[0].count("\n") + 1          # the first header's line
+    for chunk in chunks[1:]:
+        name, sep, body = chunk.partition("]\n")
+        if not sep:                            # the last line of the file is a header
+            if chunk[-1:] != "]":
+                return None
+            name, body = chunk[:-1], ""
+        if "\n" in name or "[" in name or "]" in name:
+            return None                        # text after a header, or a broken header
+        first, _, rest = body.partition("\n")
+        shape = shapes_get(rest)
+        if shape is None:
+            shape = shapes[rest] = _body_values(rest)
+            if shape is None:
+                return None
+        k, eq, v = first.partition("=")
         if eq and k and k[0] not in " \t;#[":
-            if strip:
-                k = k.rstrip(" \t")
-                v = v.strip(" \t")
-            values[k.lower()] = v  # TypeError before the first section: see below
-            kv_lines += 1
-            continue
-        if not raw:
-            continue                             # blank line
-        s = raw.strip(" \t") if strip else raw
-        c = s[:1]
-        if c == ";" or c == "#" or not c:
-            continue
-        if c != "[" or s[-1] != "]":
-            return None                          # bad line, indented, or text after a header
-        name = s[1:-1]
-        if strip:
-            name = name.strip(" \t")
+            low = k.rstrip(" \t").lower()
+            if low in shape:
+                return None                    # a repeated key
+            values = {low: v.strip(" \t")}
+            values.update(shape)
+            if low != "parametername":
+                shape = None                   # the template is the model's only for names
+        elif _body_values(first) == {}:        # a blank or comment line
+            values = shape.copy()
+            shape = None
+        else:
+            return None
+        name = name.strip(" \t")
         canon = name.lower()
-        if (len(canon) > 8 and canon[7] == "0") or not canon or "[" in canon or "]" in canon:
+        if (len(canon) > 8 and canon[7] == "0") or not canon:
             canon = canonical_section(name)
             if not canon or "[" in canon or "]" in canon:
                 return None
         if canon in sections:
-            return None                          # a repeated section
-        values = {}
-        sections[canon] = Section(name, i, values, None, lines)
-    # A key repeated within a section overwrote its first value: the counts tell.
-    if sum(len(sec.values) for sec in sections.values()) != kv_lines:
-        return None
-    return IniFile(path, encoding, sections, [], Diagnostics(), i)
+            return None                        # a repeated section
+        sections[canon] = Section(name, line, values, None, body, shape)
+        line += chunk.count("\n") + 1
+    return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
+
+
+def _body_values(body: str) -> dict[str, str] | None:
+    """The keys of a section's lines (no header among them), or None when a line is
+    one the exact reader has to see (not key=value, comment or blank; indented; a
+    repeated key)."""
+    values: dict[str, str] = {}
+    for raw in body.split("\n"):
+        k, eq, v = raw.partition("=")
+        if eq and k and k[0] not in " \t;#[":
+            low = k.rstrip(" \t").lower()
+            if low in values:
+                return None
+            values[low] = v.strip(" \t")
+            continue
+        c = raw.strip(" \t")[:1]
+        if c == ";" or c == "#" or not c:
+            continue
+        return None                              # bad line, or indented
+    return values
 
 
 def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
