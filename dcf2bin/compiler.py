@@ -105,14 +105,13 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
     # extra writes (--append) come after every D-8 group and get no PI address
-    writes = sel.writes + extra
-    c = BinContainer(entries=[(w.index, w.sub, w.data) for w in writes],
-                     attributes=bytes(w.attr for w in writes),
+    c = BinContainer(entries=sel.entries + [(w.index, w.sub, w.data) for w in extra],
+                     attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
                      version=opts.container_version)
     if lay is not None and has_nv and opts.process_image:
         # SPEC §3.4: index-segment order, first occurrence of each variable
         lookup = lay.addresses
-        first = dict.fromkeys((w.index, w.sub) for w in sel.writes)
+        first = dict.fromkeys((i, s) for i, s, _ in sel.entries)
         c.addresses = [lookup[key] for key in first if key in lookup]
         c.pi = lay.pi_parameters
     segs = c.segments()

@@ -21,6 +21,7 @@ RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
 
 _OBJ_RE = re.compile(r"[0-9a-f]{4}")
 _SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]+)")
+_SECTION_RE = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")   # an object or sub-object
 _AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
 
 
@@ -139,7 +140,9 @@ class Device:
     ini: ini_mod.IniFile | None = None
     allow_external_files: bool = False
     channels: list = field(default_factory=list)  # layout.Channel, parsed by layout
-    _cache: dict = field(default_factory=dict, repr=False)     # (type code, text) -> bytes
+    # (type code, value text) -> bytes: the encodings ``encode`` has made (a file repeats
+    # few value texts per type, "0", "0x00"); select's hot loop reads it directly
+    encoded: dict = field(default_factory=dict, repr=False)
     _warned: set = field(default_factory=set, repr=False)
 
     # -- diagnostics -----------------------------------------------------------------
@@ -186,12 +189,14 @@ class Device:
         if text is None:
             return values.zero(dtype)
         cache_key = (dtype.code, text)
-        data = self._cache.get(cache_key)
+        data = self.encoded.get(cache_key)
         if data is not None:
             return data
+        cache = len(self.encoded) < 4096
         if (";" in text or "#" in text) and (dtype.is_numeric or dtype.kind == dt.BOOL):
             number, comment = values.split_numeric_comment(text)
             if comment is not None:
+                cache = False   # every entry that has the comment gets its own warning
                 text = number
                 if (entry.index, entry.sub) not in self._warned:
                     self._warned.add((entry.index, entry.sub))
@@ -209,8 +214,8 @@ class Device:
         except values.ValueProblem as exc:
             where = where or entry.value_where
             raise DcfError(f"{entry.label}: {_clip(str(exc))}", where, rule="DCF200") from None
-        if len(self._cache) < 4096:  # a file repeats few value texts per type ("0", "0x00")
-            self._cache[cache_key] = data
+        if cache:
+            self.encoded[cache_key] = data
         return data
 
     def _download(self, entry: Entry) -> bytes:
@@ -292,21 +297,23 @@ class _Builder:
         subs: dict[int, dict[int, ini_mod.Section]] = {}
         aux: dict[tuple[int, str], ini_mod.Section] = {}
         mains: dict[int, ini_mod.Section] = {}
+        section_match, aux_match = _SECTION_RE.fullmatch, _AUX_RE.fullmatch
         for canon, sec in self.ini.sections.items():
-            if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
-                mains[int(canon, 16)] = sec
-                continue
-            m = _SUB_RE.fullmatch(canon)
-            if m:
-                sub = int(m.group(2), 16)
-                idx = int(m.group(1), 16)
+            m = section_match(canon)
+            if m is not None:
+                obj_hex, sub_hex = m.groups()
+                idx = int(obj_hex, 16)
+                if sub_hex is None:
+                    mains[idx] = sec
+                    continue
+                sub = int(sub_hex, 16)
                 if sub > 0xFF:
                     self.dev.error(f"subindex 0x{sub:X} of [{sec.name}] is above 0xFF",
                                    self.w(sec.line), idx, rule="DCF005")
                     continue
                 subs.setdefault(idx, {})[sub] = sec
                 continue
-            m = _AUX_RE.fullmatch(canon)
+            m = aux_match(canon)
             if m:
                 aux[(int(m.group(1), 16), m.group(2))] = sec
         for idx in sorted(set(subs) - set(mains)):
@@ -491,6 +498,7 @@ class _Builder:
                 dev.warning(f"[{vsec.name}] without CompactSubObj in [{sec.name}] is ignored",
                             self.w(vsec.line), idx, rule="DCF027")
 
+        protos: dict[int, tuple] = {}
         for s in sorted(subsecs):
             ssec = subsecs[s]
             if s == 0:
@@ -498,7 +506,8 @@ class _Builder:
                 # sub-entry (SPEC §1); only an implied or created sub 0 does not
                 e = self._entry(idx, 0, ssec, obj_flags=obj_flags, obj_map=obj_map, sub0=True)
             else:
-                e = self._entry(idx, s, ssec, obj_flags=obj_flags, obj_map=obj_map)
+                e = self._entry(idx, s, ssec, obj_flags=obj_flags, obj_map=obj_map,
+                                protos=protos)
             obj.entries[s] = e
         if 0 not in obj.entries:
             highest = max((s for s in obj.entries), default=0)
@@ -513,10 +522,31 @@ class _Builder:
         obj.entries = dict(sorted(obj.entries.items()))
 
     def _entry(self, idx: int, sub: int, sec: ini_mod.Section, *, obj_flags: int = 0,
-               obj_map: bool = False, sub0: bool = False, compact: bool = False) -> Entry:
+               obj_map: bool = False, sub0: bool = False, compact: bool = False,
+               protos: dict[int, tuple] | None = None) -> Entry:
+        """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
+        its sub-entries inherit) remembers the fields of sections that share the INI
+        reader's template (``Section.shape``: the same text but for ParameterName), so
+        the 254 sub-sections of a network-variable array are worked out once. Only an
+        entry that raised no problem is remembered: every faulty one reports its own."""
+        shape = sec.shape if protos is not None else None
+        if shape is not None:
+            proto = protos.get(id(shape))
+            if proto is not None:
+                return Entry(idx, sub, sec.values["parametername"] or "", *proto,
+                             Where(self.path, sec.line), None, False, sec)
+            problems = len(self.dev.problems)
+        e = self._entry_from(idx, sub, sec, obj_flags, obj_map, sub0)
+        if shape is not None and len(self.dev.problems) == problems:
+            protos[id(shape)] = (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default,
+                                 e.param, e.download_file, e.low, e.high, e.denotation)
+        return e
+
+    def _entry_from(self, idx: int, sub: int, sec: ini_mod.Section, obj_flags: int,
+                    obj_map: bool, sub0: bool) -> Entry:
         dev = self.dev
-        get = sec.values.get  # hot path: one Entry per sub-object; '' counts as absent
-        # positional (in field order): a keyword call costs twice as much, 60,000 times
+        get = sec.values.get  # '' counts as absent
+        # positional, in field order (the order ``protos`` keeps them in)
         e = Entry(idx, sub, get("parametername") or "", None, None, False, 0,
                   get("defaultvalue") or None, get("parametervalue") or None,
                   get("downloadfile") or None, get("lowlimit") or None,

@@ -37,11 +37,19 @@ class PdoRules:
 
 @dataclass
 class Selection:
-    writes: list[Write] = field(default_factory=list)
+    """The index segment as columns: ``entries`` (index, subindex, data) and one
+    attribute byte per entry in ``attrs`` (a compile writes tens of thousands)."""
+    entries: list[tuple[int, int, bytes]] = field(default_factory=list)
+    attrs: bytearray = field(default_factory=bytearray)
     errors: list[Diagnostic] = field(default_factory=list)
     emitted: set[tuple[int, int]] = field(default_factory=set)   # outside ``created``
     emitted_objects: set[int] = field(default_factory=set)
     created: set[int] = field(default_factory=set)   # objects written whole (group 1)
+
+    @property
+    def writes(self) -> list[Write]:
+        """The entries as ``Write`` records, in order."""
+        return [Write(i, s, d, a) for (i, s, d), a in zip(self.entries, self.attrs)]
 
     def wrote(self, index: int, sub: int | None = None) -> bool:
         """Does the index segment write this entry (sub None: any entry of the object)?"""
@@ -94,7 +102,8 @@ class _Selector:
             except DcfError as exc:
                 self.error(exc)
                 data = b""
-        self.sel.writes.append(Write(entry.index, entry.sub, data, attribute(entry)))
+        self.sel.entries.append((entry.index, entry.sub, data))
+        self.sel.attrs.append(attribute(entry))
         self.sel.emitted.add((entry.index, entry.sub))
         self.sel.emitted_objects.add(entry.index)
 
@@ -106,22 +115,34 @@ class _Selector:
         dev = self.dev
         objs = [o for o in dev.sorted_objects() if o.index >= 0x1000]
         created = set()
-        # 1. creation: every sub-entry of the object (the bulk of a PLC file: kept lean)
-        writes, encode = self.sel.writes, dev.encode
+        # 1. creation: every sub-entry of the object -- the bulk of a PLC file, so the
+        # cached encodings are looked up here directly (Device.encode fills the cache)
+        entries, attrs = self.sel.entries, self.sel.attrs
+        encoded = dev.encoded.get
         for obj in objs:
-            if NV_FIRST <= obj.index <= NV_LAST or (
-                    self.static_od is not None and obj.index not in self.static_od):
-                created.add(obj.index)
-                for e in obj.entries.values():
-                    if e.dtype is None:
-                        data = b""  # the model already reported the DataType
-                    else:
+            idx = obj.index
+            nv = NV_FIRST <= idx <= NV_LAST
+            if not nv and (self.static_od is None or idx in self.static_od):
+                continue
+            created.add(idx)
+            for sub, e in obj.entries.items():
+                dtype = e.dtype
+                if dtype is None:
+                    data = b""  # the model already reported the DataType
+                else:
+                    text = e.param
+                    if text is None and e.download_file is None:
+                        text = e.default
+                    data = encoded((dtype.code, text)) if text is not None else None
+                    if data is None:
                         try:
-                            data = encode(e)
+                            data = dev.encode(e)
                         except DcfError as exc:
                             self.error(exc)
                             data = b""
-                    writes.append(Write(e.index, e.sub, data, attribute(e)))
+                entries.append((idx, sub, data))
+                # D-9: network variables are created NUMERIC|READ|WRITE|PDO, sub 0 READ
+                attrs.append((0xF0 if sub else 0x30) if nv else attribute(e))
         self.sel.created = created
         # 2. configuration
         for obj in objs:
