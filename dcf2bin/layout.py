@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import operator
 import re
+from itertools import repeat
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
@@ -200,7 +201,9 @@ class Layout:
     output_size: int = 0
     total_size: int = 0
     address_base: str = "image"
-    # (start in area, end, channel, index, sub, entry); index None = a MaxCnt reservation
+    # Runs of variables of one object with consecutive subindexes, which lie back to back
+    # in their area: (start in area, end, channel, index, first sub, last sub, object);
+    # index None = a MaxCnt reservation.
     spans: list[tuple] = field(default_factory=list, repr=False)
 
     @property
@@ -211,8 +214,15 @@ class Layout:
     @property
     def variables(self) -> dict[tuple[int, int], Variable]:
         """Every placed network variable (built on demand; compile needs only addresses)."""
-        return {(i, s): Variable(i, s, ch.dtype, ch.direction, start, ch, e.where)
-                for start, _, ch, i, s, e in self.spans if i is not None}
+        out = {}
+        for start, _, ch, idx, lo, hi, obj in self.spans:
+            if idx is None:
+                continue
+            size = ch.dtype.size
+            for sub in range(lo, hi + 1):
+                out[(idx, sub)] = Variable(idx, sub, ch.dtype, ch.direction,
+                                           start + (sub - lo) * size, ch, obj.entries[sub].where)
+        return out
 
     def address(self, index: int, sub: int) -> int:
         """D-10: offset from the start of the complete image (or within the area)."""
@@ -223,8 +233,11 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
             address_base: str = "image") -> Layout:
     """Place every network variable (SPEC §2.2-2.4). Errors go to ``dev.problems``.
 
-    Hot path (one pass per variable): spans are plain tuples, Variables are made only
-    when asked for.
+    A network-variable array is normally its subindexes 1..n, all of its range's type:
+    such an object is one run of n variables back to back, placed, checked for overlaps
+    and given its addresses as a whole. Anything else (a gap, a wrong DataType, a
+    subindex above 254, MaxCnt, an overlap) is worked out variable by variable, so
+    each problem names its own variable.
     """
     from dcf2bin.model import NV_FIRST, NV_LAST
     lay = Layout(address_base=address_base)
@@ -238,40 +251,21 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
             dev.error(f"[{idx:04X}] lies in 0xA900-0xAFFF, which needs a [DynamicChannels] "
                       "segment covering it", obj.where, idx, rule="DCF301")
             continue
-        size, code, max_count = ch.dtype.size, ch.dtype.code, ch.max_count
-        # SPEC §2.2: element = (index - range_start) * 254 + (subindex - 1)
-        before = (idx - ch.first) * PER_INDEX - 1
-        base = ch.pp_offset
-        target = areas[ch.direction]
-        for sub, e in obj.entries.items():
-            if sub == 0:
-                continue
-            if sub > PER_INDEX:
-                dev.error(f"{e.label}: subindex {sub} is above 254, the last network "
-                          "variable of an index", e.where, idx, sub, rule="DCF302")
-                continue
-            dtype = e.dtype
-            if dtype is not None and dtype.code != code:
-                dev.error(f"{e.label}: DataType {dtype.name} does not match {ch.label} "
-                          f"({ch.dtype.name})", e.key_where("datatype"), idx, sub, rule="DCF303")
-                continue
-            element = before + sub
-            if max_count is not None and element >= max_count:
-                dev.error(f"{e.label}: variable {element + 1} exceeds MaxCnt{ch.number}="
-                          f"{max_count}", e.where, idx, sub, rule="DCF304")
-                continue
-            start = base + element * size
-            target.append((start, start + size, ch, idx, sub, e))
+        if not _place_run(obj, ch, areas[ch.direction]):
+            _place_each(dev, obj, ch, areas[ch.direction])
     # MaxCnt capacities reserve their whole segment (D-3)
     for ch in dev.channels:
         if ch.max_count is not None:
-            areas[ch.direction].append(
-                (ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size, ch, None, None, None))
-    sizes = {}
-    for area, spans in areas.items():
-        spans.sort(key=_START_END)
-        _check_overlaps(dev, spans, area)
-        sizes[area] = max((span[1] for span in spans), default=0)
+            areas[ch.direction].append((ch.pp_offset, ch.pp_offset + ch.max_count * ch.dtype.size,
+                                        ch, None, None, None, None))
+    sizes, exact = {}, {}
+    for area, runs in areas.items():
+        ordered = sorted(runs, key=_START_END)
+        if not _disjoint(ordered):
+            exact[area] = _each_variable(runs)
+            _check_overlaps(dev, exact[area], area)
+        sizes[area] = max((run[1] for run in runs), default=0)
+        areas[area] = ordered
     lay.input_size, lay.output_size = sizes[INPUT], sizes[OUTPUT]
     if lay.output_size:
         lay.output_offset = -(-lay.input_size // align) * align
@@ -283,19 +277,119 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
                   Where(dev.path), rule="DCF305")
     addresses = lay.addresses
     for area, shift in ((INPUT, 0), (OUTPUT, 0 if address_base == "area" else lay.output_offset)):
-        for start, _, _, idx, sub, e in areas[area]:
+        if area in exact:
+            _addresses_each(dev, exact[area], shift, addresses)
+            continue
+        for start, end, ch, idx, lo, hi, obj in areas[area]:
             if idx is None:
                 continue
-            addr = start + shift
-            addresses[(idx, sub)] = addr
-            if addr > 0xFFFF:
-                dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
-                          "the PI address segment", e.where, idx, sub, rule="DCF306")
+            size = ch.dtype.size
+            addresses.update(zip(zip(repeat(idx), range(lo, hi + 1)),
+                                 range(start + shift, end + shift, size)))
+            if end - size + shift > 0xFFFF:
+                for sub in range(lo, hi + 1):
+                    addr = start + shift + (sub - lo) * size
+                    if addr > 0xFFFF:
+                        dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the "
+                                  "WORD of the PI address segment", obj.entries[sub].where, idx,
+                                  sub, rule="DCF306")
     lay.spans = areas[INPUT] + areas[OUTPUT]
     return lay
 
 
+def _addresses_each(dev, spans: list[tuple], shift: int, addresses: dict) -> None:
+    """D-10 addresses variable by variable (an area whose variables overlap)."""
+    for start, _, _, idx, sub, e in spans:
+        if idx is None:
+            continue
+        addr = start + shift
+        addresses[(idx, sub)] = addr
+        if addr > 0xFFFF:
+            dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
+                      "the PI address segment", e.where, idx, sub, rule="DCF306")
+
+
+def _place_run(obj, ch: Channel, target: list[tuple]) -> bool:
+    """Place an object whose variables are subindexes lo..hi without a gap, all of the
+    channel's type, inside 1..254 and MaxCnt, as one run; False when it is not one."""
+    entries = obj.entries
+    subs = sorted(entries)
+    if subs and subs[0] == 0:
+        del subs[0]
+    if not subs:
+        return True
+    lo, hi = subs[0], subs[-1]
+    if hi > PER_INDEX or hi - lo + 1 != len(subs):
+        return False
+    before = (obj.index - ch.first) * PER_INDEX - 1    # element = before + sub (SPEC §2.2)
+    if ch.max_count is not None and before + hi >= ch.max_count:
+        return False
+    chdt = ch.dtype
+    for sub in subs:
+        dtype = entries[sub].dtype
+        if dtype is not chdt and dtype is not None and dtype.code != chdt.code:
+            return False
+    size = chdt.size
+    target.append((ch.pp_offset + (before + lo) * size, ch.pp_offset + (before + hi + 1) * size,
+                   ch, obj.index, lo, hi, obj))
+    return True
+
+
+def _place_each(dev, obj, ch: Channel, target: list[tuple]) -> None:
+    """Variable by variable, with a diagnostic for each one that cannot be placed."""
+    idx = obj.index
+    size, code, max_count = ch.dtype.size, ch.dtype.code, ch.max_count
+    # SPEC §2.2: element = (index - range_start) * 254 + (subindex - 1)
+    before = (idx - ch.first) * PER_INDEX - 1
+    for sub, e in obj.entries.items():
+        if sub == 0:
+            continue
+        if sub > PER_INDEX:
+            dev.error(f"{e.label}: subindex {sub} is above 254, the last network "
+                      "variable of an index", e.where, idx, sub, rule="DCF302")
+            continue
+        dtype = e.dtype
+        if dtype is not None and dtype.code != code:
+            dev.error(f"{e.label}: DataType {dtype.name} does not match {ch.label} "
+                      f"({ch.dtype.name})", e.key_where("datatype"), idx, sub, rule="DCF303")
+            continue
+        element = before + sub
+        if max_count is not None and element >= max_count:
+            dev.error(f"{e.label}: variable {element + 1} exceeds MaxCnt{ch.number}="
+                      f"{max_count}", e.where, idx, sub, rule="DCF304")
+            continue
+        start = ch.pp_offset + element * size
+        target.append((start, start + size, ch, idx, sub, sub, obj))
+
+
 _START_END = operator.itemgetter(0, 1)
+
+
+def _disjoint(runs: list[tuple]) -> bool:
+    """No two runs (sorted by start) share a byte, and no MaxCnt reservation is among
+    them (a variable may lie inside its own segment's reservation: the exact check)."""
+    reach_end = -1
+    for run in runs:
+        if run[3] is None or run[0] < reach_end:
+            return False
+        reach_end = max(reach_end, run[1])
+    return True
+
+
+def _each_variable(runs: list[tuple]) -> list[tuple]:
+    """Runs (in the order they were placed) as (start, end, channel, index, sub, entry)
+    per variable, sorted by start and end."""
+    out = []
+    for start, end, ch, idx, lo, hi, obj in runs:
+        if idx is None:
+            out.append((start, end, ch, None, None, None))
+            continue
+        size = ch.dtype.size
+        for sub in range(lo, hi + 1):
+            s = start + (sub - lo) * size
+            out.append((s, s + size, ch, idx, sub, obj.entries[sub]))
+    out.sort(key=_START_END)
+    return out
 
 
 def _check_overlaps(dev, spans: list[tuple], area: str) -> None:
