@@ -113,6 +113,18 @@ def test_numeric_comment_is_ignored():
         "test.dcf:4: warning: 0x2000sub0: comment '; five' after the number is ignored [DCF203]"]
 
 
+def test_numeric_comment_warns_for_every_entry_that_has_it():
+    """The encoding cache must not hide the warning of a second entry with the same text."""
+    text = ("[2000]\nDataType=0x0005\nAccessType=rw\nParameterValue=5 ; five\n"
+            "[2001]\nDataType=0x0005\nAccessType=rw\nParameterValue=5 ; five\n")
+    res = compile_text(text)
+    assert [(i, s, d) for i, s, d in res.container.entries] == [
+        (0x2000, 0, b"\x05"), (0x2001, 0, b"\x05")]
+    assert messages(res, "warning") == [
+        "test.dcf:4: warning: 0x2000sub0: comment '; five' after the number is ignored [DCF203]",
+        "test.dcf:8: warning: 0x2001sub0: comment '; five' after the number is ignored [DCF203]"]
+
+
 def test_download_file(tmp_path):
     (tmp_path / "blob.bin").write_bytes(b"\x01\x02")
     dcf = tmp_path / "d.dcf"
