@@ -34,35 +34,58 @@ class Key:
 class Section:
     """One section: its values by lower-case key, and (lazily) each key's name and line.
 
-    The fast reader fills only ``values`` and remembers where the section's lines
-    are; ``keys`` (name, value and line of every key) is worked out on first use, so
-    the common case, which never prints a diagnostic, pays nothing for it.
+    The fast reader keeps where the section's text is and the parts it has parsed;
+    ``values`` and ``keys`` (name, value and line of every key) are worked out on
+    first use, so the common case, which never prints a diagnostic, pays little.
 
-    ``shape``, set by the fast reader when the section's first key is ParameterName,
-    is the values of all its other keys, one dict shared by every section whose
-    lines after the first are the same text: the model builds such entries once.
+    From the fast reader, ``head_key``/``head_value`` are the lower-case key and the
+    value of the section's first line when that is a key, and ``rest`` the values of
+    its other lines: one dict shared by every section whose lines after the first are
+    the same text (the 254 sub-objects of a network-variable array differ only in
+    their ParameterName), so the model can build such entries once. The exact reader
+    leaves them None.
     """
-    __slots__ = ("name", "line", "values", "_keys", "_src", "shape")
+    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "head_key",
+                 "head_value", "rest")
 
     def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
-                 keys: dict[str, Key] | None = None, src=None, shape=None):
+                 keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
+                 head_key: str | None = None, head_value: str | None = None,
+                 rest: dict[str, str] | None = None):
         self.name = name            # as written
         self.line = line
-        self.values = values if values is not None else {}
+        self._values = values if values is not None or rest is not None else {}
         self._keys = keys
-        self._src = src             # the text of the lines after the header, for ``keys``
-        self.shape = shape
+        self._text = text           # the file's text; the section's header line starts at _at
+        self._at = at
+        self.head_key = head_key
+        self.head_value = head_value
+        self.rest = rest
+
+    @property
+    def values(self) -> dict[str, str]:
+        """lower-case key name -> value (blanks trimmed)."""
+        if self._values is None:
+            if self.head_key is None:
+                self._values = dict(self.rest)
+            else:
+                self._values = {self.head_key: self.head_value}
+                self._values.update(self.rest)
+        return self._values
 
     @property
     def keys(self) -> dict[str, Key]:
         """lower-case key name -> Key(name as written, value, line)."""
         if self._keys is None:
             keys: dict[str, Key] = {}
-            for i, raw in enumerate((self._src or "").split("\n"), self.line + 1):
+            text = self._text or ""
+            end = text.find("\n[", self._at)
+            lines = text[self._at:end if end >= 0 else len(text)].split("\n")
+            for i, raw in enumerate(lines[1:], self.line + 1):   # after the header line
                 k, eq, v = raw.partition("=")
-                k = k.strip(" \t")
+                k = k.strip(" \t\r")
                 if eq and k and k[0] not in ";#":
-                    keys.setdefault(k.lower(), Key(k, v.strip(" \t"), i))
+                    keys.setdefault(k.lower(), Key(k, v.strip(" \t\r"), i))
             self._keys = keys
         return self._keys
 
@@ -143,52 +166,74 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
 def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     """The common case, a clean file, one section at a time instead of one line at a time.
 
-    The text is cut at every line that starts with '[' (a header: INI has no other
-    use for it). A section's key lines after its first are very often the same text
-    as another section's (the sub-objects of a network-variable array differ only in
-    their ParameterName, which configurators write first), so that text is parsed
-    once and its values are shared as a template. Anything the exact reader would
-    comment on (a bad line, an indented line, a duplicate, text after a header, a
-    lone CR) makes this return None, and the exact reader takes the file.
+    Sections are found by their header lines (a line that starts with '['), with the
+    file's own line ends (no copy of a CRLF text), and only the parts a section is
+    made of are cut out of the text. A section's lines after its first are very often
+    the same text as another section's (see ``Section``), so that text is parsed once
+    and its values shared. Anything the exact reader would comment on (a bad line, an
+    indented line, a duplicate, text after a header, a lone CR) makes this return
+    None, and the exact reader takes the file.
     """
+    nl = "\n"
     if "\r" in text:
-        text = text.replace("\r\n", "\n")
-        if "\r" in text:
-            return None  # a lone CR: let the exact reader deal with it
-    chunks = ("\n" + text).split("\n[")
-    # before the first header: blank and comment lines only
-    if _body_values(chunks[0]) != {}:
-        return None
+        crlf = text.count("\r\n")
+        if text.count("\r") != crlf:
+            return None                        # a lone CR: let the exact reader deal with it
+        if crlf == text.count("\n"):
+            nl = "\r\n"                        # every line ends in CRLF
+        else:
+            text = text.replace("\r\n", "\n")   # mixed line ends
+    sep, close = nl + "[", "]" + nl
+    n_sep, n_close, n_nl, size = len(sep), len(close), len(nl), len(text)
+    find, count = text.find, text.count
+    if text[:1] == "[":                        # no lines before the first header
+        start, line = 1, 1
+    else:                                      # blank and comment lines only
+        start = find(sep)
+        head = text[:start if start >= 0 else size]
+        if _body_values(head, nl) != {}:
+            return None
+        if start < 0:
+            return IniFile(path, encoding, {}, [], Diagnostics(), count("\n") + 1)
+        line = head.count(nl) + 2              # the first header's line
+        start += n_sep
     sections: dict[str, Section] = {}
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
-    line = chunks[0].count("\n") + 1          # the first header's line
-    for chunk in chunks[1:]:
-        name, sep, body = chunk.partition("]\n")
-        if not sep:                            # the last line of the file is a header
-            if chunk[-1:] != "]":
+    lower = _LOWER.get
+    while True:
+        # the section runs from ``start`` (just after its '[') to ``end``
+        end = find(sep, start)
+        if end < 0:
+            end = size
+        c = find(close, start, end)
+        if c < 0:                              # the last line of the file is a header
+            if end != size or text[end - 1:end] != "]":
                 return None
-            name, body = chunk[:-1], ""
+            c, first_at = end - 1, end
+        else:
+            first_at = c + n_close
+        name = text[start:c]
         if "\n" in name or "[" in name or "]" in name:
             return None                        # text after a header, or a broken header
-        first, _, rest = body.partition("\n")
+        j = find(nl, first_at, end)
+        if j < 0:
+            first, rest = text[first_at:end], ""
+        else:
+            first, rest = text[first_at:j], text[j + n_nl:end]
         shape = shapes_get(rest)
         if shape is None:
-            shape = shapes[rest] = _body_values(rest)
+            shape = shapes[rest] = _body_values(rest, nl)
             if shape is None:
                 return None
         k, eq, v = first.partition("=")
         if eq and k and k[0] not in " \t;#[":
-            low = k.rstrip(" \t").lower()
+            low = lower(k) or _lower(k)
             if low in shape:
                 return None                    # a repeated key
-            values = {low: v.strip(" \t")}
-            values.update(shape)
-            if low != "parametername":
-                shape = None                   # the template is the model's only for names
-        elif _body_values(first) == {}:        # a blank or comment line
-            values = shape.copy()
-            shape = None
+            v = v.strip(" \t")
+        elif _body_values(first, nl) == {}:    # a blank or comment line
+            low = v = None
         else:
             return None
         name = name.strip(" \t")
@@ -199,20 +244,35 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, values, None, body, shape)
-        line += chunk.count("\n") + 1
-    return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
+        sections[canon] = Section(name, line, None, None, text, start - 1, low, v, shape)
+        if end == size:
+            break
+        line += count(nl, start, end) + 1
+        start = end + n_sep
+    return IniFile(path, encoding, sections, [], Diagnostics(), count("\n") + 1)
 
 
-def _body_values(body: str) -> dict[str, str] | None:
+# Key names as written -> lower case without the blanks before '=': a file uses few
+# spellings ("ParameterName"), so each is lowered once, not once per section.
+_LOWER: dict[str, str] = {}
+
+
+def _lower(key: str) -> str:
+    low = key.rstrip(" \t").lower()
+    if len(_LOWER) < 4096:
+        _LOWER[key] = low
+    return low
+
+
+def _body_values(body: str, nl: str = "\n") -> dict[str, str] | None:
     """The keys of a section's lines (no header among them), or None when a line is
     one the exact reader has to see (not key=value, comment or blank; indented; a
     repeated key)."""
     values: dict[str, str] = {}
-    for raw in body.split("\n"):
+    for raw in body.split(nl):
         k, eq, v = raw.partition("=")
         if eq and k and k[0] not in " \t;#[":
-            low = k.rstrip(" \t").lower()
+            low = _LOWER.get(k) or _lower(k)
             if low in values:
                 return None
             values[low] = v.strip(" \t")

@@ -526,14 +526,16 @@ class _Builder:
                protos: dict[int, tuple] | None = None) -> Entry:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
         its sub-entries inherit) remembers the fields of sections that share the INI
-        reader's template (``Section.shape``: the same text but for ParameterName), so
-        the 254 sub-sections of a network-variable array are worked out once. Only an
-        entry that raised no problem is remembered: every faulty one reports its own."""
-        shape = sec.shape if protos is not None else None
+        reader's template (``Section.rest`` after a first line ParameterName=: the
+        same text but for the name), so the 254 sub-sections of a network-variable array
+        are worked out once. Only an entry that raised no problem is remembered: every
+        faulty one reports its own."""
+        shape = (sec.rest if protos is not None and sec.head_key == "parametername"
+                 else None)
         if shape is not None:
             proto = protos.get(id(shape))
             if proto is not None:
-                return Entry(idx, sub, sec.values["parametername"] or "", *proto,
+                return Entry(idx, sub, sec.head_value or "", *proto,
                              Where(self.path, sec.line), None, False, sec)
             problems = len(self.dev.problems)
         e = self._entry_from(idx, sub, sec, obj_flags, obj_map, sub0)
