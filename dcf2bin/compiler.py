@@ -109,10 +109,9 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                      attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
                      version=opts.container_version)
     if lay is not None and has_nv and opts.process_image:
-        # SPEC §3.4: index-segment order, first occurrence of each variable
-        lookup = lay.addresses
-        first = dict.fromkeys((i, s) for i, s, _ in sel.entries)
-        c.addresses = [lookup[key] for key in first if key in lookup]
+        # SPEC §3.4: index-segment order, first occurrence of each variable; that is
+        # group 1, which writes each network-variable object whole, by subindex
+        c.addresses = lay.addresses_of(sel.nv_objects)
         c.pi = lay.pi_parameters
     segs = c.segments()
     data = c.to_bytes(segs)

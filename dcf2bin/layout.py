@@ -195,7 +195,6 @@ class Variable:
 
 @dataclass
 class Layout:
-    addresses: dict[tuple[int, int], int] = field(default_factory=dict)  # D-10 values
     input_size: int = 0
     output_offset: int = 0
     output_size: int = 0
@@ -205,11 +204,44 @@ class Layout:
     # in their area: (start in area, end, channel, index, first sub, last sub, object);
     # index None = a MaxCnt reservation.
     spans: list[tuple] = field(default_factory=list, repr=False)
+    _addresses: dict | None = field(default=None, repr=False)
 
     @property
     def pi_parameters(self) -> tuple[int, int, int, int, int]:
         """SPEC §3.5: complete size, input offset, input size, output offset, output size."""
         return (self.total_size, 0, self.input_size, self.output_offset, self.output_size)
+
+    def _shift(self, ch: Channel) -> int:
+        """D-10: area offsets count from the image start (or, ``area``, from the area's)."""
+        if ch.direction == OUTPUT and self.address_base != "area":
+            return self.output_offset
+        return 0
+
+    def addresses_of(self, indexes) -> list[int]:
+        """The D-10 values of the placed variables of the objects ``indexes``, object by
+        object in that order, each object's by subindex (what compile writes, SPEC §3.4)."""
+        by_index: dict[int, list[tuple]] = {}
+        for run in self.spans:
+            if run[3] is not None:
+                by_index.setdefault(run[3], []).append(run)
+        out: list[int] = []
+        for idx in indexes:
+            for start, end, ch, _, _, _, _ in sorted(by_index.get(idx, ()), key=_FIRST_SUB):
+                shift = self._shift(ch)
+                out.extend(range(start + shift, end + shift, ch.dtype.size))
+        return out
+
+    @property
+    def addresses(self) -> dict[tuple[int, int], int]:
+        """(index, sub) -> D-10 value of every placed variable (built on first use)."""
+        if self._addresses is None:
+            self._addresses = {}
+            for start, end, ch, idx, lo, hi, _ in self.spans:
+                if idx is not None:
+                    shift = self._shift(ch)
+                    self._addresses.update(zip(zip(repeat(idx), range(lo, hi + 1)),
+                                               range(start + shift, end + shift, ch.dtype.size)))
+        return self._addresses
 
     @property
     def variables(self) -> dict[tuple[int, int], Variable]:
@@ -227,6 +259,9 @@ class Layout:
     def address(self, index: int, sub: int) -> int:
         """D-10: offset from the start of the complete image (or within the area)."""
         return self.addresses[(index, sub)]
+
+
+_FIRST_SUB = operator.itemgetter(4)
 
 
 def compute(dev, *, align: int = 8, pi_size: int | None = None,
@@ -275,18 +310,15 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
     if pi_size is not None and lay.total_size > pi_size:
         dev.error(f"process image needs {lay.total_size} bytes, more than --pi-size {pi_size}",
                   Where(dev.path), rule="DCF305")
-    addresses = lay.addresses
+    # D-10 addresses are worked out from the runs when asked for; here only the check
+    # that each fits its WORD (SPEC §2.2), in the order of the variables in their area
     for area, shift in ((INPUT, 0), (OUTPUT, 0 if address_base == "area" else lay.output_offset)):
         if area in exact:
-            _addresses_each(dev, exact[area], shift, addresses)
+            _addresses_each(dev, exact[area], shift)
             continue
         for start, end, ch, idx, lo, hi, obj in areas[area]:
-            if idx is None:
-                continue
             size = ch.dtype.size
-            addresses.update(zip(zip(repeat(idx), range(lo, hi + 1)),
-                                 range(start + shift, end + shift, size)))
-            if end - size + shift > 0xFFFF:
+            if idx is not None and end - size + shift > 0xFFFF:
                 for sub in range(lo, hi + 1):
                     addr = start + shift + (sub - lo) * size
                     if addr > 0xFFFF:
@@ -297,13 +329,12 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
     return lay
 
 
-def _addresses_each(dev, spans: list[tuple], shift: int, addresses: dict) -> None:
-    """D-10 addresses variable by variable (an area whose variables overlap)."""
+def _addresses_each(dev, spans: list[tuple], shift: int) -> None:
+    """The WORD check variable by variable (an area whose variables overlap)."""
     for start, _, _, idx, sub, e in spans:
         if idx is None:
             continue
         addr = start + shift
-        addresses[(idx, sub)] = addr
         if addr > 0xFFFF:
             dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
                       "the PI address segment", e.where, idx, sub, rule="DCF306")

@@ -45,6 +45,9 @@ class Selection:
     emitted: set[tuple[int, int]] = field(default_factory=set)   # outside ``created``
     emitted_objects: set[int] = field(default_factory=set)
     created: set[int] = field(default_factory=set)   # objects written whole (group 1)
+    # the network-variable objects, in the order group 1 wrote them (each by subindex):
+    # the first occurrence of every variable in the index segment (SPEC §3.4)
+    nv_objects: list[int] = field(default_factory=list)
 
     @property
     def writes(self) -> list[Write]:
@@ -125,6 +128,8 @@ class _Selector:
             if not nv and (self.static_od is None or idx in self.static_od):
                 continue
             created.add(idx)
+            if nv:
+                self.sel.nv_objects.append(idx)
             for sub, e in obj.entries.items():
                 dtype = e.dtype
                 if dtype is None:
