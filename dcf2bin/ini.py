@@ -166,13 +166,13 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
 def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     """The common case, a clean file, one section at a time instead of one line at a time.
 
-    Sections are found by their header lines (a line that starts with '['), with the
-    file's own line ends (no copy of a CRLF text), and only the parts a section is
-    made of are cut out of the text. A section's lines after its first are very often
-    the same text as another section's (see ``Section``), so that text is parsed once
-    and its values shared. Anything the exact reader would comment on (a bad line, an
-    indented line, a duplicate, text after a header, a lone CR) makes this return
-    None, and the exact reader takes the file.
+    The text is cut at every line that starts with '[' (a header: INI has no other
+    use for it), at the file's own line ends (no converted copy of a CRLF text); a
+    section keeps only where it starts in the text. A section's lines after its first
+    are very often the same text as another section's (see ``Section``), so that text
+    is parsed once and its values shared. Anything the exact reader would comment on
+    (a bad line, an indented line, a duplicate, text after a header, a lone CR) makes
+    this return None, and the exact reader takes the file.
     """
     nl = "\n"
     if "\r" in text:
@@ -184,43 +184,29 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
         else:
             text = text.replace("\r\n", "\n")   # mixed line ends
     sep, close = nl + "[", "]" + nl
-    n_sep, n_close, n_nl, size = len(sep), len(close), len(nl), len(text)
-    find, count = text.find, text.count
+    n_sep = len(sep)
+    chunks = text.split(sep)                   # each a section, from just after its '['
     if text[:1] == "[":                        # no lines before the first header
-        start, line = 1, 1
+        chunks[0] = chunks[0][1:]
+        line, at = 1, 1
     else:                                      # blank and comment lines only
-        start = find(sep)
-        head = text[:start if start >= 0 else size]
+        head = chunks.pop(0)
         if _body_values(head, nl) != {}:
             return None
-        if start < 0:
-            return IniFile(path, encoding, {}, [], Diagnostics(), count("\n") + 1)
-        line = head.count(nl) + 2              # the first header's line
-        start += n_sep
+        line, at = head.count(nl) + 2, len(head) + n_sep
     sections: dict[str, Section] = {}
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
     lower = _LOWER.get
-    while True:
-        # the section runs from ``start`` (just after its '[') to ``end``
-        end = find(sep, start)
-        if end < 0:
-            end = size
-        c = find(close, start, end)
-        if c < 0:                              # the last line of the file is a header
-            if end != size or text[end - 1:end] != "]":
+    for chunk in chunks:
+        name, sep_found, body = chunk.partition(close)
+        if not sep_found:                      # the last line of the file is a header
+            if chunk[-1:] != "]":
                 return None
-            c, first_at = end - 1, end
-        else:
-            first_at = c + n_close
-        name = text[start:c]
+            name = chunk[:-1]
         if "\n" in name or "[" in name or "]" in name:
             return None                        # text after a header, or a broken header
-        j = find(nl, first_at, end)
-        if j < 0:
-            first, rest = text[first_at:end], ""
-        else:
-            first, rest = text[first_at:j], text[j + n_nl:end]
+        first, _, rest = body.partition(nl)
         shape = shapes_get(rest)
         if shape is None:
             shape = shapes[rest] = _body_values(rest, nl)
@@ -244,12 +230,10 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, text, start - 1, low, v, shape)
-        if end == size:
-            break
-        line += count(nl, start, end) + 1
-        start = end + n_sep
-    return IniFile(path, encoding, sections, [], Diagnostics(), count("\n") + 1)
+        sections[canon] = Section(name, line, None, None, text, at - 1, low, v, shape)
+        line += chunk.count(nl) + 1
+        at += len(chunk) + n_sep
+    return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
 
 
 # Key names as written -> lower case without the blanks before '=': a file uses few
