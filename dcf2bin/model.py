@@ -22,6 +22,7 @@ RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
 _OBJ_RE = re.compile(r"[0-9a-f]{4}")
 _SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]+)")
 _SECTION_RE = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")   # an object or sub-object
+_SUB_HEX = {f"{i:x}": i for i in range(256)}   # canonical subindex texts
 _AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
 
 
@@ -298,11 +299,22 @@ class _Builder:
         aux: dict[tuple[int, str], ini_mod.Section] = {}
         mains: dict[int, ini_mod.Section] = {}
         section_match, aux_match = _SECTION_RE.fullmatch, _AUX_RE.fullmatch
+        hex4: dict[str, int] = {}   # the object indexes seen, as their section names
         for canon, sec in self.ini.sections.items():
+            # the common case, a sub-section "<index>sub<n>" of an object already seen
+            obj_hex, is_sub, sub_hex = canon.partition("sub")
+            if is_sub:
+                idx, sub = hex4.get(obj_hex), _SUB_HEX.get(sub_hex)
+                if idx is not None and sub is not None:
+                    group = subs.get(idx)
+                    if group is None:
+                        group = subs[idx] = {}
+                    group[sub] = sec
+                    continue
             m = section_match(canon)
             if m is not None:
                 obj_hex, sub_hex = m.groups()
-                idx = int(obj_hex, 16)
+                idx = hex4[obj_hex] = int(obj_hex, 16)
                 if sub_hex is None:
                     mains[idx] = sec
                     continue
@@ -499,8 +511,17 @@ class _Builder:
                             self.w(vsec.line), idx, rule="DCF027")
 
         protos: dict[int, tuple] = {}
+        entries, path = obj.entries, self.path
         for s in sorted(subsecs):
             ssec = subsecs[s]
+            if s and ssec.head_key == "parametername":
+                # an entry like one already built but for its name (see _entry), inline:
+            # 60,000 of them in a large PLC file
+                proto = protos.get(id(ssec.rest))
+                if proto is not None:
+                    entries[s] = Entry(idx, s, ssec.head_value or "", *proto,
+                                       Where(path, ssec.line), None, False, ssec)
+                    continue
             if s == 0:
                 # an explicit sub 0 section inherits ObjFlags/PDOMapping like any
                 # sub-entry (SPEC §1); only an implied or created sub 0 does not
@@ -509,8 +530,10 @@ class _Builder:
                 e = self._entry(idx, s, ssec, obj_flags=obj_flags, obj_map=obj_map,
                                 protos=protos)
             obj.entries[s] = e
+        ordered = not obj.compact   # so far added by ascending subindex
         if 0 not in obj.entries:
             highest = max((s for s in obj.entries), default=0)
+            ordered = not obj.entries
             obj.entries[0] = Entry(idx, 0, "Highest sub-index supported", dt.UNSIGNED8, "ro",
                                    default=str(obj.compact or highest), where=obj.where,
                                    implicit=True)
@@ -518,28 +541,24 @@ class _Builder:
             e0 = obj.entries[0]
             if e0.default is None and e0.param is None:
                 e0.default = str(obj.compact or max(obj.entries))
-        # keep entries sorted for fast ordered iteration
-        obj.entries = dict(sorted(obj.entries.items()))
+        if not ordered:  # entries are kept by ascending subindex
+            obj.entries = dict(sorted(obj.entries.items()))
 
     def _entry(self, idx: int, sub: int, sec: ini_mod.Section, *, obj_flags: int = 0,
                obj_map: bool = False, sub0: bool = False, compact: bool = False,
                protos: dict[int, tuple] | None = None) -> Entry:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
-        its sub-entries inherit) remembers the fields of sections that share the INI
-        reader's template (``Section.rest`` after a first line ParameterName=: the
-        same text but for the name), so the 254 sub-sections of a network-variable array
-        are worked out once. Only an entry that raised no problem is remembered: every
-        faulty one reports its own."""
+        its sub-entries inherit) remembers the fields of an entry whose section shares the
+        INI reader's template (``Section.rest`` after a first line ParameterName=: the
+        same text but for the name), so that ``_object`` builds the other 253 sub-entries
+        of a network-variable array from them. Only an entry that raised no problem is
+        remembered: every faulty one reports its own."""
         shape = (sec.rest if protos is not None and sec.head_key == "parametername"
                  else None)
-        if shape is not None:
-            proto = protos.get(id(shape))
-            if proto is not None:
-                return Entry(idx, sub, sec.head_value or "", *proto,
-                             Where(self.path, sec.line), None, False, sec)
-            problems = len(self.dev.problems)
+        problems = len(self.dev.problems)
         e = self._entry_from(idx, sub, sec, obj_flags, obj_map, sub0)
         if shape is not None and len(self.dev.problems) == problems:
+            # in Entry's field order, after index, sub and name
             protos[id(shape)] = (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default,
                                  e.param, e.download_file, e.low, e.high, e.denotation)
         return e
