@@ -38,39 +38,34 @@ class Section:
     ``values`` and ``keys`` (name, value and line of every key) are worked out on
     first use, so the common case, which never prints a diagnostic, pays little.
 
-    From the fast reader, ``head_key``/``head_value`` are the lower-case key and the
-    value of the section's first line when that is a key, and ``rest`` the values of
-    its other lines: one dict shared by every section whose lines after the first are
-    the same text (the 254 sub-objects of a network-variable array differ only in
-    their ParameterName), so the model can build such entries once. The exact reader
-    leaves them None.
+    From the fast reader, ``rest`` is the values of the section's lines with the value
+    of its ``ParameterName=`` line left empty, one dict shared by every section whose
+    text is the same but for that value (the 254 sub-objects of a network-variable
+    array differ only in their names), and ``param_name`` the value that was cut out
+    (None when the template holds every value). The model builds such entries once.
+    The exact reader leaves both None.
     """
-    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "head_key",
-                 "head_value", "rest")
+    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest")
 
     def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
                  keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
-                 head_key: str | None = None, head_value: str | None = None,
-                 rest: dict[str, str] | None = None):
+                 param_name: str | None = None, rest: dict[str, str] | None = None):
         self.name = name            # as written
         self.line = line
         self._values = values if values is not None or rest is not None else {}
         self._keys = keys
         self._text = text           # the file's text; the section's header line starts at _at
         self._at = at
-        self.head_key = head_key
-        self.head_value = head_value
+        self.param_name = param_name
         self.rest = rest
 
     @property
     def values(self) -> dict[str, str]:
         """lower-case key name -> value (blanks trimmed)."""
         if self._values is None:
-            if self.head_key is None:
-                self._values = dict(self.rest)
-            else:
-                self._values = {self.head_key: self.head_value}
-                self._values.update(self.rest)
+            self._values = dict(self.rest)
+            if self.param_name is not None:
+                self._values["parametername"] = self.param_name   # in its place
         return self._values
 
     @property
@@ -197,7 +192,7 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     sections: dict[str, Section] = {}
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
-    lower = _LOWER.get
+    lines: dict[str, tuple] = {}               # see _body_values
     for chunk in chunks:
         name, sep_found, body = chunk.partition(close)
         if not sep_found:                      # the last line of the file is a header
@@ -206,22 +201,24 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             name = chunk[:-1]
         if "\n" in name or "[" in name or "]" in name:
             return None                        # text after a header, or a broken header
-        first, _, rest = body.partition(nl)
+        # cut the value out of the ParameterName= line (the one key that differs in the
+        # sub-sections of an array); the rest, with that line left empty, is the template
+        i = body.find(_NAME_KEY)
+        if i >= 0 and (i == 0 or body[i - 1] == "\n"):
+            i += len(_NAME_KEY)
+            j = body.find(nl, i)
+            if j < 0:
+                pname, rest = body[i:], body[:i]
+            else:
+                pname, rest = body[i:j], body[:i] + body[j:]
+            pname = pname.strip(" \t")
+        else:
+            pname, rest = None, body
         shape = shapes_get(rest)
         if shape is None:
-            shape = shapes[rest] = _body_values(rest, nl)
+            shape = shapes[rest] = _body_values(rest, nl, lines)
             if shape is None:
                 return None
-        k, eq, v = first.partition("=")
-        if eq and k and k[0] not in " \t;#[":
-            low = lower(k) or _lower(k)
-            if low in shape:
-                return None                    # a repeated key
-            v = v.strip(" \t")
-        elif _body_values(first, nl) == {}:    # a blank or comment line
-            low = v = None
-        else:
-            return None
         name = name.strip(" \t")
         canon = name.lower()
         if (len(canon) > 8 and canon[7] == "0") or not canon:
@@ -230,42 +227,48 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, text, at - 1, low, v, shape)
+        sections[canon] = Section(name, line, None, None, text, at - 1, pname, shape)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
     return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
 
 
-# Key names as written -> lower case without the blanks before '=': a file uses few
-# spellings ("ParameterName"), so each is lowered once, not once per section.
-_LOWER: dict[str, str] = {}
+_NAME_KEY = "ParameterName="   # as configurators write it; other spellings are just keys
 
 
-def _lower(key: str) -> str:
-    low = key.rstrip(" \t").lower()
-    if len(_LOWER) < 4096:
-        _LOWER[key] = low
-    return low
-
-
-def _body_values(body: str, nl: str = "\n") -> dict[str, str] | None:
+def _body_values(body: str, nl: str = "\n",
+                 lines: dict[str, tuple] | None = None) -> dict[str, str] | None:
     """The keys of a section's lines (no header among them), or None when a line is
     one the exact reader has to see (not key=value, comment or blank; indented; a
-    repeated key)."""
+    repeated key). ``lines`` remembers each line's reading for the next section
+    (a file repeats "ObjectType=0x7" and "AccessType=rw" thousands of times)."""
     values: dict[str, str] = {}
+    if lines is None:
+        lines = {}
     for raw in body.split(nl):
-        k, eq, v = raw.partition("=")
-        if eq and k and k[0] not in " \t;#[":
-            low = _LOWER.get(k) or _lower(k)
-            if low in values:
+        kv = lines.get(raw)
+        if kv is None:
+            kv = lines[raw] = _line(raw)
+            if kv is None:
                 return None
-            values[low] = v.strip(" \t")
-            continue
-        c = raw.strip(" \t")[:1]
-        if c == ";" or c == "#" or not c:
-            continue
-        return None                              # bad line, or indented
+        if kv:
+            low, v = kv
+            if low in values:
+                return None                      # a repeated key
+            values[low] = v
     return values
+
+
+def _line(raw: str) -> tuple | None:
+    """(lower-case key, value) of a key line, () for a blank or comment line, None for
+    a line the exact reader has to see (bad, or indented)."""
+    k, eq, v = raw.partition("=")
+    if eq and k and k[0] not in " \t;#[":
+        return (k.rstrip(" \t").lower(), v.strip(" \t"))
+    c = raw.strip(" \t")[:1]
+    if c == ";" or c == "#" or not c:
+        return ()
+    return None
 
 
 def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:

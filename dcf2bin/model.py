@@ -514,12 +514,12 @@ class _Builder:
         entries, path = obj.entries, self.path
         for s in sorted(subsecs):
             ssec = subsecs[s]
-            if s and ssec.head_key == "parametername":
+            if s and ssec.param_name is not None:
                 # an entry like one already built but for its name (see _entry), inline:
             # 60,000 of them in a large PLC file
                 proto = protos.get(id(ssec.rest))
                 if proto is not None:
-                    entries[s] = Entry(idx, s, ssec.head_value or "", *proto,
+                    entries[s] = Entry(idx, s, ssec.param_name or "", *proto,
                                        Where(path, ssec.line), None, False, ssec)
                     continue
             if s == 0:
@@ -549,12 +549,11 @@ class _Builder:
                protos: dict[int, tuple] | None = None) -> Entry:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
         its sub-entries inherit) remembers the fields of an entry whose section shares the
-        INI reader's template (``Section.rest`` after a first line ParameterName=: the
-        same text but for the name), so that ``_object`` builds the other 253 sub-entries
-        of a network-variable array from them. Only an entry that raised no problem is
+        INI reader's template (``Section.rest``: the same text but for the value of
+        ParameterName), so that ``_object`` builds the other 253 sub-entries of a
+        network-variable array from them. Only an entry that raised no problem is
         remembered: every faulty one reports its own."""
-        shape = (sec.rest if protos is not None and sec.head_key == "parametername"
-                 else None)
+        shape = sec.rest if protos is not None and sec.param_name is not None else None
         problems = len(self.dev.problems)
         e = self._entry_from(idx, sub, sec, obj_flags, obj_map, sub0)
         if shape is not None and len(self.dev.problems) == problems:

@@ -71,7 +71,7 @@ from conftest import SAMPLES, corpus_params  # noqa: E402
 
 
 def _snapshot(f: ini.IniFile):
-    return {canon: (sec.name, sec.line, dict(sec.values),
+    return {canon: (sec.name, sec.line, list(sec.values.items()),   # file order too
                     {k: (key.name, key.value, key.line) for k, key in sec.keys.items()})
             for canon, sec in f.sections.items()}
 
@@ -109,3 +109,26 @@ def test_fast_path_takes_clean_files():
     assert _agree("[2000]\nA=1\n\n[2000sub1]\nb=2\n") is not None
     assert _agree("[2000]\nA = 1\n") is not None          # blanks: strip mode
     assert _agree("[2000]\nA=1\nA=2\n") is None            # duplicate: exact reader reports it
+
+
+def test_fast_path_shares_a_template_but_not_the_values():
+    """Sections that differ only in the value of ParameterName= share one parsed template
+    (Section.rest), wherever that line stands; each keeps its own values in file order."""
+    text = ("[A040sub1]\nDataType=0x0005\nParameterName=a\nAccessType=ro\n\n"
+            "[A040sub2]\nDataType=0x0005\nParameterName=b\nAccessType=ro\n\n"
+            "[A040sub3]\nParameterName=c\nDataType=0x0005\nAccessType=ro\n")
+    f = _agree(text)
+    s1, s2, s3 = (f.section(f"a040sub{i}") for i in (1, 2, 3))
+    assert s1.rest is s2.rest and s1.rest is not s3.rest
+    assert (s1.param_name, s2.param_name, s3.param_name) == ("a", "b", "c")
+    assert list(s2.values.items()) == [("datatype", "0x0005"), ("parametername", "b"),
+                                       ("accesstype", "ro")]
+    s1.values["datatype"] = "0x0006"
+    assert s2.get("datatype") == "0x0005" and s2.rest["datatype"] == "0x0005"
+    assert s3.keys["parametername"] == ini.Key("ParameterName", "c", 12)
+
+
+def test_fast_path_crlf_keeps_lines():
+    f = _agree("; c\r\n[2000]\r\nParameterName=x\r\n\r\n[2000sub1]\r\nA=1\r\n")
+    assert f.section("2000sub1").line == 5
+    assert f.section("2000sub1").keys["a"] == ini.Key("A", "1", 6)
