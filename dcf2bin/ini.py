@@ -38,18 +38,20 @@ class Section:
     ``values`` and ``keys`` (name, value and line of every key) are worked out on
     first use, so the common case, which never prints a diagnostic, pays little.
 
-    From the fast reader, ``rest`` is the values of the section's lines with the value
-    of its ``ParameterName=`` line left empty, one dict shared by every section whose
-    text is the same but for that value (the 254 sub-objects of a network-variable
-    array differ only in their names), and ``param_name`` the value that was cut out
-    (None when the template holds every value). The model builds such entries once.
-    The exact reader leaves both None.
+    From the fast reader, ``rest`` is the values of the section's lines with the values
+    of its ``ParameterName=`` and ``Denotation=`` lines left empty, one dict shared by
+    every section whose text is the same but for those names (the 254 sub-objects of
+    a network-variable array differ only in them), and ``param_name``/``denotation``
+    the values that were cut out (None: that line is not cut out of the template).
+    The model builds such entries once. The exact reader leaves them None.
     """
-    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest")
+    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
+                 "denotation")
 
     def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
                  keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
-                 param_name: str | None = None, rest: dict[str, str] | None = None):
+                 param_name: str | None = None, rest: dict[str, str] | None = None,
+                 denotation: str | None = None):
         self.name = name            # as written
         self.line = line
         self._values = values if values is not None or rest is not None else {}
@@ -58,6 +60,7 @@ class Section:
         self._at = at
         self.param_name = param_name
         self.rest = rest
+        self.denotation = denotation
 
     @property
     def values(self) -> dict[str, str]:
@@ -66,6 +69,8 @@ class Section:
             self._values = dict(self.rest)
             if self.param_name is not None:
                 self._values["parametername"] = self.param_name   # in its place
+            if self.denotation is not None:
+                self._values["denotation"] = self.denotation
         return self._values
 
     @property
@@ -201,19 +206,12 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             name = chunk[:-1]
         if "\n" in name or "[" in name or "]" in name:
             return None                        # text after a header, or a broken header
-        # cut the value out of the ParameterName= line (the one key that differs in the
-        # sub-sections of an array); the rest, with that line left empty, is the template
-        i = body.find(_NAME_KEY)
-        if i >= 0 and (i == 0 or body[i - 1] == "\n"):
-            i += len(_NAME_KEY)
-            j = body.find(nl, i)
-            if j < 0:
-                pname, rest = body[i:], body[:i]
-            else:
-                pname, rest = body[i:j], body[:i] + body[j:]
-            pname = pname.strip(" \t")
-        else:
-            pname, rest = None, body
+        # the names differ between the sub-sections of an array: cut their values out,
+        # and the rest, with those lines left empty, is the template
+        pname, rest = _cut(body, _NAME_KEY, nl)
+        denotation = None
+        if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
+            denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
         shape = shapes_get(rest)
         if shape is None:
             shape = shapes[rest] = _body_values(rest, nl, lines)
@@ -227,13 +225,32 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, text, at - 1, pname, shape)
+        sections[canon] = Section(name, line, None, None, text, at - 1, pname, shape,
+                                  denotation)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
     return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
 
 
-_NAME_KEY = "ParameterName="   # as configurators write it; other spellings are just keys
+# The two keys whose values are names, cut out of a section's template, as configurators
+# spell them (other spellings are ordinary keys: correct, only not shared).
+_NAME_KEY = "ParameterName="
+_DENOTATION_KEY = "Denotation="
+
+
+def _cut(body: str, key: str, nl: str) -> tuple[str | None, str]:
+    """(the value of ``key``'s line, ``body`` with that value left empty), or (None,
+    body) when no line starts with ``key``."""
+    i = body.find(key)
+    while i > 0 and body[i - 1] != "\n":
+        i = body.find(key, i + 1)
+    if i < 0:
+        return None, body
+    i += len(key)
+    j = body.find(nl, i)
+    if j < 0:
+        return body[i:].strip(" \t"), body[:i]
+    return body[i:j].strip(" \t"), body[:i] + body[j:]
 
 
 def _body_values(body: str, nl: str = "\n",

@@ -519,8 +519,10 @@ class _Builder:
             # 60,000 of them in a large PLC file
                 proto = protos.get(id(ssec.rest))
                 if proto is not None:
-                    entries[s] = Entry(idx, s, ssec.param_name or "", *proto,
-                                       Where(path, ssec.line), None, False, ssec)
+                    e = entries[s] = Entry(idx, s, ssec.param_name or "", *proto,
+                                           Where(path, ssec.line), None, False, ssec)
+                    if ssec.denotation is not None:   # cut out of the template too
+                        e.denotation = ssec.denotation or None
                     continue
             if s == 0:
                 # an explicit sub 0 section inherits ObjFlags/PDOMapping like any
@@ -549,9 +551,9 @@ class _Builder:
                protos: dict[int, tuple] | None = None) -> Entry:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
         its sub-entries inherit) remembers the fields of an entry whose section shares the
-        INI reader's template (``Section.rest``: the same text but for the value of
-        ParameterName), so that ``_object`` builds the other 253 sub-entries of a
-        network-variable array from them. Only an entry that raised no problem is
+        INI reader's template (``Section.rest``: the same text but for the values of
+        ParameterName and Denotation), so that ``_object`` builds the other 253
+        sub-entries of a network-variable array from them. Only an entry that raised no problem is
         remembered: every faulty one reports its own."""
         shape = sec.rest if protos is not None and sec.param_name is not None else None
         problems = len(self.dev.problems)

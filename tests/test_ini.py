@@ -132,3 +132,27 @@ def test_fast_path_crlf_keeps_lines():
     f = _agree("; c\r\n[2000]\r\nParameterName=x\r\n\r\n[2000sub1]\r\nA=1\r\n")
     assert f.section("2000sub1").line == 5
     assert f.section("2000sub1").keys["a"] == ini.Key("A", "1", 6)
+
+
+def test_fast_path_cuts_denotations_out_of_the_template_too():
+    text = ("[A040sub1]\nParameterName=a\nDataType=0x0005\nDenotation=Pump 1\n\n"
+            "[A040sub2]\nParameterName=b\nDataType=0x0005\nDenotation=Pump 2\n\n"
+            "[A040sub3]\nParameterName=c\nDataType=0x0005\nDenotation=\n\n"
+            "[A040sub4]\nParameterName=d\nDataType=0x0005\nDenotation=x=Denotation=y\n")
+    f = _agree(text)
+    secs = [f.section(f"a040sub{i}") for i in (1, 2, 3, 4)]
+    assert all(s.rest is secs[0].rest for s in secs)
+    assert [s.denotation for s in secs] == ["Pump 1", "Pump 2", "", "x=Denotation=y"]
+    assert list(secs[1].values.items()) == [("parametername", "b"), ("datatype", "0x0005"),
+                                            ("denotation", "Pump 2")]
+    assert secs[2].get("denotation") is None          # empty counts as absent
+
+
+def test_fast_path_cuts_only_whole_lines():
+    """A name key inside another line's value is not the name line."""
+    text = ("[2000]\nDescription=see ParameterName=x\nParameterName=real\n"
+            "Notes=Denotation=no\n")
+    f = _agree(text)
+    sec = f.section("2000")
+    assert (sec.param_name, sec.denotation) == ("real", None)
+    assert sec.get("description") == "see ParameterName=x" and sec.get("notes") == "Denotation=no"

@@ -136,3 +136,78 @@ def test_download_file(tmp_path):
     res = compile_path(str(dcf), CompileOptions())
     assert messages(res) == [f"{dcf}:4: error: DownloadFile '../etc/passwd' leaves the DCF's "
                              "folder [DCF202]"]
+
+
+def test_entries_built_from_a_shared_template_keep_their_own_names():
+    """Sub-sections that differ only in ParameterName and Denotation share the INI
+    template; the model builds them from one worked-out entry, each with its names."""
+    text = "[A4C0]\nObjectType=0x8\nSubNumber=4\n" + "".join(
+        f"[A4C0sub{s}]\nParameterName=out{s}\nDataType=0x0005\nAccessType=rw\n"
+        f"DefaultValue={7 if s == 3 else 0}\nPDOMapping=1\nDenotation=Valve {s}\n"
+        for s in (1, 2, 3))
+    dev = load_text(text)
+    got = [(e.sub, e.name, e.denotation, e.default, e.access, e.pdo_mapping, e.where.line)
+           for e in dev.objects[0xA4C0].entries.values()]
+    assert got == [(0, "Highest sub-index supported", None, "3", "ro", False, 1),
+                   (1, "out1", "Valve 1", "0", "rw", True, 4),
+                   (2, "out2", "Valve 2", "0", "rw", True, 11),
+                   (3, "out3", "Valve 3", "7", "rw", True, 18)]
+
+
+def test_a_faulty_entry_in_a_shared_template_reports_itself_every_time():
+    text = "[2000]\nObjectType=0x8\nSubNumber=3\n" + "".join(
+        f"[2000sub{s}]\nParameterName=p{s}\nDataType=0x0099\nAccessType=rw\n"
+        for s in (1, 2)) + "[3000]\nDataType=0x0005\nAccessType=rw\n"
+    dev = load_text(text)
+    sub1, sub2 = dev.objects[0x2000].entries[1].section, dev.objects[0x2000].entries[2].section
+    assert sub1.rest is sub2.rest     # one template
+    assert [p.diagnostic.format() for p in dev.problems] == [
+        "test.dcf:6: error: [2000sub1] unknown or unsupported DataType 0x0099 [DCF030]",
+        "test.dcf:10: error: [2000sub2] unknown or unsupported DataType 0x0099 [DCF030]"]
+
+
+# -- the template path builds what the key-by-key path builds -----------------------------
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from dcf2bin import ini, model  # noqa: E402
+
+_KEYS = {"DataType": ["0x0005", "0x0006", "0x0099", ""], "AccessType": ["rw", "ro", "bad"],
+         "DefaultValue": ["0", "300"], "ParameterValue": ["5"], "PDOMapping": ["1", "0"],
+         "ObjFlags": ["1", "x"], "LowLimit": ["0"], "ObjectType": ["0x7"]}
+# a section's key lines (at most one value per key), as text in file order
+_TEMPLATE = st.lists(st.sampled_from(sorted(_KEYS)), unique=True, max_size=5).flatmap(
+    lambda keys: st.tuples(*(st.sampled_from(_KEYS[k]).map(lambda v, k=k: f"{k}={v}")
+                             for k in keys)).map(list))
+
+
+def _fields(dev: model.Device):
+    return {(o.index, e.sub): (e.name, e.dtype, e.access, e.pdo_mapping, e.obj_flags,
+                               e.default, e.param, e.download_file, e.low, e.high,
+                               e.denotation, e.where, e.implicit)
+            for o in dev.objects.values() for e in o.entries.values()}
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from([0x2000, 0xA040, 0xA4C0]), st.lists(_TEMPLATE, min_size=1, max_size=2),
+       st.lists(st.tuples(st.integers(0, 1), st.integers(0, 5),
+                          st.sampled_from([None, "", "Sig"])), min_size=1, max_size=6))
+def test_template_path_equals_key_by_key_path(index, templates, subs):
+    """The INI fast path shares templates (and the model builds entries from them);
+    the exact reader shares nothing. Both must give the same entries and problems."""
+    out = [f"[{index:04X}]", "ObjectType=0x8", "ObjFlags=0", "PDOMapping=1"]
+    for s, (which, name_at, denotation) in enumerate(subs, 1):
+        lines = list(templates[which % len(templates)])
+        lines.insert(min(name_at, len(lines)), f"ParameterName=v{s}")
+        if denotation is not None:
+            lines.insert(min(5 - name_at, len(lines)), f"Denotation={denotation}{s}")
+        out += [f"[{index:04X}sub{s:X}]"] + lines
+    text = "\n".join(out) + "\n"
+    fast = ini._parse_fast(text, "t.dcf", "utf-8")
+    if fast is None:
+        return       # e.g. a repeated key: only the exact reader takes the file
+    a, b = model.build(fast), model.build(ini._parse_exact(text, "t.dcf", "utf-8"))
+    assert _fields(a) == _fields(b)
+    assert [p.diagnostic.format() for p in a.problems] == [
+        p.diagnostic.format() for p in b.problems]
