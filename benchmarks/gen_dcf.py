@@ -222,8 +222,11 @@ def _object_list(w: _Writer, name: str, indices: list[int]) -> None:
               *((str(i), f"0x{x:04X}") for i, x in enumerate(indices, 1)))
 
 
-def _network_variables(w: _Writer, kind: Kind, count: int) -> None:
-    """All indices of one kind, 254 variables per index."""
+def _network_variables(w: _Writer, kind: Kind, count: int,
+                       denotations: bool = False) -> None:
+    """All indices of one kind, 254 variables per index; with ``denotations`` each
+    variable also gets a Denotation= of its own (a configured DCF with signal names),
+    so no two variable sections share their text beyond ParameterName."""
     lines = w.lines
     type_hex = f"0x{kind.type_code:04X}"
     element = 0
@@ -250,8 +253,10 @@ def _network_variables(w: _Writer, kind: Kind, count: int) -> None:
                       f"DataType={type_hex}",
                       f"AccessType={kind.access}",
                       "DefaultValue=0",
-                      "PDOMapping=1",
-                      "")
+                      "PDOMapping=1")
+            if denotations:
+                lines.append(f"Denotation=Signal {name}{element + sub:05d}")
+            lines.append("")
         element += n
         index += 1
 
@@ -325,8 +330,9 @@ def _dynamic_channels(w: _Writer, p: Plan) -> None:
     w.section("DynamicChannels", *pairs)
 
 
-def generate(n: int) -> str:
-    """The DCF text for a PLC with n network variables (CRLF line ends)."""
+def generate(n: int, denotations: bool = False) -> str:
+    """The DCF text for a PLC with n network variables (CRLF line ends); see
+    ``_network_variables`` for ``denotations``."""
     if n > MAX_VARS:
         raise ValueError(f"N={n} is too large: with this type mix the highest "
                          f"process-image address must stay <= 0x{MAX_ADDRESS:X}, "
@@ -391,7 +397,7 @@ def generate(n: int) -> str:
     _var(w, "1017", "Producer heartbeat time", 0x06, "rw", 0, 0, 500)
     _pdos(w, counts)
     for kind in sorted(KINDS, key=lambda k: k.start):
-        _network_variables(w, kind, counts[kind])
+        _network_variables(w, kind, counts[kind], denotations)
 
     # Manufacturer objects: two configured PLC parameters.
     _object_list(w, "ManufacturerObjects", manufacturer)
@@ -406,9 +412,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("n", type=int, metavar="N", help="number of network variables")
     ap.add_argument("-o", "--output", metavar="FILE",
                     help="output file (default: standard output)")
+    ap.add_argument("--denotations", action="store_true",
+                    help="give every variable a Denotation= of its own")
     args = ap.parse_args(argv)
     try:
-        data = generate(args.n).encode("ascii")
+        data = generate(args.n, args.denotations).encode("ascii")
     except ValueError as e:
         ap.error(str(e))
     if args.output:

@@ -191,12 +191,13 @@ def run_child(tool: str, path: Path, repeat: int, memory: bool,
     return json.loads(lines[-1])
 
 
-def generate_file(n: int, out_dir: Path) -> Path:
-    """Write plc_N.dcf (skipped when an identical file is already there)."""
+def generate_file(n: int, out_dir: Path, denotations: bool = False) -> Path:
+    """Write plc_N.dcf, or plc_N_denotations.dcf (skipped when an identical file is
+    already there)."""
     from gen_dcf import generate                # HERE is on sys.path (main)
 
-    data = generate(n).encode("ascii")
-    path = out_dir / f"plc_{n}.dcf"
+    data = generate(n, denotations).encode("ascii")
+    path = out_dir / (f"plc_{n}_denotations.dcf" if denotations else f"plc_{n}.dcf")
     if not (path.exists() and path.read_bytes() == data):
         path.write_bytes(data)
     return path
@@ -289,6 +290,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--gc-off", dest="gc_on", action="store_false",
                     help="disable the cyclic GC during timed calls, to see the "
                          "scaling of the code itself")
+    ap.add_argument("--denotations", action="store_true",
+                    help="give every variable a Denotation= of its own, so that no two "
+                         "variable sections share their text beyond ParameterName "
+                         "(dcf2bin's slower path)")
     ap.add_argument("--one", nargs=2, metavar=("TOOL", "PATH"),
                     help=argparse.SUPPRESS)   # internal: child mode
     args = ap.parse_args(argv)
@@ -320,7 +325,7 @@ def main(argv: list[str] | None = None) -> int:
     results: dict[tuple[int, str], dict] = {}
     file_sizes: dict[int, int] = {}
     for n in sizes:
-        path = generate_file(n, args.out_dir)
+        path = generate_file(n, args.out_dir, args.denotations)
         file_sizes[n] = path.stat().st_size
         print(f"N={n}: {path} ({file_sizes[n] / MIB:.2f} MiB)", file=sys.stderr)
         for tool in tools:
@@ -341,7 +346,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"Python {machine['python']}, {machine['cpus']} CPUs, load average "
           f"{machine['loadavg'] or 'n/a'} at the end (timings on a busy machine are noisy)")
     (args.out_dir / "results.json").write_text(json.dumps(
-        {"repeat": args.repeat, "gc": args.gc_on, "machine": machine,
+        {"repeat": args.repeat, "gc": args.gc_on, "denotations": args.denotations,
+         "machine": machine,
          "files": {str(n): file_sizes[n] for n in sizes},
          "results": [results[k] | {"n": k[0]} for k in sorted(results)]},
         indent=2) + "\n")

@@ -146,7 +146,7 @@ class _Selector:
                             self.error(exc)
                             data = b""
                 entries.append((idx, sub, data))
-                # D-9: network variables are created NUMERIC|READ|WRITE|PDO, sub 0 READ
+                # D-9: network variables are created NUMERIC|READ|WRITE|PDO, sub 0 NUMERIC|READ
                 attrs.append((0xF0 if sub else 0x30) if nv else attribute(e))
         self.sel.created = created
         # 2. configuration
