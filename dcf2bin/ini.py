@@ -54,7 +54,9 @@ class Section:
                  denotation: str | None = None):
         self.name = name            # as written
         self.line = line
-        self._values = values if values is not None or rest is not None else {}
+        if values is None and rest is None:
+            values = {}
+        self._values = values       # None: built from ``rest`` when first asked for
         self._keys = keys
         self._text = text           # the file's text; the section's header line starts at _at
         self._at = at
@@ -204,8 +206,11 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             if chunk[-1:] != "]":
                 return None
             name = chunk[:-1]
-        if "\n" in name or "[" in name or "]" in name:
-            return None                        # text after a header, or a broken header
+        if not name.isalnum():                 # "A4C0sub1" needs no more looking at
+            if "\n" in name or "[" in name or "]" in name:
+                return None                    # text after a header, or a broken header
+            if name.strip() != name.strip(" \t"):
+                return None                    # other blanks: canonical_section's business
         # the names differ between the sub-sections of an array: cut their values out,
         # and the rest, with those lines left empty, is the template
         pname, rest = _cut(body, _NAME_KEY, nl)

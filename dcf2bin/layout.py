@@ -193,6 +193,9 @@ class Variable:
     where: Where | None
 
 
+_FIRST_SUB = operator.itemgetter(4)      # a run's first subindex
+
+
 @dataclass
 class Layout:
     input_size: int = 0
@@ -260,8 +263,6 @@ class Layout:
         """D-10: offset from the start of the complete image (or within the area)."""
         return self.addresses[(index, sub)]
 
-
-_FIRST_SUB = operator.itemgetter(4)
 
 
 def compute(dev, *, align: int = 8, pi_size: int | None = None,

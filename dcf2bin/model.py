@@ -515,8 +515,8 @@ class _Builder:
         for s in sorted(subsecs):
             ssec = subsecs[s]
             if s and ssec.param_name is not None:
-                # an entry like one already built but for its name (see _entry), inline:
-            # 60,000 of them in a large PLC file
+                # an entry like one already built but for its names (see _entry),
+                # inline: 60,000 of them in a large PLC file
                 proto = protos.get(id(ssec.rest))
                 if proto is not None:
                     e = entries[s] = Entry(idx, s, ssec.param_name or "", *proto,
@@ -552,8 +552,8 @@ class _Builder:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
         its sub-entries inherit) remembers the fields of an entry whose section shares the
         INI reader's template (``Section.rest``: the same text but for the values of
-        ParameterName and Denotation), so that ``_object`` builds the other 253
-        sub-entries of a network-variable array from them. Only an entry that raised no problem is
+        ParameterName and Denotation), so that ``_object`` builds the other sub-entries
+        of a network-variable array from them. Only an entry that raised no problem is
         remembered: every faulty one reports its own."""
         shape = sec.rest if protos is not None and sec.param_name is not None else None
         problems = len(self.dev.problems)

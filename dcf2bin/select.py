@@ -1,8 +1,8 @@
 """Which entries the index segment writes, in which order (SPEC.md §3.2, D-8).
 
-The result is a list of ``Write``: (index, subindex, data bytes, attribute byte),
-already encoded. Encoding errors of written entries are collected, not raised,
-so one run reports all of them.
+The result is a ``Selection``: the index segment's entries (index, subindex, data
+bytes), already encoded, and their attribute bytes, as two columns. Encoding errors of
+written entries are collected, not raised, so one run reports all of them.
 """
 from __future__ import annotations
 
@@ -48,11 +48,6 @@ class Selection:
     # the network-variable objects, in the order group 1 wrote them (each by subindex):
     # the first occurrence of every variable in the index segment (SPEC §3.4)
     nv_objects: list[int] = field(default_factory=list)
-
-    @property
-    def writes(self) -> list[Write]:
-        """The entries as ``Write`` records, in order."""
-        return [Write(i, s, d, a) for (i, s, d), a in zip(self.entries, self.attrs)]
 
     def wrote(self, index: int, sub: int | None = None) -> bool:
         """Does the index segment write this entry (sub None: any entry of the object)?"""

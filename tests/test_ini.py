@@ -156,3 +156,12 @@ def test_fast_path_cuts_only_whole_lines():
     sec = f.section("2000")
     assert (sec.param_name, sec.denotation) == ("real", None)
     assert sec.get("description") == "see ParameterName=x" and sec.get("notes") == "Denotation=no"
+
+
+@pytest.mark.parametrize("blank", ["\x0b", "\x0c", "\xa0", "\u3000"])
+def test_fast_path_leaves_other_blanks_around_a_header_name_to_the_exact_reader(blank):
+    """canonical_section strips every kind of blank; the fast path only space and tab."""
+    text = f"[1000{blank}]\nA=1\n[1000]\nB=2\n"
+    assert _agree(text) is None
+    f = ini.parse_text(text, "t.dcf")
+    assert [(d.section, d.first_line, d.line) for d in f.duplicates] == [("1000", 1, 3)]
