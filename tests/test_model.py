@@ -1,6 +1,8 @@
 """Building the model from INI text (SPEC §1)."""
 from __future__ import annotations
 
+import pytest
+
 from dcf2bin import datatypes as dt
 from helpers import compile_text, load_text, messages
 
@@ -208,6 +210,34 @@ def test_template_path_equals_key_by_key_path(index, templates, subs):
     if fast is None:
         return       # e.g. a repeated key: only the exact reader takes the file
     a, b = model.build(fast), model.build(ini._parse_exact(text, "t.dcf", "utf-8"))
+    assert _fields(a) == _fields(b)
+    assert [p.diagnostic.format() for p in a.problems] == [
+        p.diagnostic.format() for p in b.problems]
+
+
+from conftest import SAMPLES, corpus_params  # noqa: E402
+
+
+def _fast_read_params():
+    """The corpus files and samples that the INI fast path takes (decided at collection:
+    the others go to the exact reader whole, so there is no template path to compare)."""
+    out = []
+    for param in corpus_params() + [pytest.param(p, id=p.name)
+                                    for p in sorted(SAMPLES.glob("*.dcf"))]:
+        path = param.values[0]
+        if path is not None:
+            text, encoding = ini.decode_bytes(path.read_bytes())
+            if ini._parse_fast(text, str(path), encoding) is None:
+                continue
+        out.append(param)
+    return out
+
+
+@pytest.mark.parametrize("path", _fast_read_params())
+def test_template_path_equals_key_by_key_path_on_real_files(path):
+    text, encoding = ini.decode_bytes(path.read_bytes())
+    a = model.build(ini._parse_fast(text, str(path), encoding))
+    b = model.build(ini._parse_exact(text, str(path), encoding))
     assert _fields(a) == _fields(b)
     assert [p.diagnostic.format() for p in a.problems] == [
         p.diagnostic.format() for p in b.problems]
