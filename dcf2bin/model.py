@@ -471,15 +471,26 @@ class _Builder:
             vals = aux.get((idx, "value"))
             dens = aux.get((idx, "denotation"))
             base_name = obj.name
+            proto = lines = None     # every compact sub-entry is the object's section
             for s in range(1, obj.compact + 1):
                 if s in subsecs:
                     continue
+                if proto is not None:
+                    obj.entries[s] = Entry(idx, s, f"{base_name}{s}", *proto,
+                                           Where(self.path, sec.line), dict(lines), False,
+                                           None)
+                    continue
+                problems = len(dev.problems)
                 e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map, compact=True)
                 e.name = f"{base_name}{s}"
                 e.param = None
                 e.section = None            # its keys are the object's: lines by hand
                 e.lines = {k: sec.line_of(k) for k in sec.values if k != "parametervalue"}
                 obj.entries[s] = e
+                if len(dev.problems) == problems:   # else each reports its own
+                    proto = (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default,
+                             e.param, e.download_file, e.low, e.high, e.denotation)
+                    lines = e.lines
             for kind, asec in (("name", names), ("value", vals), ("denotation", dens)):
                 if asec is None:
                     continue

@@ -53,6 +53,14 @@ def test_compact_sub_obj_with_names_and_values():
     assert dev.entry(0x1016, 2).configured and not dev.entry(0x1016, 1).configured
     assert problems(dev) == ["test.dcf:8: warning: ParameterValue in [1016] of a CompactSubObj "
                              "object is ignored (use [1016Value]) [DCF025]"]
+    # the sub-entries are built from one worked-out entry, each with lines of its own
+    assert [(e.name, e.value_where.line) for e in obj.entries.values()] == [
+        ("Highest sub-index supported", 1), ("HB1", 6), ("Node 2", 14), ("HB3", 6)]
+
+
+def test_compact_sub_obj_without_data_type_reports_every_sub_entry():
+    dev = load_text("[2000]\nParameterName=P\nObjectType=0x8\nAccessType=rw\nCompactSubObj=2\n")
+    assert problems(dev) == ["test.dcf:1: error: [2000] has no DataType [DCF031]"] * 2
 
 
 def test_compact_pdo_creates_implicit_objects():
