@@ -214,9 +214,10 @@ class Layout:
         """SPEC §3.5: complete size, input offset, input size, output offset, output size."""
         return (self.total_size, 0, self.input_size, self.output_offset, self.output_size)
 
-    def _shift(self, ch: Channel) -> int:
-        """D-10: area offsets count from the image start (or, ``area``, from the area's)."""
-        if ch.direction == OUTPUT and self.address_base != "area":
+    def shift(self, area: str) -> int:
+        """D-10: what turns an offset in ``area`` into its address: offsets count from
+        the image start (or, with ``--address-base area``, from the area's)."""
+        if area == OUTPUT and self.address_base != "area":
             return self.output_offset
         return 0
 
@@ -230,7 +231,7 @@ class Layout:
         out: list[int] = []
         for idx in indexes:
             for start, end, ch, _, _, _, _ in sorted(by_index.get(idx, ()), key=_FIRST_SUB):
-                shift = self._shift(ch)
+                shift = self.shift(ch.direction)
                 out.extend(range(start + shift, end + shift, ch.dtype.size))
         return out
 
@@ -241,7 +242,7 @@ class Layout:
             self._addresses = {}
             for start, end, ch, idx, lo, hi, _ in self.spans:
                 if idx is not None:
-                    shift = self._shift(ch)
+                    shift = self.shift(ch.direction)
                     self._addresses.update(zip(zip(repeat(idx), range(lo, hi + 1)),
                                                range(start + shift, end + shift, ch.dtype.size)))
         return self._addresses
@@ -262,7 +263,6 @@ class Layout:
     def address(self, index: int, sub: int) -> int:
         """D-10: offset from the start of the complete image (or within the area)."""
         return self.addresses[(index, sub)]
-
 
 
 def compute(dev, *, align: int = 8, pi_size: int | None = None,
@@ -313,9 +313,12 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
                   Where(dev.path), rule="DCF305")
     # D-10 addresses are worked out from the runs when asked for; here only the check
     # that each fits its WORD (SPEC §2.2), in the order of the variables in their area
-    for area, shift in ((INPUT, 0), (OUTPUT, 0 if address_base == "area" else lay.output_offset)):
+    for area in (INPUT, OUTPUT):
+        shift = lay.shift(area)
         if area in exact:
-            _addresses_each(dev, exact[area], shift)
+            for start, _, _, idx, sub, e in exact[area]:
+                if idx is not None and start + shift > 0xFFFF:
+                    _address_too_big(dev, idx, sub, start + shift, e)
             continue
         for start, end, ch, idx, lo, hi, obj in areas[area]:
             size = ch.dtype.size
@@ -323,22 +326,14 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
                 for sub in range(lo, hi + 1):
                     addr = start + shift + (sub - lo) * size
                     if addr > 0xFFFF:
-                        dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the "
-                                  "WORD of the PI address segment", obj.entries[sub].where, idx,
-                                  sub, rule="DCF306")
+                        _address_too_big(dev, idx, sub, addr, obj.entries[sub])
     lay.spans = areas[INPUT] + areas[OUTPUT]
     return lay
 
 
-def _addresses_each(dev, spans: list[tuple], shift: int) -> None:
-    """The WORD check variable by variable (an area whose variables overlap)."""
-    for start, _, _, idx, sub, e in spans:
-        if idx is None:
-            continue
-        addr = start + shift
-        if addr > 0xFFFF:
-            dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of "
-                      "the PI address segment", e.where, idx, sub, rule="DCF306")
+def _address_too_big(dev, idx: int, sub: int, addr: int, e) -> None:
+    dev.error(f"0x{idx:04X}sub{sub:X}: address 0x{addr:X} does not fit the WORD of the PI "
+              "address segment", e.where, idx, sub, rule="DCF306")
 
 
 def _place_run(obj, ch: Channel, target: list[tuple]) -> bool:

@@ -19,8 +19,6 @@ from dcf2bin.diagnostics import DcfError, Diagnostic, Severity, Where
 NV_FIRST, NV_LAST = 0xA000, 0xAFFF
 RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
 
-_OBJ_RE = re.compile(r"[0-9a-f]{4}")
-_SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]+)")
 _SECTION_RE = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")   # an object or sub-object
 _SUB_HEX = {f"{i:x}": i for i in range(256)}   # canonical subindex texts
 _AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
@@ -481,16 +479,14 @@ class _Builder:
                                            None)
                     continue
                 problems = len(dev.problems)
-                e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map, compact=True)
+                e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map)
                 e.name = f"{base_name}{s}"
                 e.param = None
                 e.section = None            # its keys are the object's: lines by hand
                 e.lines = {k: sec.line_of(k) for k in sec.values if k != "parametervalue"}
                 obj.entries[s] = e
                 if len(dev.problems) == problems:   # else each reports its own
-                    proto = (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default,
-                             e.param, e.download_file, e.low, e.high, e.denotation)
-                    lines = e.lines
+                    proto, lines = _proto(e), e.lines
             for kind, asec in (("name", names), ("value", vals), ("denotation", dens)):
                 if asec is None:
                     continue
@@ -546,7 +542,7 @@ class _Builder:
         ordered = not obj.compact   # so far added by ascending subindex
         if 0 not in obj.entries:
             highest = max((s for s in obj.entries), default=0)
-            ordered = not obj.entries
+            ordered = ordered and not obj.entries   # sub 0 goes last
             obj.entries[0] = Entry(idx, 0, "Highest sub-index supported", dt.UNSIGNED8, "ro",
                                    default=str(obj.compact or highest), where=obj.where,
                                    implicit=True)
@@ -558,7 +554,7 @@ class _Builder:
             obj.entries = dict(sorted(obj.entries.items()))
 
     def _entry(self, idx: int, sub: int, sec: ini_mod.Section, *, obj_flags: int = 0,
-               obj_map: bool = False, sub0: bool = False, compact: bool = False,
+               obj_map: bool = False, sub0: bool = False,
                protos: dict[int, tuple] | None = None) -> Entry:
         """One sub-object. ``protos`` (one dict per object, whose ObjFlags and PDOMapping
         its sub-entries inherit) remembers the fields of an entry whose section shares the
@@ -570,16 +566,14 @@ class _Builder:
         problems = len(self.dev.problems)
         e = self._entry_from(idx, sub, sec, obj_flags, obj_map, sub0)
         if shape is not None and len(self.dev.problems) == problems:
-            # in Entry's field order, after index, sub and name
-            protos[id(shape)] = (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default,
-                                 e.param, e.download_file, e.low, e.high, e.denotation)
+            protos[id(shape)] = _proto(e)
         return e
 
     def _entry_from(self, idx: int, sub: int, sec: ini_mod.Section, obj_flags: int,
                     obj_map: bool, sub0: bool) -> Entry:
         dev = self.dev
         get = sec.values.get  # '' counts as absent
-        # positional, in field order (the order ``protos`` keeps them in)
+        # positional, in field order
         e = Entry(idx, sub, get("parametername") or "", None, None, False, 0,
                   get("defaultvalue") or None, get("parametervalue") or None,
                   get("downloadfile") or None, get("lowlimit") or None,
@@ -712,12 +706,18 @@ def _pdo_flag(text: str | None) -> bool:
     return flag
 
 
+def _proto(e: Entry) -> tuple:
+    """The fields of ``e`` that entries built like it share: Entry's fields after index,
+    sub and name, up to where (``Entry(index, sub, name, *_proto(e), where, ...)``)."""
+    return (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default, e.param,
+            e.download_file, e.low, e.high, e.denotation)
+
+
 def _section_target(canon: str) -> tuple[int | None, int | None]:
-    if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
-        return int(canon, 16), None
-    m = _SUB_RE.fullmatch(canon)
+    m = _SECTION_RE.fullmatch(canon)
     if m:
-        return int(m.group(1), 16), int(m.group(2), 16)
+        obj_hex, sub_hex = m.groups()
+        return int(obj_hex, 16), int(sub_hex, 16) if sub_hex is not None else None
     m = _AUX_RE.fullmatch(canon)
     if m:
         return int(m.group(1), 16), None

@@ -58,11 +58,15 @@ class Selection:
         return (index, sub) in self.emitted
 
 
+# D-9: network variables are created NUMERIC|READ|WRITE|PDO, their sub 0 NUMERIC|READ
+NV_ATTR, NV_SUB0_ATTR = 0xF0, 0x30
+
+
 def attribute_byte(index: int, sub: int, dtype: dt.DataType | None, access: str | None,
                    pdo: bool) -> int:
     """The extended-info attribute byte (SPEC §3.3, D-9); bin2dcf predicts with it too."""
     if NV_FIRST <= index <= NV_LAST:
-        return 0x30 if sub == 0 else 0xF0
+        return NV_ATTR if sub else NV_SUB0_ATTR
     attr = dtype.type_attr if dtype is not None else 0
     attr |= dt.ACCESS_ATTR.get(access or "", 0)
     return attr | dt.ATTR_PDO if pdo else attr
@@ -141,8 +145,7 @@ class _Selector:
                             self.error(exc)
                             data = b""
                 entries.append((idx, sub, data))
-                # D-9: network variables are created NUMERIC|READ|WRITE|PDO, sub 0 NUMERIC|READ
-                attrs.append((0xF0 if sub else 0x30) if nv else attribute(e))
+                attrs.append((NV_ATTR if sub else NV_SUB0_ATTR) if nv else attribute(e))
         self.sel.created = created
         # 2. configuration
         for obj in objs:

@@ -143,6 +143,12 @@ PPOffset1=0, 1
     (nv_objects({0xA8BF: [254]}),
      ["test.dcf:5: error: 0xA8BFsubFE: address 0x1FBF8 does not fit the WORD of the PI "
       "address segment [DCF306]"]),
+    # an area with an overlap is checked variable by variable, the WORD check too
+    (nv_objects({0xA480: [1], 0xA4C0: [1], 0xA8BF: [254]}),
+     ["test.dcf:12: error: 0xA4C0sub1 [bytes 0..0] (line 12) overlaps 0xA480sub1 [bytes 0..0] "
+      "(line 5) in the output area [DCF307]",
+      "test.dcf:19: error: 0xA8BFsubFE: address 0x1FBF8 does not fit the WORD of the PI "
+      "address segment [DCF306]"]),
     ("[A040]\nDataType=0x0005\nAccessType=ro\n",
      ["test.dcf:1: error: [A040] is a VAR; objects in 0xA000-0xAFFF must be ARRAYs [DCF300]"]),
 ])
