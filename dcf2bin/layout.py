@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin import values
 from dcf2bin.diagnostics import Where
+from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 INPUT, OUTPUT = "input", "output"
 PER_INDEX = 254          # SPEC §2.2: subindex 1..254 per index
@@ -165,7 +166,6 @@ def parse_channels(dev) -> list[Channel]:
 
 def attach_channels(dev) -> None:
     """Parse channels and give network variables their range's type and direction."""
-    from dcf2bin.model import NV_FIRST, NV_LAST
     dev.channels = parse_channels(dev)
     for idx, obj in dev.objects.items():
         if not NV_FIRST <= idx <= NV_LAST:
@@ -275,7 +275,6 @@ def compute(dev, *, align: int = 8, pi_size: int | None = None,
     subindex above 254, MaxCnt, an overlap) is worked out variable by variable, so
     each problem names its own variable.
     """
-    from dcf2bin.model import NV_FIRST, NV_LAST
     lay = Layout(address_base=address_base)
     areas: dict[str, list[tuple]] = {INPUT: [], OUTPUT: []}
     for idx in sorted(dev.objects):

@@ -13,31 +13,19 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin import ini as ini_mod
+from dcf2bin import layout
 from dcf2bin import values
 from dcf2bin.diagnostics import DcfError, Diagnostic, Severity, Where
 
-NV_FIRST, NV_LAST = 0xA000, 0xAFFF
-RPDO_COMM, TPDO_COMM = 0x1400, 0x1800
+# The index predicates live in dcf2bin.indexes (a leaf module, so that layout does not
+# import model); they are re-exported here for the modules that use them with the model.
+from dcf2bin.indexes import (NV_FIRST, NV_LAST, RPDO_COMM, TPDO_COMM,  # noqa: E402,F401
+                             is_network_variable_index, is_pdo_comm, is_pdo_mapping,
+                             is_pdo_object)
 
 _SECTION_RE = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")   # an object or sub-object
 _SUB_HEX = {f"{i:x}": i for i in range(256)}   # canonical subindex texts
 _AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
-
-
-def is_network_variable_index(index: int) -> bool:
-    return NV_FIRST <= index <= NV_LAST
-
-
-def is_pdo_comm(index: int) -> bool:
-    return 0x1400 <= index <= 0x15FF or 0x1800 <= index <= 0x19FF
-
-
-def is_pdo_mapping(index: int) -> bool:
-    return 0x1600 <= index <= 0x17FF or 0x1A00 <= index <= 0x1BFF
-
-
-def is_pdo_object(index: int) -> bool:
-    return is_pdo_comm(index) or is_pdo_mapping(index)
 
 
 @dataclass(slots=True)
@@ -341,7 +329,6 @@ class _Builder:
                 self.dev.warning(f"[{sec.name}] has no object section [{idx:04X}]; ignored",
                                  self.w(sec.line), rule="DCF007")
         self._compact_pdo()
-        from dcf2bin import layout
         layout.attach_channels(self.dev)
 
     # -- file-level keys ---------------------------------------------------------------

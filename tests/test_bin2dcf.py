@@ -23,7 +23,7 @@ from conftest import ROOT, SAMPLES, compile_corpus_file, compiling_corpus_params
 from dcf2bin import datatypes as dt
 from dcf2bin import dcfwriter, dump, model, values
 from dcf2bin.cli import main
-from dcf2bin.cli_dump import bin2dcf_main
+from dcf2bin.cli.bin2dcf import bin2dcf_main
 from dcf2bin.compiler import CompileOptions, compile_device, compile_path
 from dcf2bin.container import BinContainer, read
 from test_dump import containers, models

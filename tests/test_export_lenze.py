@@ -350,7 +350,7 @@ def test_cli_option_of_another_format_is_a_usage_error():
 
 
 def test_cli_format_list_matches_the_package():
-    from dcf2bin import cli_export
+    from dcf2bin.cli import export as cli_export
     assert cli_export.FORMATS == FORMATS
 
 

@@ -212,7 +212,7 @@ def test_node_id_keyword():
     assert writes == [Write(0x1800, 1, (0x40000185).to_bytes(4, "little"), 0x70)]
 
 
-# -- with compile --append (wired by cli.py) -------------------------------------------------
+# -- with compile --append (wired by cli/compile.py) -------------------------------------------------
 
 def test_compile_append_adds_the_writes_after_all_groups(tmp_path):
     from dcf2bin.container import BinContainer, read

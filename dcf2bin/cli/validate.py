@@ -10,7 +10,7 @@ import sys
 
 import click
 
-from dcf2bin.clitools import CONTEXT, Failure, guarded, write_output
+from dcf2bin.cli.common import CONTEXT, Failure, guarded, write_output
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -108,6 +108,3 @@ def _write(text: str, output: str, paths) -> None:
         click.echo(text, nl=False)
     else:
         write_output(text, output, [p for p in paths if p != "-"], binary=False)
-
-
-COMMANDS: list = [validate_cmd]

@@ -1,7 +1,7 @@
-"""The command line: a thin click layer, and the only place that exits.
+"""dcf2bin compile: DCF/EDS (or the lossless JSON form) -> binary container.
 
-Imports of the real work (construct, canopen, the model) happen inside the
-commands, so ``dcf2bin --help`` and ``--version`` stay fast.
+Only click and the shared CLI pieces are imported here; the work is imported inside
+the command so that ``dcf2bin --help`` stays fast.
 """
 from __future__ import annotations
 
@@ -9,17 +9,8 @@ import os
 
 import click
 
-from dcf2bin import __version__
-from dcf2bin.clitools import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
 from dcf2bin.diagnostics import ExitCode, Severity
-
-@click.group(context_settings=CONTEXT)
-@click.version_option(__version__, "-V", "--version", prog_name="dcf2bin")
-@click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")
-def main(debug: bool) -> None:
-    """Compile CANopen DCF/EDS files into the SYS TEC binary DCF segment container,
-    inspect containers, and turn them back into text."""
-
 
 # -- compile ------------------------------------------------------------------------------------
 
@@ -31,7 +22,7 @@ def _profile_choice():
     return click.Choice(["cia301", "dis2"])
 
 
-@main.command("compile", context_settings=CONTEXT)
+@click.command("compile", context_settings=CONTEXT)
 @click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
 @click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
               help="Output file ('-' for stdout). Default: INPUT with the suffix .bin.")
@@ -106,11 +97,3 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
             msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
                     f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
         click.echo(msg, err=True)
-
-
-# Commands that live in their own modules (each imports only click at module level).
-from dcf2bin import cli_dump, cli_export, cli_validate  # noqa: E402
-
-for _module in (cli_dump, cli_validate, cli_export):
-    for _command in _module.COMMANDS:
-        main.add_command(_command)

@@ -1,7 +1,7 @@
 """Shared pieces of the command line: exiting, reading inputs, writing outputs.
 
-Every command module (cli.py, cli_dump.py, cli_validate.py, cli_export.py) uses
-these, so errors look and exit the same everywhere. Only click is imported here.
+Every command module of this package uses these, so errors look and exit the same
+everywhere. Only click is imported here.
 """
 from __future__ import annotations
 
@@ -103,3 +103,28 @@ def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: b
         except OSError:
             pass
         fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
+
+
+def read_container(path: str, quiet: bool):
+    """Read and decode a container; a bad one ends with one line naming the byte offset."""
+    from dcf2bin.dump import read_bytes
+    data = read_input(path)
+    name = "<stdin>" if path == "-" else path
+    c, diags = read_bytes(data, name)
+    emit(diags, quiet)
+    if c is None:
+        raise Failure(ExitCode.FINDINGS)
+    return c, name
+
+
+def read_eds(path: str | None, quiet: bool):
+    if path is None:
+        return None, None
+    from dcf2bin.dump import load_eds
+    data = read_input(path)
+    info, dev, errors = load_eds(path, data)
+    if errors:
+        emit([Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
+                         f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); types and "
+                         "names are taken where they could be read", path)], quiet)
+    return info, dev

@@ -1,0 +1,80 @@
+"""dcf2bin bin2dcf (also installed as ``bin2dcf``): a container back into a DCF."""
+from __future__ import annotations
+
+import os
+
+import click
+
+from dcf2bin import __version__
+from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_container,
+                                read_eds, write_output)
+from dcf2bin.cli.dump import EDS, INPUT, QUIET
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+
+def _bin2dcf(input, output, eds, strict, quiet) -> None:
+    from dcf2bin import dcfwriter
+    if output is None:
+        if input == "-":
+            fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
+        output = os.path.splitext(input)[0] + ".dcf"
+        if os.path.exists(output):
+            # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
+            fail(f"{output} exists (often the DCF this container was compiled from); "
+                 "choose the output with -o", code=ExitCode.USAGE)
+    c, name = read_container(input, quiet)
+    info, dev = read_eds(eds, quiet)
+    if output != "-":
+        dcf_name = os.path.basename(output)
+    else:
+        dcf_name = (os.path.splitext(os.path.basename(input))[0] if input != "-" else "stdin") \
+            + ".dcf"
+    res = dcfwriter.convert(c, name, dcf_name=dcf_name, eds=info, eds_device=dev)
+    if strict and not res.roundtrip:
+        emit([Diagnostic(Severity.ERROR if d.rule == dcfwriter.R_SUMMARY else d.severity,
+                         d.message, d.file, d.line, d.column, d.offset, d.rule, d.hint)
+              for d in res.diagnostics], quiet)
+        click.echo(f"{name}: the DCF would not compile back to the same container "
+                   "(--strict), nothing written", err=True)
+        raise Failure(ExitCode.FINDINGS)
+    emit(res.diagnostics, quiet)
+    write_output(res.to_bytes(), output, [input] + ([eds] if eds else []), binary=False)
+
+
+def _bin2dcf_options(fn):
+    for deco in reversed([
+        INPUT,
+        click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
+                     help="Output DCF ('-' for stdout). Default: FILE with the suffix .dcf."),
+        EDS,
+        click.option("--strict", is_flag=True,
+                     help="Fail (exit 1, nothing written) when the DCF would not compile "
+                          "back to the same bytes."),
+        QUIET,
+    ]):
+        fn = deco(fn)
+    return fn
+
+
+_BIN2DCF_HELP = """Turn a binary container back into a DCF (SPEC §4).
+
+One object section per index; ParameterValue is the last value written, comments list
+earlier writes (PDO sequences). Types come from the CiA 405 ranges and the attribute
+bytes, or from --eds. A warning names everything that 'dcf2bin compile' would not turn
+back into the same bytes (use 'dcf2bin dump --format json' for a lossless copy).
+"""
+
+
+@click.command("bin2dcf", context_settings=CONTEXT, help=_BIN2DCF_HELP)
+@_bin2dcf_options
+@guarded
+def bin2dcf_cmd(input, output, eds, strict, quiet):
+    _bin2dcf(input, output, eds, strict, quiet)
+
+
+@click.command("bin2dcf", context_settings=CONTEXT, help=_BIN2DCF_HELP)
+@click.version_option(__version__, "-V", "--version", prog_name="bin2dcf")
+@_bin2dcf_options
+@click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")
+@guarded
+def bin2dcf_main(input, output, eds, strict, quiet, debug):
+    _bin2dcf(input, output, eds, strict, quiet)

@@ -1,0 +1,43 @@
+"""dcf2bin dump: show a binary container as a report or as the lossless JSON form."""
+from __future__ import annotations
+
+import click
+
+from dcf2bin.cli.common import CONTEXT, guarded, read_container, read_eds, write_output
+
+INPUT = click.argument("input", metavar="FILE.bin",
+                        type=click.Path(dir_okay=False, allow_dash=True))
+EDS = click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+                    help="EDS/DCF of the device: exact data types, access and names.")
+QUIET = click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+
+
+# -- dump ---------------------------------------------------------------------------------------
+
+@click.command("dump", context_settings=CONTEXT)
+@INPUT
+@click.option("-f", "--format", "fmt", type=click.Choice(["text", "json"]), default="text",
+              show_default=True, help="text: readable report; json: lossless form that "
+              "'compile' turns back into the same bytes.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
+              help="Output file ('-' for stdout, the default).")
+@click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+              help="EDS/DCF of the device: exact types and names in the text report.")
+@click.option("--full", is_flag=True, help="Show long data in full (text format).")
+@QUIET
+@guarded
+def dump_cmd(input, fmt, output, eds, full, quiet):
+    """Show what a binary container holds: header, entries, attributes, process image.
+
+    The text report decodes values and attribute bits; the JSON form records every
+    byte as stored (repeated writes, undefined attribute bits, odd headers) and is
+    turned back into the same container by 'dcf2bin compile FILE.json'.
+    """
+    from dcf2bin import dump
+    c, name = read_container(input, quiet)
+    if fmt == "json":
+        text = dump.to_json(c)
+    else:
+        info, _ = read_eds(eds, quiet)
+        text = dump.report(c, name, eds=info, full=full)
+    write_output(text, output, [input] + ([eds] if eds else []), binary=False)
