@@ -51,8 +51,20 @@ _INT_RE = re.compile(r"([+-]?)(?:0[xX]([0-9A-Fa-f]+)|(0[0-7]*)|([1-9][0-9]*))")
 _HEX, _OCT, _DEC = "hex", "octal", "decimal"
 
 
+# No CANopen type is wider than 64 bits (20 decimal, 16 hex, 22 octal digits). A literal
+# with more digits than this is refused before it becomes a Python int, so no message
+# ever has to print a number of thousands of digits (Python refuses to turn an int of
+# more than 4300 decimal digits into text) and no check works on a huge one.
+MAX_DIGITS = 64
+
+
 def _literal(text: str) -> tuple[int, str, str]:
     """Parse one integer literal (already trimmed) -> (value, form, sign)."""
+    if len(text) > MAX_DIGITS:
+        body = text[1:] if text[:1] in ("+", "-") else text
+        digits = body[2:] if body[:2] in ("0x", "0X") else body
+        if len(digits) > MAX_DIGITS and digits.isascii() and digits.isalnum():
+            raise ValueProblem(f"integer literal too long ({len(digits)} digits)")
     m = _INT_RE.fullmatch(text)
     if m is None:
         body = text[1:] if text[:1] in ("+", "-") else text
@@ -69,10 +81,7 @@ def _literal(text: str) -> tuple[int, str, str]:
     elif octd is not None:
         value, form = int(octd, 8), _OCT
     else:
-        try:
-            value, form = int(decd), _DEC
-        except ValueError:  # beyond sys.get_int_max_str_digits(); no type is that wide
-            raise ValueProblem(f"integer literal too long ({len(decd)} digits)") from None
+        value, form = int(decd), _DEC
     return (-value if sign == "-" else value), form, sign
 
 
@@ -132,7 +141,9 @@ def eval_int(text: str, node_id: int | None) -> tuple[int, bool]:
 # ---------------------------------------------------------------------------------------
 # Numeric comments (SPEC §1): "only in numeric fields may a number be followed by blanks
 # and a ';' or '#' comment". Without a blank before it, ';'/'#' stays part of the value.
-_COMMENT_RE = re.compile(r"[ \t]+([;#].*)", re.DOTALL)
+# A blank then the marker; the comment's blanks are found from there. (The obvious
+# r"[ \t]+([;#].*)" is quadratic in the length of a run of blanks without a marker.)
+_MARK_RE = re.compile(r"[ \t][;#]")
 
 
 def split_numeric_comment(text: str) -> tuple[str, str | None]:
@@ -143,10 +154,13 @@ def split_numeric_comment(text: str) -> tuple[str, str | None]:
     """
     if ";" not in text and "#" not in text:
         return text, None
-    m = _COMMENT_RE.search(text)
-    if m is None or m.start() == 0:
+    m = _MARK_RE.search(text)
+    if m is None:
         return text, None
-    return text[:m.start()], m.group(1).rstrip(_BLANKS)
+    number = text[:m.start()].rstrip(_BLANKS)
+    if not number:
+        return text, None
+    return number, text[m.start() + 1:].rstrip(_BLANKS)
 
 
 # ---------------------------------------------------------------------------------------
@@ -225,7 +239,8 @@ def _encode_real(dtype: DataType, text: str) -> bytes:
         raise ValueProblem(f"{name} overflow: {t}") from None
 
 
-_FLOAT_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+# (not [0-9]+\.?[0-9]*, which backtracks quadratically on a long run of digits)
+_FLOAT_RE = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 
 
 def _unquote(text: str) -> str:
