@@ -70,7 +70,29 @@ def channel_for(dev, index: int) -> Channel | None:
     return table_channel(index)
 
 
-_RANGE_RE = re.compile(r"\s*(\S+?)\s*-\s*(\S+)\s*")
+def _split_range(text: str) -> tuple[str, str] | None:
+    """'0xSSSS-0xEEEE' (blanks around '-' allowed) -> the two texts, or None. The '-' is
+    the first one after the first character that leaves two blank-free texts, as the
+    pattern \\s*(\\S+?)\\s*-\\s*(\\S+)\\s* would split it -- a pattern that backtracks
+    quadratically on a long value full of '-', so it is done by hand."""
+    words = text.split()
+    if len(words) == 1:
+        w = words[0]
+        i = w.find("-", 1)
+        return (w[:i], w[i + 1:]) if 0 < i < len(w) - 1 else None
+    if len(words) == 2:
+        a, b = words
+        if len(a) > 1 and a[-1] == "-":
+            return a[:-1], b
+        if len(b) > 1 and b[0] == "-":
+            return a, b[1:]
+        return None
+    if len(words) == 3 and words[1] == "-":
+        return words[0], words[2]
+    return None
+
+
+_NUMBERED = re.compile(r"(?:type|dir|range|ppoffset|pioffset|maxcnt)([0-9]+)")
 _DIRS = {"ro": INPUT, "rww": OUTPUT, "rwr": OUTPUT, "rw": OUTPUT}
 
 
@@ -97,7 +119,19 @@ def parse_channels(dev) -> list[Channel]:
                         "(use the numbered form, e.g. PIOffset1)", w(key), rule="DCF311")
     n = num("nrofseg") or 0
     channels: list[Channel] = []
-    for k in range(1, n + 1):
+    segments = range(1, n + 1)
+    if n > len(sec.values):
+        # A segment takes three keys: a count above the number of keys cannot be met, and
+        # it must not drive a loop of its own length. Report it once and look only at the
+        # segments that the section does describe.
+        described = sorted({int(m.group(1)) for m in map(_NUMBERED.fullmatch, sec.values)
+                            if m is not None and len(m.group(1)) < 10})
+        segments = [k for k in described if 1 <= k <= n]
+        dev.error(f"[DynamicChannels] NrOfSeg={n} but the section describes "
+                  f"{len(segments)} segment{'s' if len(segments) != 1 else ''}",
+                  w("nrofseg"), rule="DCF312",
+                  hint="NrOfSeg counts the segments Type<k>/Dir<k>/Range<k>, k = 1..NrOfSeg")
+    for k in segments:
         missing = [name for name in ("Type", "Dir", "Range") if f"{name.lower()}{k}" not in sec.keys]
         if missing:
             dev.error(f"[DynamicChannels] segment {k} lacks {', '.join(m + str(k) for m in missing)}",
@@ -116,11 +150,11 @@ def parse_channels(dev) -> list[Channel]:
             dev.error(f"[DynamicChannels] Dir{k}='{dtext}' must be ro, rw, rwr or rww",
                       w(f"dir{k}"), rule="DCF313")
             continue
-        m = _RANGE_RE.fullmatch(sec.get(f"range{k}") or "")
+        m = _split_range(sec.get(f"range{k}") or "")
         try:
             if not m:
                 raise values.ValueProblem("expected 0xSSSS-0xEEEE")
-            first, last = values.parse_int(m.group(1)), values.parse_int(m.group(2))
+            first, last = values.parse_int(m[0]), values.parse_int(m[1])
             if not 0xA000 <= first <= last <= 0xAFFF:
                 raise values.ValueProblem(f"0x{first:04X}-0x{last:04X} is not an ascending range "
                                           "inside 0xA000-0xAFFF")
