@@ -113,10 +113,23 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         # group 1, which writes each network-variable object whole, by subindex
         c.addresses = lay.addresses_of(sel.nv_objects)
         c.pi = lay.pi_parameters
+    if not c.entries:
+        diags.append(_nothing_to_write(dev, opts))
     segs = c.segments()
     data = c.to_bytes(segs)
     _self_check(data, c, segs)
     return Result(data, diags, dev, c, lay)
+
+
+def _nothing_to_write(dev: model.Device, opts: CompileOptions) -> Diagnostic:
+    """The warning for a container without entries (an EDS, say, compiled as it is)."""
+    if opts.select == select_mod.AUTO:
+        return Diagnostic(Severity.WARNING, "nothing is configured (no ParameterValue or "
+                          "DownloadFile, no network variable): the container holds no entries",
+                          dev.path, rule="DCF009", hint="--select all also writes every "
+                          "DefaultValue (the device's defaults)")
+    return Diagnostic(Severity.WARNING, "no entry has a value: the container holds no entries",
+                      dev.path, rule="DCF009", hint="give the entries a ParameterValue")
 
 
 def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:
