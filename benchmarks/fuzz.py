@@ -56,6 +56,7 @@ except ImportError:  # Windows
 
 CORPUS = ROOT.parent / "shared" / "corpus" / "files"
 MAX_SEED_SIZE = 64 * 1024      # larger seed files make each variant slow, not more varied
+MAX_GROWTH = 4 << 20           # what one duplication may add (bytes)
 
 # -- seeds ------------------------------------------------------------------------------------
 
@@ -134,6 +135,7 @@ def m_dup_line(rng, data, other):
     lines = _lines(data)
     i = rng.randrange(len(lines))
     n = rng.choice([1, 2, 10, 1000, 20000])
+    n = max(1, min(n, MAX_GROWTH // (len(lines[i]) + 1)))   # a variant of at most ~4 MB
     return b"\n".join(lines[:i] + [lines[i]] * n + lines[i:]), f"dup-line x{n}"
 
 
