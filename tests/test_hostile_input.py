@@ -307,6 +307,15 @@ def test_fifo_is_refused_without_blocking(tmp_path):
            "    hint: name a regular file, not a device, pipe or directory\n")
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs os.mkfifo (POSIX)")
+def test_validate_walks_past_a_fifo_in_a_folder(tmp_path):
+    os.mkfifo(tmp_path / "pipe.dcf")
+    (tmp_path / "empty.eds").write_bytes(b"")
+    out = bounded("validate", "-q", str(tmp_path))
+    assert (out.returncode, out.stdout) == (1, f"{tmp_path / 'empty.eds'}: error: the file is "
+                                               "empty [DCF056]\n")
+
+
 @pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="needs /dev/zero")
 def test_device_is_refused(tmp_path):
     src = _domain_dcf(tmp_path / "dcf", "/dev/zero")
