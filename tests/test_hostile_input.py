@@ -145,6 +145,13 @@ def test_every_integer_literal_longer_than_64_digits_is_refused(text):
         parse_int(text)
 
 
+def test_a_long_value_is_cut_in_the_message():
+    text = "[2000]\nParameterName=x\nObjectType=0x9\nSubNumber=" + "x" * 100_000 + "\n"
+    assert errors_of(lint(text.encode(), "t.dcf", active={"DCF020"})) == [
+        "t.dcf:4: error: [2000] SubNumber: invalid integer '" + "x" * 40 + "..." + "x" * 12
+        + " (100000 characters)' [DCF020]"]
+
+
 def test_64_digit_literals_still_read():
     from dcf2bin.values import parse_int
     assert parse_int("0x" + "0" * 63 + "1") == 1
