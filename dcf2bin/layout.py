@@ -63,11 +63,44 @@ def table_channel(index: int) -> Channel | None:
 
 
 def channel_for(dev, index: int) -> Channel | None:
-    """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3)."""
-    for ch in dev.channels:
+    """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3);
+    of overlapping segments (an error) the lowest-numbered."""
+    channels = dev.channels
+    if len(channels) > 8:       # a file may hold thousands: one lookup table, not a scan each
+        cached = dev.__dict__.get("_channel_owner")
+        if cached is None or cached[0] is not channels:
+            cached = dev.__dict__["_channel_owner"] = (channels, _owners(channels))
+        ch = cached[1].get(index)
+        return ch if ch is not None else table_channel(index)
+    for ch in channels:
         if ch.first <= index <= ch.last:
             return ch
     return table_channel(index)
+
+
+def _owners(channels: list[Channel]) -> dict[int, Channel]:
+    """index -> the first channel (in list order) that covers it, each index painted once
+    (a skip list over the 0x1000 indexes of 0xA000-0xAFFF), so overlapping ranges cost
+    no more than disjoint ones."""
+    owner: dict[int, Channel] = {}
+    skip: dict[int, int] = {}                 # a painted index -> the next one to try
+
+    def free(i: int) -> int:
+        path = []
+        while i in skip:
+            path.append(i)
+            i = skip[i]
+        for p in path:
+            skip[p] = i
+        return i
+
+    for ch in channels:
+        i = free(ch.first)
+        while i <= ch.last:
+            owner[i] = ch
+            skip[i] = i + 1
+            i = free(i + 1)
+    return owner
 
 
 def _split_range(text: str) -> tuple[str, str] | None:
@@ -190,11 +223,20 @@ def parse_channels(dev) -> list[Channel]:
         max_count = num(f"maxcnt{k}")
         channels.append(Channel(k, dtype, direction, first, last, offset, max_count,
                                 w(f"range{k}")))
-    for i, a in enumerate(channels):
-        for b in channels[i + 1:]:
-            if a.first <= b.last and b.first <= a.last:
-                dev.error(f"[DynamicChannels] Range{b.number} overlaps Range{a.number} "
-                          f"(line {a.where.line})", b.where, rule="DCF315")
+    # Overlaps in one sweep by first index: each segment that overlaps one before it is
+    # named once, with the segment reaching furthest so far (not every pair: a file of
+    # 2,000 equal ranges would otherwise make two million errors).
+    pairs = []
+    reach = None
+    for ch in sorted(channels, key=lambda c: (c.first, c.number)):
+        if reach is not None and ch.first <= reach.last:
+            pairs.append((max(ch.number, reach.number), min(ch.number, reach.number)))
+        if reach is None or ch.last > reach.last:
+            reach = ch
+    by_number = {ch.number: ch for ch in channels}
+    for b, a in sorted(pairs):
+        dev.error(f"[DynamicChannels] Range{b} overlaps Range{a} "
+                  f"(line {by_number[a].where.line})", by_number[b].where, rule="DCF315")
     return channels
 
 

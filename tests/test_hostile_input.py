@@ -95,6 +95,27 @@ def test_nrofseg_huge_ends_at_once(tmp_path, count):
         f"0 segments [DCF312]\n"))
 
 
+def _segments(n: int) -> str:
+    return "[DynamicChannels]\nNrOfSeg=%d\n" % n + "".join(
+        f"Type{k}=0x0005\nDir{k}=rw\nRange{k}=0xA900-0xA900\n" for k in range(1, n + 1))
+
+
+def test_overlapping_segments_are_named_once_each():
+    res = compile_text(_segments(4))
+    assert messages(res) == [
+        f"test.dcf:{3 * k + 2}: error: [DynamicChannels] Range{k} overlaps Range1 (line 5) "
+        "[DCF315]" for k in (2, 3, 4)]
+
+
+def test_thousands_of_overlapping_segments_end(tmp_path):
+    # every pair would be 4.5 million errors; one per segment is 2,999
+    src = tmp_path / "segs.dcf"
+    src.write_bytes(_segments(3000).encode())
+    out = bounded("compile", "-q", str(src), "-o", str(tmp_path / "segs.bin"))
+    assert out.returncode == 1
+    assert out.stderr.count("[DCF315]") == 2999 and out.stderr.count("\n") == 3000
+
+
 # -- 2. [Comments] Lines= ---------------------------------------------------------------------
 
 @pytest.mark.parametrize("count", ["30000000", "99999999999999999999"])
