@@ -68,7 +68,8 @@ def static_od_indexes(path: str) -> tuple[set[int], list[Diagnostic]]:
         return set(), [Diagnostic(Severity.ERROR, f"cannot read the static OD: {exc.strerror}",
                                   path)]
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR
-              and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010")
+              and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010",
+                                         "DCF008", "DCF056")
               and (p.diagnostic.rule != "DCF010" or p.sub is None)]
     return set(dev.objects), [
         Diagnostic(d.severity, f"static OD: {d.message}", d.file, d.line, d.column, d.offset,

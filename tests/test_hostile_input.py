@@ -276,6 +276,22 @@ EDS = ("[FileInfo]\nFileName=x.eds\n[2000]\nParameterName=A\nObjectType=0x7\n"
        "DataType=0x0005\nAccessType=rw\nDefaultValue=3\n")
 
 
+def test_an_empty_or_binary_static_od_is_an_error(tmp_path):
+    src = tmp_path / "x.dcf"
+    src.write_bytes(EDS.encode() + b"ParameterValue=4\n")
+    static = tmp_path / "static.eds"
+    for data, message in ((b"", "the file is empty"),
+                          (b"\x00" * 64, "the file looks binary, not like EDS/DCF text (64 "
+                                          "control bytes in its first 64, the first at byte "
+                                          "0x0)")):
+        static.write_bytes(data)
+        r = run("compile", "-q", "--static-od", str(static), str(src), "-o", "-")
+        line = "" if data == b"" else ":1"
+        assert (r.exit_code, r.stderr) == (1, f"{static}{line}: error: static OD: {message} "
+                                              f"[{'DCF056' if line == '' else 'DCF008'}]\n"
+                                              f"{src}: 1 error, nothing written\n")
+
+
 def test_nothing_configured_compiles_with_a_warning(tmp_path):
     src = tmp_path / "x.eds"
     src.write_bytes(EDS.encode())
