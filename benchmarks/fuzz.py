@@ -442,6 +442,7 @@ class Runner:
         self.main = main
         self.cli = CliRunner()
         self.timeout = timeout
+        self.current: list[str] = []       # the command running (named when it hangs)
         self.tracemalloc = use_tracemalloc
         self.dir = workdir / "dcf"
         self.dir.mkdir()
@@ -508,6 +509,7 @@ class Runner:
                 if not (self.dir / "out.json").exists():
                     continue
                 cmd = ["compile", "-q", str(self.dir / "out.json"), "-o", str(self.dir / "rt.bin")]
+            self.current = cmd
             code, tb = self.invoke(cmd)
             results.append((cmd, code, tb))
         return results
@@ -562,7 +564,7 @@ def fuzz(seed: int, iterations: int, kind: str = "both", corpus: Path | None = C
             try:
                 results = runner.run_variant(rng, k, data)
             except Hang:
-                results = [(["(variant)"], 70, f"Hang: longer than {timeout} s")]
+                results = [(runner.current, 70, f"Hang: longer than {timeout} s")]
             finally:
                 if old_handler is not None:
                     signal.setitimer(signal.ITIMER_REAL, 0)

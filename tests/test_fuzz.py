@@ -68,3 +68,17 @@ def test_command_line_exit_status(fuzz, capsys):
     out = capsys.readouterr().out
     assert out.startswith("seed 3: 4 variants (container 2, dcf 2), ")
     assert "crashes: 0 (0 distinct)\n" in out
+
+
+@pytest.mark.skipif(not hasattr(__import__("signal"), "setitimer"), reason="needs SIGALRM")
+def test_a_hang_is_reported_with_its_command(fuzz, monkeypatch):
+    import time
+
+    from dcf2bin import compiler
+
+    def stuck(*args, **kwargs):
+        time.sleep(30)
+
+    monkeypatch.setattr(compiler, "compile_path", stuck)
+    report = fuzz.fuzz(seed=1, iterations=1, kind="dcf", corpus=None, timeout=0.5)
+    assert [(c.key, c.command[0]) for c in report.crashes] == [("Hang", "compile")]
