@@ -52,8 +52,12 @@ def render(vm: VarMap, prefix: str = DEFAULT_PREFIX) -> str:
            f"#define {prefix}OUT_SIZE {out_size}u",
            ""]
     for r, ident in zip(vm.rows, identifiers(vm.rows)):
-        macro = _join(prefix, ident.upper()) + "_ADDR"
-        out.append(f"#define {macro} 0x{r.address:04X}u /* {r.dtype.name} {r.label} "
-                   f"{r.direction} {_comment_text(r.name)} */")
+        name = r.name
+        if "*" in name:
+            name = _comment_text(name)
+        if ident[0] == "_" and prefix[-1] == "_":
+            ident = ident[1:]
+        out.append(f"#define {prefix}{ident.upper()}_ADDR 0x{r.address:04X}u /* "
+                   f"{r.dtype.name} {r.label} {r.direction} {name} */")
     out += ["", f"#endif /* {guard} */"]
     return "\n".join(out) + "\n"

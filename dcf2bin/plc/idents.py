@@ -35,6 +35,9 @@ _RUN = re.compile(r"[^A-Za-z0-9]+")
 
 def base_ident(name: str, index: int, sub: int) -> str:
     """The identifier of one name before repeats are counted (D-14)."""
+    if (name.isascii() and name.isidentifier() and name[0] != "_" and name[-1] != "_"
+            and "__" not in name):       # already one: the common case, kept as it is
+        return "nv_" + name if name.upper() in IEC_KEYWORDS else name
     ident = _RUN.sub("_", name).strip("_")
     if not ident:
         return f"nv_{index:04X}_{sub:X}"
@@ -48,15 +51,26 @@ def base_ident(name: str, index: int, sub: int) -> str:
 def identifiers(rows) -> list[str]:
     """One identifier per row, unique without regard to case (D-14)."""
     used: set[str] = set()
+    add = used.add
     out = []
+    append = out.append
+    keywords = IEC_KEYWORDS
     for r in rows:
-        ident = base_ident(r.name, r.index, r.sub)
-        key = ident.upper()
+        name = r.name
+        if (name.isascii() and name.isidentifier() and name[0] != "_" and name[-1] != "_"
+                and "__" not in name):       # already one: the common case
+            key = name.upper()
+            ident = name
+            if key in keywords:
+                ident, key = "nv_" + name, "NV_" + key
+        else:
+            ident = base_ident(name, r.index, r.sub)
+            key = ident.upper()
         if key in used:
             n = 2
             while f"{key}_{n}" in used:
                 n += 1
             ident, key = f"{ident}_{n}", f"{key}_{n}"
-        used.add(key)
-        out.append(ident)
+        add(key)
+        append(ident)
     return out

@@ -47,24 +47,33 @@ def render(vm: VarMap, addressing: str = BYTE) -> tuple[str | None, list[Diagnos
            f"{in_size}; output area offset {out_off} size {out_size} *)",
            f"(* %I = input area, %Q = output area; addresses are {mode} *)",
            "VAR_GLOBAL"]
+    element = addressing == ELEMENT
+    kinds: dict[tuple, tuple[str, str, int]] = {}   # (type, direction) -> (AT, type, unit)
     for r, ident in zip(vm.rows, idents):
-        letter = "I" if r.direction == INPUT else "Q"
-        prefix, iec_type = IEC_TYPES.get(r.dtype.name, ("B", f"ARRAY[0..{r.size - 1}] OF BYTE"))
+        kind = kinds.get((r.dtype, r.direction))
+        if kind is None:
+            letter = "I" if r.direction == INPUT else "Q"
+            prefix, iec_type = IEC_TYPES.get(r.dtype.name,
+                                             ("B", f"ARRAY[0..{r.size - 1}] OF BYTE"))
+            kind = kinds[(r.dtype, r.direction)] = (f"%{letter}{prefix}", iec_type,
+                                                    UNIT[prefix] if element else 1)
+        at, iec_type, unit = kind
         n = r.offset
-        if addressing == ELEMENT:
-            unit = UNIT[prefix]
+        if unit != 1:
             if n % unit:
                 diags.append(Diagnostic(
                     Severity.ERROR, f"{r.label} ({r.dtype.name}) lies at byte {n} of the "
-                    f"{r.direction} area, not a multiple of {unit}: %{letter}{prefix} "
-                    "cannot address it in element addressing",
+                    f"{r.direction} area, not a multiple of {unit}: {at} cannot address it "
+                    "in element addressing",
                     r.where.file if r.where else vm.source, r.where.line if r.where else None,
                     rule=RULE_ALIGN))
                 continue
             n //= unit
-        at = f"%{letter}X{n}.0" if prefix == "X" else f"%{letter}{prefix}{n}"
-        out.append(f"    {ident} AT {at} : {iec_type}; "
-                   f"(* {_comment_text(r.name)} {r.label} *)")
+        name = r.name
+        if "*" in name:
+            name = _comment_text(name)
+        out.append(f"    {ident} AT {at}{n}{'.0' if at[2] == 'X' else ''} : {iec_type}; "
+                   f"(* {name} {r.label} *)")
     out.append("END_VAR")
     if diags:
         return None, diags

@@ -145,7 +145,7 @@ def _svg_bytes(vm: VarMap) -> str:
         body.append(f'<text x="10" y="{y + 14}" font-size="13" font-weight="bold">'
                     f"{_e(_heading(kind, start, size))}</text>")
         y += 22
-        for col in range(min(COLS, size)):
+        for col in range(min(COLS, size) if kind != "padding" else 0):
             body.append(f'<text x="{LEFT + col * CW + CW // 2}" y="{y + 10}" font-size="10" '
                         f'fill="#555555" text-anchor="middle">+{col}</text>')
         y += 14

@@ -18,16 +18,17 @@ def to_text(vm: VarMap) -> str:
            f"  input area   offset {in_off:<6} size {in_size}",
            f"  output area  offset {out_off:<6} size {out_size}",
            ""]
-    head = ("address", "area", "offset", "entry", "size", "type", "name")
-    rows = [(f"0x{r.address:04X}", r.direction, str(r.offset), r.label, str(r.size),
-             r.dtype.name, r.name) for r in vm.rows]
-    widths = [len(h) for h in head]
-    for col, cells in enumerate(zip(*rows)):
-        widths[col] = max(widths[col], max(map(len, cells)))
-    right = {2, 4}
-    fmt = "  ".join(f"{{{i}:{'>' if i in right else '<'}{w}}}" for i, w in enumerate(widths))
-    out.append(fmt.format(*head).rstrip())
-    out.extend(fmt.format(*r).rstrip() for r in rows)
+    rows = vm.rows
+    labels = [r.label for r in rows]
+    w_off = max([len("offset")] + [len(str(r.offset)) for r in rows])
+    w_entry = max([len("entry")] + [len(x) for x in labels])
+    w_type = max([len("type")] + [len(t) for t in {r.dtype.name for r in rows}])
+    w_size = len("size")          # sizes are 1..8
+    out.append(f"address  area    {'offset':>{w_off}}  {'entry':<{w_entry}}  "
+               f"{'size':>{w_size}}  {'type':<{w_type}}  name")
+    out += [f"0x{r.address:04X}   {r.direction:<6}  {r.offset:>{w_off}}  {lab:<{w_entry}}  "
+            f"{r.dtype.size:>{w_size}}  {r.dtype.name:<{w_type}}  {r.name}".rstrip()
+            for r, lab in zip(rows, labels)]
     return "\n".join(out) + "\n"
 
 

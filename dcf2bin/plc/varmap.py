@@ -29,15 +29,18 @@ class Row:
     direction: str          # "input" / "output"
     offset: int             # within its area
     address: int            # from the start of the complete image (D-10 "image")
+    size: int
+    label: str              # 0xA580sub3, as the tool names entries everywhere
     where: Where | None = None
 
-    @property
-    def size(self) -> int:
-        return self.dtype.size
 
-    @property
-    def label(self) -> str:
-        return f"0x{self.index:04X}sub{self.sub:X}"
+_SUB_HEX = [f"{s:X}" for s in range(256)]
+
+
+def make_row(name: str, index: int, sub: int, dtype: dt.DataType, direction: str,
+             offset: int, address: int, where: Where | None = None) -> Row:
+    return Row(name, index, sub, dtype, direction, offset, address, dtype.size,
+               f"0x{index:04X}sub{sub:X}", where)
 
 
 @dataclass
@@ -79,10 +82,12 @@ def from_result(res, source: str) -> VarMap:
         shift = lay.output_offset if direction == OUTPUT else 0
         entries = obj.entries
         off = start
+        prefix = f"0x{idx:04X}sub"
         for sub in range(lo, hi + 1):
             e = entries[sub]
             name = e.denotation or e.name or generated_name(direction, dtype, idx, sub)
-            append(Row(name, idx, sub, dtype, direction, off, off + shift, e.where))
+            append(Row(name, idx, sub, dtype, direction, off, off + shift, size,
+                       prefix + _SUB_HEX[sub], e.where))
             off += size
     total = lay.total_size
     pi = (total, 0, lay.input_size, lay.output_offset, lay.output_size)
@@ -152,7 +157,8 @@ def from_container(c, source: str, *, eds=None, eds_device=None,
                   f"{area_size} bytes){hint}")
             continue
         name = _eds_name(eds, index, sub) or generated_name(direction, dtype, index, sub)
-        vm.rows.append(Row(name, index, sub, dtype, direction, offset, area_off + offset))
+        vm.rows.append(make_row(name, index, sub, dtype, direction, offset,
+                                area_off + offset))
     if any(d.severity is Severity.ERROR for d in diags):
         return None, diags
     vm.rows.sort(key=lambda r: (r.address, r.index, r.sub))
