@@ -266,7 +266,7 @@ def test_compile_format_c_default_name_and_output(tmp_path):
     src.write_bytes((SAMPLES / "bild8.dcf").read_bytes())
     assert run("compile", src, "--format", "c").exit_code == 0
     text = (tmp_path / "9-plc.c").read_text()
-    assert "#define DCF_9_PLC_PI_SIZE 6u\n" in text
+    assert "#define DCF_9_PLC_PI_SIZE 6\n" in text
     assert "const unsigned char dcf_9_plc[127] = {\n" in text
 
 
@@ -278,3 +278,58 @@ def test_compile_format_c_bad_names(args, msg):
     r = run("compile", SAMPLES / "bild8.dcf", "--format", "c", "-o", "-", *args)
     assert r.exit_code == 2 and r.stdout == ""
     assert r.stderr.startswith(f"dcf2bin: error: {msg}")
+
+
+# -- containers: what they cannot say ------------------------------------------------------------
+
+DYN = ("[DynamicChannels]\nNrOfSeg=1\nType1=0x0007\nDir1=rww\nRange1=0xA900-0xA93F\n"
+       "PPOffset1=8\n\n[A900]\nObjectType=0x8\nSubNumber=2\n\n[A900sub1]\n"
+       "ParameterName=Counter\nDataType=0x0007\n\n[A4C0]\nObjectType=0x8\nSubNumber=2\n\n"
+       "[A4C0sub1]\nParameterName=Lamp\n")
+
+
+def test_container_outside_the_405_ranges_needs_the_eds(tmp_path):
+    src = tmp_path / "dyn.dcf"
+    src.write_text(DYN)
+    out = tmp_path / "dyn.bin"
+    assert run("compile", src, "-o", out).exit_code == 0
+    want = ["Lamp,0xA4C0,1,UNSIGNED8,output,0,0,1", "Counter,0xA900,1,UNSIGNED32,output,8,8,4"]
+    assert run("map", src, "-f", "csv").stdout.splitlines()[1:] == want
+    r = run("map", out, "-f", "csv")
+    assert r.exit_code == 1 and r.stdout == ""
+    assert r.stderr.splitlines() == [
+        f"{out}: error: 0xA900sub1: data type unknown (4 bytes, no CiA 405 range of that "
+        "size); give the device's EDS/DCF with --eds [MAP001]"]
+    r = run("map", out, "--eds", src, "-f", "csv")
+    assert r.exit_code == 0
+    assert r.stdout.splitlines()[1:] == want
+
+
+def test_container_without_pi_segments(tmp_path):
+    out = tmp_path / "nopi.bin"
+    assert run("compile", SAMPLES / "plc.dcf", "--no-process-image", "-o", out).exit_code == 0
+    r = run("map", out)
+    assert r.exit_code == 1
+    assert r.stderr.splitlines() == [
+        f"{out}: error: the container has network variables but no PI address or PI "
+        "parameter segment (built with --no-process-image?), so their addresses are unknown "
+        "[MAP001]"]
+
+
+def test_container_on_stdin_and_eds_with_a_dcf_is_usage():
+    r = run("map", "-", "-f", "csv", input=(SAMPLES / "bild8.bin").read_bytes())
+    assert r.exit_code == 0
+    assert r.stdout.splitlines()[4] == "out_UNSIGNED16_A580_3,0xA580,3,UNSIGNED16,output,4,4,2"
+    r = run("map", SAMPLES / "plc.dcf", "--eds", SAMPLES / "plc.dcf")
+    assert r.exit_code == 2
+    assert r.stderr == ("dcf2bin: error: --eds is for a container input; a DCF names its "
+                        "own variables\n")
+
+
+def test_compile_json_dump_as_c(tmp_path):
+    dump = tmp_path / "plc.json"
+    assert run("dump", SAMPLES / "plc.bin", "-f", "json", "-o", dump).exit_code == 0
+    r = run("compile", dump, "--format", "c", "--c-name", "plc_dcf", "--c-decl",
+            "static CONST BYTE ROM", "-o", "-")
+    assert r.exit_code == 0
+    assert r.stdout == (GOLDEN / "plc.c").read_text().replace("from plc.dcf", "from plc.json")

@@ -42,7 +42,7 @@ def allocate_cmd(input, output, into, verbose):
             text, placed, kept = merge(base, into, variables, name)
     except alloc.AllocationError as exc:
         emit(exc.diagnostics)
-        raise Failure(ExitCode.FINDINGS)
+        raise Failure(ExitCode.FINDINGS) from None
     write_output(text, output, [input] + ([into] if into else []), binary=False)
     if verbose:
         for v, idx, sub in kept:

@@ -56,7 +56,7 @@ def render(data: bytes, name: str, *, decl: str = DEFAULT_DECL, source: str = ""
     out = [f"/* DCF segment container{origin}, {len(data)} bytes, made by dcf2bin compile.",
            f" * {name.upper()}_PI_SIZE: size of the process image the container describes",
            " * (0 without PI segments); declare the PI memory with it. */",
-           f"#define {name.upper()}_PI_SIZE {pi_size}u",
+           f"#define {name.upper()}_PI_SIZE {pi_size}",
            "",
            f"{decl} {name}[{len(data)}] = {{"]
     cuts = sorted(starts)

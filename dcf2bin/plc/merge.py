@@ -99,8 +99,7 @@ def merge(base: bytes, base_path: str, variables: list[Var], vars_path: str
 
 def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
     encoding = dev.encoding
-    nl = "\r\n" if b"\r\n" in base else ("\r" if b"\r" in base and b"\n" not in base
-                                         else "\n")
+    nl = "\r\n" if b"\r\n" in base else "\n"     # lines end at LF, as the INI reader counts
     lines = _lines(base)
     replace: dict[int, bytes] = {}       # 0-based line -> new bytes
     after: dict[int, list[str]] = {}     # 0-based line -> text inserted after it

@@ -1,7 +1,7 @@
 /* DCF segment container from bild8.dcf, 127 bytes, made by dcf2bin compile.
  * BILD8_PI_SIZE: size of the process image the container describes
  * (0 without PI segments); declare the PI memory with it. */
-#define BILD8_PI_SIZE 6u
+#define BILD8_PI_SIZE 6
 
 const unsigned char bild8[127] = {
     /* header (40 bytes) */

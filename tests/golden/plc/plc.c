@@ -1,7 +1,7 @@
 /* DCF segment container from plc.dcf, 434 bytes, made by dcf2bin compile.
  * PLC_DCF_PI_SIZE: size of the process image the container describes
  * (0 without PI segments); declare the PI memory with it. */
-#define PLC_DCF_PI_SIZE 16u
+#define PLC_DCF_PI_SIZE 16
 
 static CONST BYTE ROM plc_dcf[434] = {
     /* header (40 bytes) */
