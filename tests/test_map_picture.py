@@ -125,3 +125,15 @@ def test_readme_picture_is_current(tmp_path):
     svg = run("map", SAMPLES / "bild8.dcf", "-f", "svg").stdout
     assert svg == (ROOT / "tests" / "golden" / "plc" / "bild8.map.svg").read_text()
     assert (ROOT / "docs" / "bild8.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_names_are_escaped(tmp_path):
+    csv = tmp_path / "v.csv"
+    csv.write_text('name,type,direction\n"<a&b> ""c""",UNSIGNED8,in\n')
+    dcf = tmp_path / "v.dcf"
+    assert run("allocate", csv, "-o", dcf).exit_code == 0
+    svg = run("map", dcf, "-f", "svg").stdout
+    assert "&lt;a&amp;b&gt; &quot;c&quot;" in svg
+    assert ET.fromstring(svg).tag == SVG + "svg"          # well-formed XML
+    html = run("map", dcf, "-f", "html").stdout
+    assert "<tr><td>&lt;a&amp;b&gt; &quot;c&quot;</td>" in html

@@ -128,10 +128,14 @@ def from_container(c, source: str, *, eds=None, eds_device=None,
     for index, sub, data in c.entries:
         sizes.setdefault((index, sub), len(data))
     vm = VarMap(source, [], tuple(c.pi))
+    channels: dict[int, object] = {}
     for (index, sub), stored in zip(keys, c.addresses):
         label = f"0x{index:04X}sub{sub:X}"
         size = sizes[(index, sub)]
-        ch = channel_for(eds_device, index) if eds_device is not None else table_channel(index)
+        if index not in channels:
+            channels[index] = (channel_for(eds_device, index) if eds_device is not None
+                               else table_channel(index))
+        ch = channels[index]
         dtype = nv_type(index, sub, size, eds)
         if dtype is None and ch is not None and ch.dtype.size == size:
             dtype = ch.dtype
