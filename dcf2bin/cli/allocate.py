@@ -20,9 +20,9 @@ from dcf2bin.diagnostics import ExitCode
 @click.option("-v", "--verbose", is_flag=True, help="Print where each variable went.")
 @guarded
 def allocate_cmd(input, output, into, verbose):
-    """Allocate network variables: VARS.csv (header row name,type,direction) -> DCF.
+    """Place network variables in the CiA 405 ranges and write them as a DCF.
 
-    Per area (input, output), the data types in order of first appearance; each type's
+    VARS.csv starts with the header row name,type,direction. Per area (input, output), the data types in order of first appearance; each type's
     variables take the first free elements of its CiA 405 range after the bytes already
     used, in the order of the list.
     """
