@@ -315,3 +315,30 @@ def test_property_target_builds_the_od(tmp_path, variables):
     assert run("allocate", csv, "-o", dcf).exit_code == 0
     from dcf2bin.compiler import CompileOptions, compile_file
     assert emulate(compile_file(str(dcf), CompileOptions()), TargetOptions()).code == 0
+
+
+@settings(max_examples=50, deadline=None)
+@given(groups=st.lists(st.tuples(st.sampled_from(KINDS), st.sampled_from(["input", "output"]),
+                                 st.integers(1, 16256)), min_size=1, max_size=4))
+def test_property_up_to_the_index_limit(groups):
+    """The library alone, with counts up to a whole range: allocate places every variable
+    where D-15 (written out again here) puts it, and fails exactly when an element lies
+    beyond the type's 0x40 indices, naming the first variable that does not fit."""
+    from dcf2bin.plc.allocate import AllocationError, Var, allocate
+    from dcf2bin import datatypes as dt
+    variables = [(f"v{i}_{j}", t, d) for i, (t, d, n) in enumerate(groups) for j in range(n)]
+    want = expected_d15(variables)
+    kind = {n: (t, d) for n, t, d in variables}
+    over = [n for n in kind if want[n][0] - RANGE[kind[n]] >= 0x40]     # in list order
+    vs = [Var(n, dt.BY_NAME[t], d, k + 2) for k, (n, t, d) in enumerate(variables)]
+    if not over:
+        placed = allocate(vs, "v.csv")
+        assert {p.var.name: (p.index, p.sub, p.offset) for p in placed} == want
+    else:
+        with pytest.raises(AllocationError) as exc:
+            allocate(vs, "v.csv")
+        firsts = {}
+        for n in over:                     # the first one of each kind that does not fit
+            firsts.setdefault(kind[n], n)
+        assert sorted(dg.message.split("'")[1] for dg in exc.value.diagnostics) == \
+            sorted(firsts.values())
