@@ -32,6 +32,12 @@ class CompileOptions:
     allow_external_files: bool = False
     profile: str = "cia301"
     append: tuple[str, ...] = ()              # extra-writes files, added after all groups
+    # the DynBuildOd check of what is written (SPEC §8, D-11): "error", "warning" or "off"
+    target_check: str = "error"
+    tx_cobs: int | None = None
+    rx_cobs: int | None = None
+    granularity: int = 64
+    bit_mapping: bool = True
 
 
 @dataclass
@@ -41,6 +47,8 @@ class Result:
     device: model.Device | None = None
     container: BinContainer | None = None
     layout: layout_mod.Layout | None = None
+    selection: select_mod.Selection | None = None   # what the index segment writes
+    extra: list = field(default_factory=list)       # the --append writes, after it
 
     @property
     def ok(self) -> bool:
@@ -116,7 +124,32 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     segs = c.segments()
     data = c.to_bytes(segs)
     _self_check(data, c, segs)
-    return Result(data, diags, dev, c, lay)
+    found = target_check(dev, sel, c, opts, extra)
+    if found:
+        diags.extend(found)
+        if any(d.severity is Severity.ERROR for d in found):
+            return Result(None, diags, dev, None, lay)
+    return Result(data, diags, dev, c, lay, sel, extra)
+
+
+def target_options(opts: CompileOptions):
+    from dcf2bin.target import TargetOptions
+    return TargetOptions(pi_size=opts.pi_size, tx_cobs=opts.tx_cobs, rx_cobs=opts.rx_cobs,
+                         granularity=opts.granularity, bit_mapping=opts.bit_mapping,
+                         address_base=opts.address_base)
+
+
+def target_check(dev: model.Device, sel, c: BinContainer, opts: CompileOptions,
+                 extra=()) -> list[Diagnostic]:
+    """Run the DynBuildOd emulation on the container just built (SPEC §8.1, D-11): the
+    DCF's objects minus the creation group are the static OD. A failure is an error (or
+    a warning with --no-target-check) at the DCF line of the offending value."""
+    if opts.target_check == "off":
+        return []
+    from dcf2bin.target import check
+    out = check.run(dev, sel, c, target_options(opts), list(extra))
+    severity = Severity.ERROR if opts.target_check == "error" else Severity.WARNING
+    return check.diagnostics(out, dev.path, severity)
 
 
 def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:
