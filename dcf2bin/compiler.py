@@ -87,8 +87,6 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     static, static_errors = (static_od_indexes(opts.static_od) if opts.static_od
                              else (None, []))
     lay = None
-    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
-                 for i, o in dev.objects.items())
     if any(model.is_network_variable_index(i) for i in dev.objects):
         lay = layout_mod.compute(dev, align=opts.pi_align, pi_size=opts.pi_size,
                                  address_base=opts.address_base)
@@ -112,15 +110,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
             diags.extend(exc.diagnostics)
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
-    # extra writes (--append) come after every D-8 group and get no PI address
-    c = BinContainer(entries=sel.entries + [(w.index, w.sub, w.data) for w in extra],
-                     attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
-                     version=opts.container_version)
-    if lay is not None and has_nv and opts.process_image:
-        # SPEC §3.4: index-segment order, first occurrence of each variable; that is
-        # group 1, which writes each network-variable object whole, by subindex
-        c.addresses = lay.addresses_of(sel.nv_objects)
-        c.pi = lay.pi_parameters
+    c = container_of(dev, sel, lay, opts, extra)
     segs = c.segments()
     data = c.to_bytes(segs)
     _self_check(data, c, segs)
@@ -130,6 +120,29 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         if any(d.severity is Severity.ERROR for d in found):
             return Result(None, diags, dev, None, lay)
     return Result(data, diags, dev, c, lay, sel, extra)
+
+
+def container_of(dev: model.Device, sel, lay, opts: CompileOptions, extra=()) -> BinContainer:
+    """The container of a selection and layout (validate builds it too, for its TGT rules)."""
+    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
+                 for i, o in dev.objects.items())
+    # extra writes (--append) come after every D-8 group and get no PI address
+    c = BinContainer(entries=sel.entries + [(w.index, w.sub, w.data) for w in extra],
+                     attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
+                     version=opts.container_version)
+    if lay is not None and has_nv and opts.process_image:
+        # SPEC §3.4: index-segment order, first occurrence of each variable; that is
+        # group 1, which writes each network-variable object whole, by subindex
+        c.addresses = lay.addresses_of(sel.nv_objects)
+        c.pi = lay.pi_parameters
+    return c
+
+
+def blocked(dev: model.Device, sel) -> bool:
+    """Would compile stop before writing (an error that touches what it writes)?"""
+    return bool(sel.errors) or any(
+        p.diagnostic.severity is Severity.ERROR and (p.index is None or sel.wrote(p.index, p.sub))
+        for p in dev.problems)
 
 
 def target_options(opts: CompileOptions):

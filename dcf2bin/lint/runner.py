@@ -189,27 +189,38 @@ class _Run:
         if ok:
             for d in sel.errors:
                 self.core.append(self._core(d, d.rule or "DCF099"))
-        if ok and self.target_wanted():
-            # last: compile_device adds its own layout/selection problems to the model
-            self.guard("the target emulation", self.target_dcf, dev)
+        if ok and self.target_wanted() and (ctx.layout is not None or not any(
+                model.is_network_variable_index(i) for i in dev.objects)):
+            self.guard("the target emulation", self.target_dcf, dev, sel, ctx.layout)
         self.finish()
 
     def target_wanted(self) -> bool:
         return self.opts.target_check and any(r.startswith("TGT") for r in self.active)
 
-    def target_dcf(self, dev) -> None:
-        """TGT0xx on a DCF: compile it as ``compile`` does and keep what its DynBuildOd
-        check finds (nothing when compile stops on other errors first), SPEC §8.1."""
-        from dcf2bin.compiler import CompileOptions, compile_device
+    def target_dcf(self, dev, sel, lay) -> None:
+        """TGT0xx on a DCF: the container ``compile`` would write, checked as compile checks
+        it (SPEC §8.1); nothing when compile would stop on other errors first."""
+        import gc
+
+        from dcf2bin import compiler
+        if compiler.blocked(dev, sel):
+            return
         o = self.opts
-        res = compile_device(dev, CompileOptions(
+        opts = compiler.CompileOptions(
             node_id=o.node_id, pi_align=o.pi_align, pi_size=o.pi_size,
             address_base=o.address_base, allow_external_files=o.allow_external_files,
             profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
-            granularity=o.granularity, bit_mapping=o.bit_mapping))
-        for d in res.diagnostics:
-            if d.rule.startswith("TGT"):
-                self.core.append(self._core(d, d.rule))
+            granularity=o.granularity, bit_mapping=o.bit_mapping)
+        was_enabled = gc.isenabled()
+        gc.disable()        # as compile_path: no reference cycles worth a full rescan here
+        try:
+            found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
+                                          opts)
+        finally:
+            if was_enabled:
+                gc.enable()
+        for d in found:
+            self.core.append(self._core(d, d.rule))
 
     def target_container(self, data: bytes) -> None:
         """TGT0xx on a container: the emulation without a static OD. A container the
