@@ -336,12 +336,15 @@ class _Engine:
 
     # -- step 3 ----------------------------------------------------------------------------
     def entries(self) -> None:
+        """Entry by entry: check it (existence, size, PDO semantics), then apply it. A
+        failing entry is not applied."""
         attrs = self.c.attributes
         static = self.static
         cur = self.cur
         for pos, (index, sub, data) in enumerate(self.c.entries):
             subs = cur.get(index)
             rec = subs.get(sub) if subs is not None else None
+            create = False
             if rec is None:
                 st = static.entry(index, sub) if static is not None else None
                 if st is not None:
@@ -349,23 +352,13 @@ class _Engine:
                     if fixed is not None and len(data) != fixed:
                         raise _Fail(C.INVALID_CONFIG, f"{len(data)} data bytes written into a "
                                                       f"{st.dtype.name} of {fixed} bytes", pos)
-                    if subs is None:
-                        subs = cur[index] = {}
-                    subs[sub] = (None, data, st)
+                    new = (None, data, st)
                 elif attrs is not None:
-                    attr = attrs[pos]
-                    if subs is None:
-                        subs = cur[index] = {}
-                        if static is None or not static.has(index):
-                            self.created_objects.append(index)
-                    subs[sub] = (attr, data, None)
-                    self.n_created += 1
-                    self.created_bytes += len(data)
+                    new = (attrs[pos], data, None)
+                    create = True
                 elif static is None:
                     self.warn("assumed")
-                    if subs is None:
-                        subs = cur[index] = {}
-                    subs[sub] = (None, data, None)
+                    new = (None, data, None)
                 elif subs is None and not static.has(index):
                     raise _Fail(C.INDEX_NOT_EXIST, f"object 0x{index:04X} does not exist and "
                                 "cannot be created without an extended info segment", pos)
@@ -387,9 +380,17 @@ class _Engine:
                                                   f"{tname} of {fixed} bytes", pos)
                 if attr is not None and st is None:
                     self.created_bytes += len(data) - len(old)
-                subs[sub] = (attr, data, st)
+                new = (attr, data, st)
             if 0x1400 <= index <= 0x1BFF:
                 self.pdo_write(pos, index, sub, data)
+            if subs is None:
+                subs = cur[index] = {}
+                if create and (static is None or not static.has(index)):
+                    self.created_objects.append(index)
+            if create:
+                self.n_created += 1
+                self.created_bytes += len(data)
+            subs[sub] = new
             self.applied = pos + 1
 
     # -- CiA 301 PDO semantics -------------------------------------------------------------
