@@ -178,6 +178,7 @@ class _Engine:
         self.nv_first: list[int] = []                   # positions of first NV occurrences
         self.image: list[int] | None = None             # image address per NV (address order)
         self.applied = 0
+        self.creating: int | None = None                # the index the current entry creates
 
     # -- helpers ---------------------------------------------------------------------------
     def warn(self, key: str) -> None:
@@ -382,6 +383,7 @@ class _Engine:
                     self.created_bytes += len(data) - len(old)
                 new = (attr, data, st)
             if 0x1400 <= index <= 0x1BFF:
+                self.creating = index if create else None
                 self.pdo_write(pos, index, sub, data)
             if subs is None:
                 subs = cur[index] = {}
@@ -517,7 +519,7 @@ class _Engine:
         for k in range(1, n + 1):
             rec = self.record(index, k)
             if rec is None:
-                if self.static is None and index not in self.cur:
+                if self.static is None and index not in self.cur and index != self.creating:
                     self.warn(f"mapping:{index:04X}")
                     continue
                 raise _Fail(C.SUBINDEX_NOT_EXIST, f"sub 0 = {n}, but the mapping has no "
