@@ -10,7 +10,7 @@ index; the public ``TargetEntry`` objects of ``Outcome.od`` are built only when 
 """
 from __future__ import annotations
 
-from bisect import bisect_right, insort
+import gc
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
@@ -230,6 +230,8 @@ class _Engine:
             out.code, out.reason = f.code, f.reason
             if f.pos is not None:
                 self.locate(out, f.pos)
+                if out.step == "entries":
+                    self.applied = f.pos
         out.entries_applied = self.applied
         out.created = Created(sorted(self.created_objects), self.n_created, self.created_bytes)
         out.warnings = self.warning_texts()
@@ -258,14 +260,14 @@ class _Engine:
         if c.attributes is not None and len(c.attributes) != n:
             raise _Fail(C.INVALID_CONFIG, f"the extended info segment has {len(c.attributes)} "
                                           f"attribute bytes for {n} index entries")
-        seen: set[int] = set()
+        # first occurrence of each network variable (SPEC §3.4): built in C -- a dict from
+        # the reversed keys keeps, for every key, the smallest position
+        keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else -1
+                for index, sub, _ in entries]
+        firsts = dict(zip(reversed(keys), range(n - 1, -1, -1)))
+        firsts.pop(-1, None)
         first = self.nv_first
-        for pos, (index, sub, _) in enumerate(entries):
-            if NV_FIRST <= index <= NV_LAST and sub:
-                key = index << 8 | sub
-                if key not in seen:
-                    seen.add(key)
-                    first.append(pos)
+        first.extend(sorted(firsts.values()))
         addrs = c.addresses or None
         if addrs is not None and len(addrs) != len(first):
             raise _Fail(C.INVALID_CONFIG, f"the PI address segment holds {len(addrs)} "
@@ -292,45 +294,33 @@ class _Engine:
             image = list(addrs)
         self.image = image
         sizes = [len(entries[p][2]) for p in first]
-        if pi is not None:
-            total = pi[0]
-            for i, (a, s) in enumerate(zip(image, sizes)):
-                if a + s > total:
-                    p = first[i]
-                    raise _Fail(C.INVALID_CONFIG, f"network variable at PI address {a} with "
-                                                  f"{s} bytes ends beyond the PI size {total}", p)
-        # overlaps: a quick sorted sweep first; the exact "first in address order" search
-        # only when there is one
-        spans = sorted((a, a + s) for a, s in zip(image, sizes) if s)
-        reach = -1
-        clash = False
-        for a, e in spans:
-            if a < reach:
-                clash = True
-                break
-            reach = max(reach, e)
-        if clash:
-            self.find_overlap(image, sizes)
+        total = pi[0] if pi is not None else None
+        # variable by variable in address order: beyond the image, then overlapping an
+        # earlier one; a byte map of the image answers "is any of these bytes taken?" in C
+        taken = bytearray(max(a + z for a, z in zip(image, sizes)) if image else 0)
+        find = taken.find
+        ones = b"\x01" * 16
+        for i, a in enumerate(image):
+            z = sizes[i]
+            e = a + z
+            if total is not None and e > total:
+                raise _Fail(C.INVALID_CONFIG, f"network variable at PI address {a} with "
+                                              f"{z} bytes ends beyond the PI size {total}",
+                            first[i])
+            if z:
+                if find(1, a, e) >= 0:
+                    self.overlap(i, image, sizes)
+                taken[a:e] = ones[:z] if z <= 16 else b"\x01" * z
 
-    def find_overlap(self, image: list[int], sizes: list[int]) -> None:
-        starts: list[tuple[int, int, int]] = []     # (start, end, variable number), disjoint
-        for i, (a, s) in enumerate(zip(image, sizes)):
-            if not s:
-                continue
-            e = a + s
-            k = bisect_right(starts, (a, float("inf"), 0))
-            hit = None
-            if k and starts[k - 1][1] > a:
-                hit = starts[k - 1]
-            elif k < len(starts) and starts[k][0] < e:
-                hit = starts[k]
-            if hit is not None:
-                p, q = self.first_entry(i), self.first_entry(hit[2])
+    def overlap(self, i: int, image: list[int], sizes: list[int]) -> None:
+        a, e = image[i], image[i] + sizes[i]
+        for j in range(i):
+            b, f = image[j], image[j] + sizes[j]
+            if sizes[j] and b < e and a < f:
+                q = self.first_entry(j)
                 raise _Fail(C.INVALID_CONFIG,
                             f"PI bytes {a}..{e - 1} overlap those of "
-                            f"0x{q[0]:04X}sub{q[1]:X} ({hit[0]}..{hit[1] - 1})",
-                            self.nv_first[i])
-            insort(starts, (a, e, i))
+                            f"0x{q[0]:04X}sub{q[1]:X} ({b}..{f - 1})", self.nv_first[i])
 
     def first_entry(self, i: int) -> tuple:
         return self.c.entries[self.nv_first[i]]
@@ -342,12 +332,18 @@ class _Engine:
         attrs = self.c.attributes
         static = self.static
         cur = self.cur
+        last = None
+        subs = sdict = None
+        no_static: dict = {}
         for pos, (index, sub, data) in enumerate(self.c.entries):
-            subs = cur.get(index)
+            if index != last:           # entries come in runs of one index: look it up once
+                last = index
+                subs = cur.get(index)
+                sdict = static.entries(index) if static is not None else no_static
             rec = subs.get(sub) if subs is not None else None
             create = False
             if rec is None:
-                st = static.entry(index, sub) if static is not None else None
+                st = sdict.get(sub)
                 if st is not None:
                     fixed = static.fixed_size(st)
                     if fixed is not None and len(data) != fixed:
@@ -393,7 +389,7 @@ class _Engine:
                 self.n_created += 1
                 self.created_bytes += len(data)
             subs[sub] = new
-            self.applied = pos + 1
+        self.applied = len(self.c.entries)
 
     # -- CiA 301 PDO semantics -------------------------------------------------------------
     def pdo_write(self, pos: int, index: int, sub: int, data: bytes) -> None:
@@ -646,7 +642,14 @@ def emulate(container, options: TargetOptions | None = None, static=None,
     """Run DynBuildOd on ``container`` (a ``BinContainer``). ``static``: a ``StaticOD`` or
     None (unknown, SPEC §8.1); ``sources``: 1-based entry position -> DCF file:line (a
     mapping with ``get``, or a callable)."""
-    return _Engine(container, options or TargetOptions(), static, sources).run()
+    # like compile_path: tens of thousands of small tuples and no cycles worth collecting
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        return _Engine(container, options or TargetOptions(), static, sources).run()
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 def emulate_bytes(data: bytes, options: TargetOptions | None = None, static=None) -> Outcome:
