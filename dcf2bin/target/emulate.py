@@ -166,6 +166,8 @@ class _Engine:
         self.c = c
         self.opts = opts
         self.static = static
+        # unknown (no static OD) or partial: what it lacks may still be on the target
+        self.partial = static is None or not static.complete
         self.sources = sources
         self.cur: dict[int, dict[int, tuple]] = {}
         self.created_objects: list[int] = []
@@ -189,7 +191,7 @@ class _Engine:
         wrote the index."""
         if index in self.cur or (self.static is not None and self.static.has(index)):
             return True
-        return None if self.static is None else False
+        return None if self.partial else False
 
     def record(self, index: int, sub: int):
         """(attr, data, static entry) of an entry as it stands, or None."""
@@ -353,7 +355,7 @@ class _Engine:
                 elif attrs is not None:
                     new = (attrs[pos], data, None)
                     create = True
-                elif static is None:
+                elif self.partial:
                     self.warn("assumed")
                     new = (None, data, None)
                 elif subs is None and not static.has(index):
@@ -462,7 +464,7 @@ class _Engine:
                                        direction)
         rec = self.record(m_idx, m_sub)
         if rec is None:
-            if self.static is None and m_idx not in self.created_objects:
+            if self.partial and m_idx not in self.created_objects:
                 self.warn(f"mapped:{label}")
                 return None
             if self.exists_index(m_idx):
@@ -515,7 +517,7 @@ class _Engine:
         for k in range(1, n + 1):
             rec = self.record(index, k)
             if rec is None:
-                if self.static is None and index not in self.cur and index != self.creating:
+                if self.partial and index not in self.cur and index != self.creating:
                     self.warn(f"mapping:{index:04X}")
                     continue
                 raise _Fail(C.SUBINDEX_NOT_EXIST, f"sub 0 = {n}, but the mapping has no "

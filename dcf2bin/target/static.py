@@ -10,14 +10,19 @@ from dcf2bin import datatypes as dt
 
 
 class StaticOD:
-    def __init__(self, dev, exclude: set[int] | frozenset[int] = frozenset()):
+    """``complete`` False: the objects are known to exist, but what is absent may exist on
+    the target too (a DCF that bin2dcf wrote describes a container, not the device)."""
+
+    def __init__(self, dev, exclude: set[int] | frozenset[int] = frozenset(),
+                 complete: bool = True):
         self.dev = dev
         self.exclude = exclude
+        self.complete = complete
         self._objects = dev.objects
 
     @classmethod
     def from_device(cls, dev, exclude=frozenset()) -> "StaticOD":
-        return cls(dev, set(exclude))
+        return cls(dev, set(exclude), complete=not converted_from_container(dev))
 
     @classmethod
     def from_eds(cls, path: str, data: bytes | None = None) -> "StaticOD":
@@ -66,4 +71,14 @@ class StaticOD:
         return t.size
 
 
-__all__ = ["StaticOD"]
+def converted_from_container(dev) -> bool:
+    """Was this DCF written by ``bin2dcf`` (``[FileInfo] CreatedBy=dcf2bin bin2dcf``)? It holds
+    only what a container writes, not the device's other objects."""
+    ini = getattr(dev, "ini", None)
+    sec = ini.section("fileinfo") if ini is not None else None
+    if sec is None or not sec.has("createdby"):
+        return False
+    return (sec.get("createdby") or "").strip().lower() == "dcf2bin bin2dcf"
+
+
+__all__ = ["StaticOD", "converted_from_container"]
