@@ -255,3 +255,35 @@ def test_simulate_help_does_not_import_heavy_modules():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={**os.environ, "NO_COLOR": "1"})
     assert out.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_bin2dcf_output_compiles_back_with_the_check_on(tmp_path):
+    """A DCF that bin2dcf wrote holds the container, not the device: what it lacks (a mapped
+    object of the device's static OD) is not checked, so SPEC §4's round trip holds."""
+    src = tmp_path / "m.dcf"
+    src.write_text("[DeviceComissioning]\nNodeID=1\n\n"
+                   "[1800]\nObjectType=0x9\n[1800sub0]\nDataType=0x0005\nAccessType=ro\n"
+                   "DefaultValue=2\n[1800sub1]\nDataType=0x0007\nAccessType=rw\n"
+                   "ParameterValue=$NODEID+0x180\n[1800sub2]\nDataType=0x0005\nAccessType=rw\n"
+                   "DefaultValue=255\n[1A00]\nObjectType=0x9\n[1A00sub0]\nDataType=0x0005\n"
+                   "AccessType=rw\nParameterValue=1\n[1A00sub1]\nDataType=0x0007\n"
+                   "AccessType=rw\nParameterValue=0x60000108\n")
+    r = run("compile", src, "-o", tmp_path / "a.bin")
+    assert r.exit_code == 1
+    assert "the mapped object 0x6000 does not exist" in r.stderr
+    assert run("compile", src, "--no-target-check", "-o", tmp_path / "a.bin").exit_code == 0
+    assert run("bin2dcf", tmp_path / "a.bin", "-o", tmp_path / "b.dcf").exit_code == 0
+    r = run("compile", tmp_path / "b.dcf", "-o", tmp_path / "b.bin")
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert (tmp_path / "b.bin").read_bytes() == (tmp_path / "a.bin").read_bytes()
+
+
+def test_pdo_sequence_none_that_writes_a_valid_pdos_mapping_is_refused():
+    """--pdo-sequence none writes the COB-ID before the mapping: CiA 301 forbids changing
+    the mapping of a valid PDO, so the target would return 0x78."""
+    r = run("compile", SAMPLES / "plc.dcf", "--pdo-sequence", "none", "-o", "-")
+    assert r.exit_code == 1
+    assert r.stderr.splitlines()[0] == (
+        f"{SAMPLES / 'plc.dcf'}:160: error: 0x1600sub0 = 0x06: the mapping of RPDO1 (0x1400) "
+        "is changed while the PDO is valid (set COB-ID bit 31 first); would make DynBuildOd "
+        "return 0x78 kCopPdoErrorMapp [TGT078]")
