@@ -9,8 +9,8 @@ import sys
 
 import pytest
 from click.testing import CliRunner
-
 from conftest import SAMPLES
+
 from dcf2bin.cli import main
 
 PLC = (SAMPLES / "plc.dcf").read_text()

@@ -6,8 +6,8 @@ from __future__ import annotations
 import struct
 
 import pytest
-
 from conftest import SAMPLES
+
 from dcf2bin import model
 from dcf2bin.container import BinContainer, read
 from dcf2bin.target import StaticOD, TargetOptions, emulate, emulate_bytes

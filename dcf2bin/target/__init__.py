@@ -11,10 +11,31 @@ Never imports click: ``compile``, ``validate`` and ``simulate`` all use this pac
 from __future__ import annotations
 
 from dcf2bin.target.codes import MEANINGS, NAMES, rule_id
-from dcf2bin.target.emulate import (Created, Descriptor, Outcome, Pdo, TargetEntry,
-                                    TargetOptions, can_id_problem, emulate, emulate_bytes)
+from dcf2bin.target.emulate import (
+                                    Created,
+                                    Descriptor,
+                                    Outcome,
+                                    Pdo,
+                                    TargetEntry,
+                                    TargetOptions,
+                                    can_id_problem,
+                                    emulate,
+                                    emulate_bytes,
+)
 from dcf2bin.target.static import StaticOD
 
-__all__ = ["MEANINGS", "NAMES", "rule_id", "Created", "Descriptor", "Outcome", "Pdo",
-           "TargetEntry", "TargetOptions", "StaticOD", "can_id_problem", "emulate",
-           "emulate_bytes"]
+__all__ = [
+                                    "MEANINGS",
+                                    "NAMES",
+                                    "Created",
+                                    "Descriptor",
+                                    "Outcome",
+                                    "Pdo",
+                                    "StaticOD",
+                                    "TargetEntry",
+                                    "TargetOptions",
+                                    "can_id_problem",
+                                    "emulate",
+                                    "emulate_bytes",
+                                    "rule_id",
+]

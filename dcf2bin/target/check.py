@@ -72,4 +72,4 @@ def diagnostics(out: Outcome, path: str, severity: Severity = Severity.ERROR) ->
                             "see dcf2bin-simulate(1)")]
 
 
-__all__ = ["Sources", "run", "diagnostics", "message", "value_text"]
+__all__ = ["Sources", "diagnostics", "message", "run", "value_text"]

@@ -46,4 +46,4 @@ def name(code: int) -> str:
     return NAMES.get(code, f"0x{code:02X}")
 
 
-__all__ = ["NAMES", "MEANINGS", "rule_id", "name"]
+__all__ = ["MEANINGS", "NAMES", "name", "rule_id"]

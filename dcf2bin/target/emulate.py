@@ -94,7 +94,7 @@ class Outcome:
     created: Created = field(default_factory=Created)
     pdos: list[Pdo] = field(default_factory=list)
     entries_applied: int = 0
-    _engine: "_Engine | None" = field(default=None, repr=False)
+    _engine: _Engine | None = field(default=None, repr=False)
     _od: dict | None = field(default=None, repr=False)
 
     @property
@@ -453,7 +453,7 @@ class _Engine:
         self.valid[comm] = can
         self.owner[(d, can)] = comm
 
-    def mapped_object(self, value: int, direction: str, check: bool):
+    def mapped_object(self, value: int, direction: str):
         """(bits of the object, reason it cannot be mapped or None, code); None when the
         object cannot be checked (unknown static OD)."""
         m_idx, m_sub, bits = value >> 16, (value >> 8) & 0xFF, value & 0xFF
@@ -508,7 +508,7 @@ class _Engine:
         return None
 
     def check_mapped(self, pos: int, value: int, direction: str) -> None:
-        problem = self.mapped_object(value, direction, True)
+        problem = self.mapped_object(value, direction)
         if problem is not None:
             raise _Fail(problem[0], problem[1], pos)
 
@@ -665,5 +665,14 @@ def emulate_bytes(data: bytes, options: TargetOptions | None = None, static=None
     return emulate(c, options, static)
 
 
-__all__ = ["TargetOptions", "TargetEntry", "Pdo", "Descriptor", "Created", "Outcome",
-           "emulate", "emulate_bytes", "can_id_problem"]
+__all__ = [
+    "Created",
+    "Descriptor",
+    "Outcome",
+    "Pdo",
+    "TargetEntry",
+    "TargetOptions",
+    "can_id_problem",
+    "emulate",
+    "emulate_bytes",
+]

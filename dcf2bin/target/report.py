@@ -189,9 +189,7 @@ def _object(index: int, subs: dict, static_names) -> list[str]:
     lines = [f"[{index:04X}]"]
     if only0:
         e = subs[0]
-        lines += _entry_keys(e, _entry_name(index, 0, e, static_names)) + [""]
-        lines[1] = lines[1]  # keep ParameterName first
-        return lines
+        return lines + _entry_keys(e, _entry_name(index, 0, e, static_names)) + [""]
     ot = 0x8 if 0xA000 <= index <= 0xAFFF else 0x9
     name = static_names(index, None) if static_names is not None else None
     lines += [f"ParameterName={name or f'Object 0x{index:04X}'}", f"ObjectType=0x{ot:X}",
@@ -202,4 +200,4 @@ def _object(index: int, subs: dict, static_names) -> list[str]:
     return lines
 
 
-__all__ = ["verdict", "text", "to_dict", "to_json", "emit_od"]
+__all__ = ["emit_od", "text", "to_dict", "to_json", "verdict"]

@@ -21,11 +21,11 @@ class StaticOD:
         self._objects = dev.objects
 
     @classmethod
-    def from_device(cls, dev, exclude=frozenset()) -> "StaticOD":
+    def from_device(cls, dev, exclude=frozenset()) -> StaticOD:
         return cls(dev, set(exclude), complete=not converted_from_container(dev))
 
     @classmethod
-    def from_eds(cls, path: str, data: bytes | None = None) -> "StaticOD":
+    def from_eds(cls, path: str, data: bytes | None = None) -> StaticOD:
         """Load an EDS/DCF as the static OD (its problems are the caller's to report)."""
         from dcf2bin import model
         return cls(model.load(path, data=data))
