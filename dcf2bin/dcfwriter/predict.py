@@ -35,7 +35,10 @@ class _Predictor:
     def run(self) -> tuple[bool, list[str]]:
         """Replay compile's rules on the objects written; warn where the bytes would differ."""
         c = self.c
-        writes, error = self._expected_writes()
+        idxs = sorted(i for i in self.objects if i >= 0x1000)
+        creation = self._creation(idxs)
+        pdo, error = self._pdo_blocks(idxs)
+        writes = creation + self._configuration(idxs, everything=False) + pdo
         layout = None
         if error is None:
             layout, error = self._expected_layout(writes)
@@ -45,16 +48,13 @@ class _Predictor:
             return False, []
         attrs = c.attributes or b""
         actual = c.entries
-        first_diff = None
-        n = max(len(writes), len(actual))
-        for i in range(n):
-            e = writes[i] if i < len(writes) else None
-            a = actual[i] if i < len(actual) else None
-            a_attr = attrs[i] if i < len(attrs) else None
-            if e is None or a is None or e[:3] != a or e[3] != a_attr:
-                first_diff = i
-                break
+        first_diff = self._first_difference(writes)
         entries_ok = first_diff is None and len(attrs) == len(actual)
+        select_all = False
+        if first_diff is not None and len(attrs) == len(actual):
+            # SPEC §3.2 --select all: group 2 takes every entry with a value, ro ones too
+            select_all = self._first_difference(
+                creation + self._configuration(idxs, everything=True) + pdo) is None
         addresses, pi = layout
         pi_ok = (addresses == c.addresses and pi == c.pi and c.raw_piparam is None)
         no_pi_ok = c.addresses is None and c.pi is None and c.raw_piparam is None
@@ -63,23 +63,24 @@ class _Predictor:
         if entries_ok and pi_ok and version_ok and layout_ok:
             return True, []
         options = []
-        if entries_ok and layout_ok and (pi_ok or (no_pi_ok and addresses is not None)):
+        if (entries_ok or select_all) and layout_ok and \
+                (pi_ok or (no_pi_ok and addresses is not None)):
+            if select_all:
+                options.append("--select all")
             if not version_ok:
                 options.append(f"--container-version {c.version}")
             if not pi_ok:
                 options.append("--no-process-image")
-            self.issues.add(R_SUMMARY, None, "compile gives the same bytes only with "
-                            f"{' '.join(options)}")
+            if select_all:
+                self.issues.add(R_SUMMARY, *self._difference(writes, first_diff,
+                                f"compile gives the same bytes only with {' '.join(options)}"))
+            else:
+                self.issues.add(R_SUMMARY, None, "compile gives the same bytes only with "
+                                f"{' '.join(options)}")
             return False, options
         if first_diff is not None:
-            where = self.offsets[first_diff] if first_diff < len(actual) else None
-            got = _describe(actual[first_diff], attrs[first_diff] if first_diff < len(attrs)
-                            else None) if first_diff < len(actual) else "nothing"
-            exp = _describe(writes[first_diff][:3], writes[first_diff][3]) \
-                if first_diff < len(writes) else "nothing"
-            self.issues.add(R_SUMMARY, where, f"the DCF will not compile back to the same "
-                            f"container: entry {first_diff + 1} is {got}, compile writes {exp}; "
-                            "for a lossless copy use 'dcf2bin dump --format json'")
+            self.issues.add(R_SUMMARY, *self._difference(
+                writes, first_diff, "for a lossless copy use 'dcf2bin dump --format json'"))
         elif not entries_ok:
             self.issues.add(R_SUMMARY, None, "the DCF will not compile back to the same "
                             "container (attribute segment); for a lossless copy use "
@@ -102,23 +103,57 @@ class _Predictor:
                             "'dcf2bin dump --format json'")
         return False, options
 
-    def _expected_writes(self) -> tuple[list[tuple[int, int, bytes, int]], str | None]:
+    def _first_difference(self, writes) -> int | None:
+        """The first entry where ``writes`` and the container differ (None: they agree)."""
+        attrs = self.c.attributes or b""
+        actual = self.c.entries
+        for i in range(max(len(writes), len(actual))):
+            e = writes[i] if i < len(writes) else None
+            a = actual[i] if i < len(actual) else None
+            a_attr = attrs[i] if i < len(attrs) else None
+            if e is None or a is None or e[:3] != a or e[3] != a_attr:
+                return i
+        return None
+
+    def _difference(self, writes, i: int, advice: str) -> tuple[int | None, str]:
+        """(offset, message) of the B2D010 warning that names entry ``i``."""
+        attrs = self.c.attributes or b""
+        actual = self.c.entries
+        where = self.offsets[i] if i < len(actual) else None
+        got = _describe(actual[i], attrs[i] if i < len(attrs) else None) \
+            if i < len(actual) else "nothing"
+        exp = _describe(writes[i][:3], writes[i][3]) if i < len(writes) else "nothing"
+        return where, (f"the DCF will not compile back to the same container: entry {i + 1} "
+                       f"is {got}, compile writes {exp}; {advice}")
+
+    def _creation(self, idxs: list[int]) -> list[tuple[int, int, bytes, int]]:
+        """D-8 group 1: network-variable objects, all sub-entries, sub 0 first."""
         objs = self.objects
-        exp: list[tuple[int, int, bytes, int]] = []
-        idxs = sorted(i for i in objs if i >= 0x1000)
-        # 1. creation: network-variable objects, all sub-entries, sub 0 first
-        for index in idxs:
-            if is_nv(index):
-                for sub, s in objs[index].subs.items():
-                    exp.append((index, sub, s.value_bytes, 0x30 if sub == 0 else 0xF0))
-        # 2. configuration: configured, writable entries (every written entry is configured)
+        return [(index, sub, s.value_bytes, 0x30 if sub == 0 else 0xF0)
+                for index in idxs if is_nv(index) for sub, s in objs[index].subs.items()]
+
+    def _configuration(self, idxs: list[int], everything: bool
+                       ) -> list[tuple[int, int, bytes, int]]:
+        """D-8 group 2: configured, writable entries (every written entry is configured);
+        with ``everything`` (--select all) every entry with a value, of any access."""
+        objs = self.objects
+        exp = []
         for index in idxs:
             if is_nv(index) or is_comm(index) or is_mapping(index):
                 continue
             for sub, s in objs[index].subs.items():
-                if s.writes and s.access not in ("ro", "const"):
+                if everything:
+                    if s.writes or s.default:
+                        exp.append((index, sub, s.value_bytes, s.attr))
+                elif s.writes and s.access not in ("ro", "const"):
                     exp.append((index, sub, s.data, s.attr))
-        # 3. PDO blocks (CiA 301 sequence)
+        return exp
+
+    def _pdo_blocks(self, idxs: list[int]) -> tuple[list[tuple[int, int, bytes, int]],
+                                                    str | None]:
+        """D-8 group 3: one CiA 301 block per PDO, or the error that stops compile."""
+        objs = self.objects
+        exp: list[tuple[int, int, bytes, int]] = []
         for index in idxs:
             if is_comm(index) and index + 0x200 not in objs:
                 return exp, (f"PDO communication object 0x{index:04X} has no mapping object "
