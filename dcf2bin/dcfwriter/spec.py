@@ -13,8 +13,7 @@ from dcf2bin import datatypes as dt
 from dcf2bin import values
 from dcf2bin.container import BinContainer
 from dcf2bin.diagnostics import Diagnostic, Severity
-from dcf2bin.layout import RANGE_LEN, TABLE_405, TABLE_END
-from dcf2bin.model import NV_FIRST
+from dcf2bin.layout import table_channel
 from dcf2bin.select import attribute_byte as attribute
 
 MAX_SHOWN = 5            # warnings of one kind shown before "... and N more"
@@ -33,9 +32,8 @@ R_SUMMARY = "B2D010"     # the overall verdict
 
 def table_type(index: int) -> tuple[dt.DataType, str] | None:
     """The CiA 405 range type and area of a network-variable index (SPEC §2.1)."""
-    if not NV_FIRST <= index < TABLE_END:
-        return None
-    return TABLE_405[NV_FIRST + (index - NV_FIRST) // RANGE_LEN * RANGE_LEN]
+    ch = table_channel(index)
+    return (ch.dtype, ch.direction) if ch is not None else None
 
 
 @dataclass(slots=True)
