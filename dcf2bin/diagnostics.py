@@ -123,3 +123,7 @@ class DiagnosticWarning(UserWarning):
     def __init__(self, diagnostic: Diagnostic):
         super().__init__(diagnostic.format())
         self.diagnostic = diagnostic
+
+
+__all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
+           "Where"]

@@ -21,7 +21,7 @@ The work is done in three steps, one module each:
 * ``reader`` reads the container into per-index facts (a ``spec.DcfSpec``), with
   ``entries`` typing each entry from its range, its attribute byte or the EDS;
 * ``text`` writes those objects as DCF text;
-* ``predict`` replays the rules of SPEC §3 on them and warns where compile would
+* ``roundtrip`` replays the rules of SPEC §3 on them and warns where compile would
   not give the container's bytes back.
 
     >>> from dcf2bin import dump, dcfwriter
@@ -35,7 +35,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from dcf2bin.container import BinContainer
-from dcf2bin.dcfwriter.predict import predict
+from dcf2bin.dcfwriter.roundtrip import predict
 from dcf2bin.dcfwriter.reader import read_spec
 from dcf2bin.dcfwriter.spec import (R_ATTR, R_EDS, R_HEADER, R_PDO, R_PI, R_REPEAT, R_SELECT,
                                     R_SUMMARY, R_VALUE, table_type)

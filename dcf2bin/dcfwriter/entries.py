@@ -205,3 +205,6 @@ class EntryTyper:
                         "network variable has 1 to 8 (compile will reject this DCF)")
         return dt.DOMAIN_T
 
+
+
+__all__ = ["EntryTyper"]

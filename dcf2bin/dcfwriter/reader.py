@@ -286,3 +286,6 @@ def _pp(vs, index: int, start: int, dtype: dt.DataType):
     return pps.pop()
 
 
+
+
+__all__ = ["read_spec"]

@@ -2,7 +2,7 @@
 
 ``reader`` fills a ``DcfSpec`` (one ``ObjSpec`` per index, one ``SubSpec`` per
 subindex with every write the container makes to it), ``text`` renders it and
-``predict`` replays compile on it. The warnings of all three collect in one
+``roundtrip`` replays compile on it. The warnings of all three collect in one
 ``Issues``, by rule.
 """
 from __future__ import annotations
@@ -116,7 +116,7 @@ class Issues:
 
 @dataclass
 class DcfSpec:
-    """A container read as DCF objects: what ``text`` writes and ``predict`` checks."""
+    """A container read as DCF objects: what ``text`` writes and ``roundtrip`` checks."""
     container: BinContainer
     name: str                               # the container's name in messages
     header: dict[str, int]                  # as stored, or the canonical one
@@ -147,3 +147,8 @@ def by_size(size: int) -> dt.DataType:
 def short(data: bytes) -> str:
     h = data.hex().upper()
     return h if len(h) <= 24 else h[:20] + "..."
+
+
+__all__ = ["ChannelSpec", "DcfSpec", "Issues", "ObjSpec", "SubSpec", "Write", "by_size", "holds",
+           "short", "table_type", "value_text", "MAX_SHOWN", "R_HEADER", "R_ATTR", "R_REPEAT",
+           "R_SELECT", "R_PDO", "R_PI", "R_VALUE", "R_EDS", "R_SUMMARY"]

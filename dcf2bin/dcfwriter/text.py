@@ -154,3 +154,6 @@ class _Renderer:
 def _clean(text: str) -> str:
     return text.replace("\r", " ").replace("\n", " ").strip() or '""'
 
+
+
+__all__ = ["render"]

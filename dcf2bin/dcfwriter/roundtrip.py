@@ -278,3 +278,6 @@ def _describe(entry, attr) -> str:
     index, sub, data = entry
     a = f"attribute 0x{attr:02X}" if attr is not None else "no attribute"
     return f"0x{index:04X}sub{sub:X} = {short(data) or '(empty)'} ({a})"
+
+
+__all__ = ["predict"]
