@@ -348,6 +348,20 @@ def test_select_all_is_suggested_when_it_reproduces_the_container():
     assert compile_text(res.to_bytes(), select="all").data == data
 
 
+def test_select_all_suggestion_on_the_command_line(tmp_path):
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00")], attributes=b"\x30")
+    (tmp_path / "ro.bin").write_bytes(c.to_bytes())
+    r = run("bin2dcf", tmp_path / "ro.bin", "-o", tmp_path / "ro.dcf")
+    assert (r.exit_code, r.stderr) == (0, (
+        f"{tmp_path / 'ro.bin'}:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); "
+        "compile does not write ro entries in the configuration group (D-8) [B2D004]\n"
+        f"{tmp_path / 'ro.bin'}:0x2C: warning: the DCF will not compile back to the same "
+        "container: entry 1 is 0x1000sub0 = 95010000 (attribute 0x30), compile writes "
+        "nothing; compile gives the same bytes only with --select all [B2D010]\n"))
+    r = run("compile", tmp_path / "ro.dcf", "--select", "all", "-o", tmp_path / "back.bin")
+    assert r.exit_code == 0 and (tmp_path / "back.bin").read_bytes() == c.to_bytes()
+
+
 def test_select_all_with_other_options():
     c = BinContainer(entries=[(0xA4C0, 0, b"\x01"), (0xA4C0, 1, b"\x07"),
                               (0x1000, 0, b"\x91\x01\x0f\x00")],
