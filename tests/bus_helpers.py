@@ -1,0 +1,93 @@
+"""Shared pieces of the bus tests: a unique virtual bus per test, software nodes that
+are always taken down, and a check that no thread outlives a test."""
+from __future__ import annotations
+
+import itertools
+import threading
+import time
+
+import pytest
+from click.testing import CliRunner
+
+from conftest import ROOT
+from dcf2bin.cli import main
+
+TIMEOUT = "0.1"        # SDO response timeout used by the tests (seconds)
+_names = itertools.count()
+
+
+def run(*args):
+    return CliRunner().invoke(main, list(args), catch_exceptions=False)
+
+
+def threads_settle(before: set, wait: float = 2.0) -> list[str]:
+    """Names of threads started since ``before`` still alive after ``wait`` seconds."""
+    end = time.monotonic() + wait
+    while True:
+        extra = [t.name for t in threading.enumerate() if t.ident not in before]
+        if not extra or time.monotonic() > end:
+            return extra
+        time.sleep(0.01)
+
+
+@pytest.fixture
+def no_threads_left():
+    before = {t.ident for t in threading.enumerate()}
+    yield
+    assert threads_settle(before) == []
+
+
+@pytest.fixture
+def channel(no_threads_left, monkeypatch):
+    """A virtual bus of this test's own; paths in messages are relative to the repository."""
+    monkeypatch.chdir(ROOT)
+    return f"dcf2bin-test-{next(_names)}-{time.monotonic_ns()}"
+
+
+class Bench:
+    """Networks and software nodes on one virtual channel, all closed by ``close``."""
+
+    def __init__(self, channel: str):
+        from dcf2bin.bus import link
+        link.quiet_libraries()
+        self.channel = channel
+        self.nets, self.nodes = [], []
+
+    def network(self):
+        from dcf2bin.bus import link
+        net = link.open_network(link.BusConfig("virtual", self.channel))
+        self.nets.append(net)
+        return net
+
+    def add(self, node, *, operational: bool = False):
+        node.attach(self.network(), operational=operational)
+        self.nodes.append(node)
+        return node
+
+    def device(self, node_id: int = 3, path: str = "samples/device.eds"):
+        from dcf2bin.bus.node import from_file
+        node, errors = from_file(path, node_id)
+        assert errors == []
+        return self.add(node)
+
+    def sdo(self, node_id: int, timeout: float = 0.2):
+        from dcf2bin.bus.download import sdo_client
+        return sdo_client(self.network(), node_id, timeout=timeout, retries=0)
+
+    def close(self) -> None:
+        from dcf2bin.bus import link
+        for node in self.nodes:
+            node.detach()
+        for net in self.nets:
+            link.close_network(net)
+
+
+@pytest.fixture
+def bench(channel):
+    b = Bench(channel)
+    yield b
+    b.close()
+
+
+def bus_args(channel: str) -> list[str]:
+    return ["-i", "virtual", "--channel", channel, "--timeout", TIMEOUT, "--retries", "0"]
