@@ -37,10 +37,15 @@ def no_threads_left():
     assert threads_settle(before) == []
 
 
-@pytest.fixture
-def channel(no_threads_left, monkeypatch):
-    """A virtual bus of this test's own; paths in messages are relative to the repository."""
+@pytest.fixture(autouse=True)
+def at_root(monkeypatch):
+    """Paths in messages are relative to the repository (samples/device.dcf:84)."""
     monkeypatch.chdir(ROOT)
+
+
+@pytest.fixture
+def channel(no_threads_left):
+    """A virtual bus of this test's own."""
     return f"dcf2bin-test-{next(_names)}-{time.monotonic_ns()}"
 
 

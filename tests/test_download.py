@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from bus_helpers import TIMEOUT, bench, bus_args, channel, no_threads_left, run  # noqa: F401
+from bus_helpers import at_root, TIMEOUT, bench, bus_args, channel, no_threads_left, run  # noqa: F401
 from conftest import SAMPLES
 from dcf2bin.compiler import CompileOptions, compile_path
 
