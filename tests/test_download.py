@@ -335,3 +335,56 @@ def test_node_is_required():
 @pytest.mark.parametrize("n", ["0", "128"])
 def test_node_id_range(n):
     assert run("download", DCF, "-n", n, "--dry-run").exit_code == 2
+
+
+def test_verify_accepts_an_empty_value_the_node_cannot_upload(bench, tmp_path):
+    """canopen's server answers an empty value with 'no data available' (0x08000024)."""
+    text = (SAMPLES / "device.dcf").read_text().replace("ParameterValue=Hall 3; rack #2",
+                                                        'ParameterValue=""')
+    dcf = tmp_path / "empty.dcf"
+    dcf.write_text(text)
+    node = bench.device()
+    r = run("download", str(dcf), "-n", "3", "--verify", *bus_args(bench.channel))
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert node.data_store[0x2000][0] == b""
+
+
+def test_json_from_stdin_names_the_json_lines(bench):
+    from click.testing import CliRunner
+
+    from dcf2bin.cli import main
+    node = bench.device()
+    _abort_on(node, 0x2002)
+    text = run("dump", "--format", "json", "samples/device.bin").stdout
+    r = CliRunner().invoke(main, ["download", "-", "--from", "json", "-n", "3",
+                                  *bus_args(bench.channel)], input=text)
+    assert r.exit_code == 1
+    assert r.stderr == ("<stdin>:24: error: 0x2002sub0: SDO abort 0x06090030: Value range of "
+                        "parameter exceeded; 5 of 15 entries written before it\n")
+    assert text.splitlines()[23].startswith('    {"index": "0x2002", "subindex": 0,')
+
+
+class _TtyStderr:
+    """The stderr click's test runner installs, claiming to be a terminal."""
+
+    def __getattr__(self, name):
+        import sys
+        return getattr(sys.stderr, name)
+
+    def isatty(self):
+        return True
+
+
+def test_progress_bar_on_a_terminal_only(bench, monkeypatch):
+    import types
+
+    import dcf2bin.cli.download as cli_download
+    bench.device()
+    monkeypatch.setattr(cli_download, "sys", types.SimpleNamespace(stderr=_TtyStderr()))
+    r = run("download", DCF, "-n", "3", *bus_args(bench.channel))
+    assert r.exit_code == 0
+    steps = r.stderr.split("\r")
+    assert steps[1] == "node 3  [------------------------------------]    0%"
+    assert steps[-1] == "node 3  [####################################]  100%\x1b[?25h\n"
+    r = run("download", DCF, "-n", "3", "-q", *bus_args(bench.channel))
+    assert (r.exit_code, r.stderr, r.stdout) == (0, "", "")

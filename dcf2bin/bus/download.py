@@ -24,6 +24,7 @@ CONCISE_DCF_INDEX = 0x1F22      # CiA 302: concise DCF, one DOMAIN per node-ID
 STORE_INDEX, STORE_SUB = 0x1010, 1
 STORE_SIGNATURE = b"save"       # CiA 301: "save" written to 0x1010 stores all parameters
 
+NO_DATA = 0x08000024            # CiA 301 abort: no data available
 _DRY_HEX = 32                   # bytes shown in a dry-run line before it is cut short
 
 
@@ -218,6 +219,8 @@ def verify(writes: list[Write], sdo) -> list[Difference]:
         try:
             read = sdo.upload(w.index, w.sub)
         except SdoAbortedError as exc:
+            if not w.data and exc.code == NO_DATA:
+                continue        # an empty value: "no data available" is what it holds
             diffs.append(Difference(w, None, exc.code))
             continue
         except SdoCommunicationError:

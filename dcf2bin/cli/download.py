@@ -109,11 +109,11 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
     from dcf2bin.dump import from_json_bytes, read_bytes
     text = None
     if fmt == "json":
+        text = data.decode("utf-8-sig", errors="replace")   # for the line of each entry
         data, diags = from_json_bytes(data, name)
         emit(diags, quiet)
         if data is None:
             raise Failure(ExitCode.FINDINGS)
-        text = read_input(input).decode("utf-8-sig") if input != "-" else None
     c, diags = read_bytes(data, name)
     emit(diags, quiet)
     if c is None:
