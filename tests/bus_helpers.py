@@ -1,19 +1,15 @@
-"""Shared pieces of the bus tests: a unique virtual bus per test, software nodes that
-are always taken down, and a check that no thread outlives a test."""
+"""Shared pieces of the bus tests: the command runner, software nodes on a virtual bus
+that are always taken down, and how long to wait for threads (fixtures: bus_fixtures.py)."""
 from __future__ import annotations
 
-import itertools
 import threading
 import time
 
-import pytest
 from click.testing import CliRunner
 
-from conftest import ROOT
 from dcf2bin.cli import main
 
 TIMEOUT = "0.1"        # SDO response timeout used by the tests (seconds)
-_names = itertools.count()
 
 
 def run(*args):
@@ -28,25 +24,6 @@ def threads_settle(before: set, wait: float = 2.0) -> list[str]:
         if not extra or time.monotonic() > end:
             return extra
         time.sleep(0.01)
-
-
-@pytest.fixture
-def no_threads_left():
-    before = {t.ident for t in threading.enumerate()}
-    yield
-    assert threads_settle(before) == []
-
-
-@pytest.fixture(autouse=True)
-def at_root(monkeypatch):
-    """Paths in messages are relative to the repository (samples/device.dcf:84)."""
-    monkeypatch.chdir(ROOT)
-
-
-@pytest.fixture
-def channel(no_threads_left):
-    """A virtual bus of this test's own."""
-    return f"dcf2bin-test-{next(_names)}-{time.monotonic_ns()}"
 
 
 class Bench:
@@ -85,13 +62,6 @@ class Bench:
             node.detach()
         for net in self.nets:
             link.close_network(net)
-
-
-@pytest.fixture
-def bench(channel):
-    b = Bench(channel)
-    yield b
-    b.close()
 
 
 def bus_args(channel: str) -> list[str]:

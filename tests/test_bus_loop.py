@@ -18,11 +18,13 @@ import time
 
 import pytest
 
-from bus_helpers import at_root, Bench, bus_args, channel, no_threads_left, run  # noqa: F401
+from bus_helpers import Bench, bus_args, run
 from dcf2bin.cli import main
 
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
-                                reason="needs dcf2bin.target")
+pytest_plugins = ["bus_fixtures"]
+pytestmark = [pytest.mark.usefixtures("at_root"),
+              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
+                                 reason="needs dcf2bin.target")]
 
 PLC_ID, SLAVE_ID = 0x10, 3
 POSITION, STATUS = (0xA140, 2), (0xA040, 1)          # inputs, from the slave's TPDO

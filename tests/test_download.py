@@ -6,13 +6,15 @@ from __future__ import annotations
 import time
 
 import pytest
-
-from bus_helpers import at_root, TIMEOUT, bench, bus_args, channel, no_threads_left, run  # noqa: F401
+from bus_helpers import TIMEOUT, bus_args, run
 from conftest import SAMPLES
+
 from dcf2bin.compiler import CompileOptions, compile_path
 
+pytest_plugins = ["bus_fixtures"]
+pytestmark = pytest.mark.usefixtures("at_root")
+
 DCF = "samples/device.dcf"
-N_WRITES = 15
 
 
 def device_container():
@@ -64,8 +66,8 @@ def test_download_container_and_json_forms(bench, tmp_path):
     json_path = tmp_path / "device.json"
     json_path.write_text(run("dump", "--format", "json", "samples/device.bin").stdout)
     r = run("download", str(json_path), "-n", "3", "--verify", *bus_args(bench.channel))
-    assert (r.exit_code, r.stdout) == (0, f"{json_path}: 15 entries written to node 3, "
-                                          "read back equal\n")
+    assert r.exit_code == 0
+    assert r.stdout == f"{json_path}: 15 entries written to node 3, read back equal\n"
 
 
 # -- dry run --------------------------------------------------------------------------------
@@ -96,7 +98,8 @@ def test_dry_run_prints_the_writes_and_touches_no_bus():
 
 def test_dry_run_of_a_container_names_byte_offsets():
     r = run("download", "samples/device.bin", "-n", "3", "--dry-run")
-    assert r.stdout.splitlines()[2] == "   1  0x1016sub1      4  64 00 01 00  samples/device.bin:0x2C"
+    assert r.stdout.splitlines()[2] == ("   1  0x1016sub1      4  64 00 01 00  "
+                                        "samples/device.bin:0x2C")
 
 
 def test_node_id_resolves_nodeid_values():
@@ -263,7 +266,7 @@ def test_concise_dcf_delivers_the_index_segment(bench):
     from dcf2bin import dump
     od = od_mod.ObjectDictionary()
     arr = od_mod.ODArray("Concise DCF", 0x1F22)
-    for sub in range(0, 128):
+    for sub in range(128):
         var = od_mod.ODVariable(f"sub{sub}", 0x1F22, sub)
         var.data_type = 0x05 if sub == 0 else 0x0F
         var.access_type = "ro" if sub == 0 else "rw"
@@ -323,7 +326,8 @@ def test_a_dcf_with_errors_sends_nothing(tmp_path):
 def test_unreadable_input_is_exit_3(tmp_path):
     r = run("download", str(tmp_path / "missing.dcf"), "-n", "3", "--dry-run")
     assert r.exit_code == 3
-    assert r.stderr == f"{tmp_path / 'missing.dcf'}: error: cannot read: No such file or directory\n"
+    missing = tmp_path / "missing.dcf"
+    assert r.stderr == f"{missing}: error: cannot read: No such file or directory\n"
 
 
 def test_node_is_required():

@@ -8,8 +8,11 @@ import threading
 import time
 
 import pytest
+from bus_helpers import Bench, bus_args, run
+from conftest import SAMPLES
 
-from bus_helpers import at_root, Bench, bench, bus_args, channel, no_threads_left, run  # noqa: F401
+pytest_plugins = ["bus_fixtures"]
+pytestmark = pytest.mark.usefixtures("at_root")
 
 DCF = "samples/device.dcf"
 
@@ -86,7 +89,8 @@ def test_no_pdo_before_operational(bench):
 
 def test_event_driven_tpdo_and_rpdo(bench, tmp_path):
     """A node whose TPDO (type 254) sends on change and whose RPDO writes its entries."""
-    text = (bench_text := open("samples/device.eds").read())
+    bench_text = (SAMPLES / "device.eds").read_text()
+    text = bench_text
     text = text.replace("[1800sub2]\nParameterName=Transmission type\nObjectType=0x7\n"
                         "DataType=0x0005\nAccessType=rw\nDefaultValue=255",
                         "[1800sub2]\nParameterName=Transmission type\nObjectType=0x7\n"

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import importlib.util
 import threading
-import time
 
 import pytest
+from bus_helpers import Bench, run
 
-from bus_helpers import at_root, Bench, channel, no_threads_left, run  # noqa: F401
-
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
-                                reason="needs dcf2bin.target")
+pytest_plugins = ["bus_fixtures"]
+pytestmark = [pytest.mark.usefixtures("at_root"),
+              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
+                                 reason="needs dcf2bin.target")]
 
 
 @pytest.fixture

@@ -12,8 +12,8 @@ sequences of D-8 reach the device entry by entry, repeated writes included.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from dcf2bin.bus.link import abort_text
 
@@ -102,8 +102,8 @@ def plan_from_container(c, name: str, json_text: str | None = None) -> Plan:
 def render(plan: Plan, node_id: int) -> list[str]:
     """The writes as a table: entry number, index/sub, size, bytes, source line."""
     n = len(plan.writes)
-    lines = [f"{plan.source}: {n} SDO write{'s' if n != 1 else ''} to node {node_id} "
-             "(dry run, nothing sent)",
+    lines = [(f"{plan.source}: {n} SDO write{'s' if n != 1 else ''} to node {node_id} "
+              "(dry run, nothing sent)"),
              "   #  entry        size  data  source"]
     for w in plan.writes:
         shown = w.data[:_DRY_HEX].hex(" ").upper()

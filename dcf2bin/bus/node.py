@@ -22,8 +22,12 @@ from __future__ import annotations
 
 import copy
 import struct
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
+
+import canopen
+import canopen.objectdictionary as od_mod
+from canopen.sdo import SdoAbortedError
 
 from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 
@@ -69,7 +73,6 @@ class ProcessImage:
 
 def add_dummies(od) -> None:
     """CiA 301 dummy entries 0x0001–0x0007, so a mapping that names one keeps its length."""
-    import canopen.objectdictionary as od_mod
     for index, code in _DUMMIES.items():
         if index not in od:
             var = od_mod.ODVariable(f"Dummy{index:04X}", index, 0)
@@ -77,272 +80,282 @@ def add_dummies(od) -> None:
             od.add_object(var)
 
 
-def _local_node_class():
-    import canopen
-    from canopen.sdo import SdoAbortedError
+class BenchNode(canopen.LocalNode):
+    """LocalNode with NMT resets, PDOs (``Pdos``) and an optional process image."""
 
-    class BenchNode(canopen.LocalNode):
-        """LocalNode with PDO behaviour, NMT resets and an optional process image."""
+    def __init__(self, node_id: int, od, image: ProcessImage | None = None):
+        add_dummies(od)
+        try:
+            super().__init__(node_id, od)
+        except KeyError as exc:
+            raise NodeError(f"a PDO object lacks its partner: {exc}") from None
+        self.image = image
+        self.on_image_change: Callable[[ProcessImage], None] | None = None
+        self.on_event: Callable[[str], None] | None = None
+        self.nmt_state = INITIALISING
+        self.pdos = Pdos(self)
+        self._saved: dict[int, dict[int, bytes]] = {}
+        self._saved_image = bytes(image.data) if image is not None else b""
 
-        def __init__(self, node_id: int, od, image: ProcessImage | None = None):
-            add_dummies(od)
-            try:
-                super().__init__(node_id, od)
-            except KeyError as exc:
-                raise NodeError(f"a PDO object lacks its partner: {exc}") from None
-            self.image = image
-            self.on_image_change: Callable[[ProcessImage], None] | None = None
-            self.on_event: Callable[[str], None] | None = None
-            self._saved: dict[int, dict[int, bytes]] = {}
-            self._saved_image = bytes(image.data) if image is not None else b""
-            self._nmt_state = INITIALISING
-            self._sync_count: dict[int, int] = {}
-            self._changed: set[int] = set()          # TPDOs with a changed value (type 0)
-            self._subscribed: dict[int, tuple[int, Callable]] = {}   # id(map) -> cob
-            self._in_pdo_write = False
-            for pdo_map in self.rpdo.map.values():
-                pdo_map.add_callback(self._on_rpdo)
+    # -- data -------------------------------------------------------------------------------
+    def get_data(self, index: int, subindex: int, check_readable: bool = False) -> bytes:
+        if self.image is not None:
+            obj = self._find_object(index, subindex)
+            value = self.image.get(index, subindex)
+            if value is not None:
+                if check_readable and not obj.readable:
+                    raise SdoAbortedError(0x06010001)
+                return value
+        return super().get_data(index, subindex, check_readable)
 
-        # -- data ---------------------------------------------------------------------------
-        def get_data(self, index: int, subindex: int, check_readable: bool = False) -> bytes:
-            if self.image is not None:
-                obj = self._find_object(index, subindex)
-                value = self.image.get(index, subindex)
-                if value is not None:
-                    if check_readable and not obj.readable:
-                        raise SdoAbortedError(0x06010001)
-                    return value
-            return super().get_data(index, subindex, check_readable)
+    def set_data(self, index: int, subindex: int, data: bytes,
+                 check_writable: bool = False) -> None:
+        super().set_data(index, subindex, data, check_writable)
+        if self.image is not None and self.image.put(index, subindex, bytes(data)):
+            self.data_store[index].pop(subindex, None)
+        if index == 0x1010 and subindex == 1 and bytes(data) == b"save":
+            self._saved = copy.deepcopy(self.data_store)
+            self._saved_image = bytes(self.image.data) if self.image is not None else b""
+        if is_pdo_comm(index) or is_pdo_mapping(index):
+            self.pdos.reread(index)
+        else:
+            self.pdos.value_changed(index, subindex)
 
-        def set_data(self, index: int, subindex: int, data: bytes,
-                     check_writable: bool = False) -> None:
-            super().set_data(index, subindex, data, check_writable)
-            if self.image is not None and self.image.put(index, subindex, bytes(data)):
-                self.data_store[index].pop(subindex, None)
-            if index == 0x1010 and subindex == 1 and bytes(data) == b"save":
-                self._saved = copy.deepcopy(self.data_store)
-                self._saved_image = bytes(self.image.data) if self.image is not None else b""
-            if is_pdo_comm(index) or is_pdo_mapping(index):
-                self._reread_pdo(index)
-            elif not self._in_pdo_write:
-                self._value_changed(index, subindex)
+    # -- NMT --------------------------------------------------------------------------------
+    def boot(self) -> None:
+        """Send the boot-up message and enter PRE-OPERATIONAL (heartbeat from 0x1017)."""
+        self.nmt._state = INITIALISING
+        self.network.send_message(0x700 + self.id, [0])
+        self.nmt._state = PRE_OPERATIONAL
+        self.nmt_state = PRE_OPERATIONAL
+        self.pdos.read_all()
+        self.nmt.start_heartbeat(self._heartbeat_ms())
 
-        # -- NMT ----------------------------------------------------------------------------
-        def boot(self) -> None:
-            """Send the boot-up message and enter PRE-OPERATIONAL (heartbeat from 0x1017)."""
-            self.nmt._state = INITIALISING
-            self.network.send_message(0x700 + self.id, [0])
-            self.nmt._state = PRE_OPERATIONAL
-            self._nmt_state = PRE_OPERATIONAL
-            self._read_all_pdos()
-            self.nmt.start_heartbeat(self._heartbeat_ms())
+    def _heartbeat_ms(self) -> int:
+        try:
+            return struct.unpack("<H", self.get_data(0x1017, 0)[:2])[0]
+        except (SdoAbortedError, struct.error):
+            return 0
 
-        def _heartbeat_ms(self) -> int:
-            try:
-                return struct.unpack("<H", self.get_data(0x1017, 0)[:2])[0]
-            except (SdoAbortedError, struct.error):
-                return 0
+    def go_operational(self) -> None:
+        self.nmt._state = OPERATIONAL
+        self.nmt.update_heartbeat()
+        self._state_changed()
 
-        def go_operational(self) -> None:
-            self.nmt._state = OPERATIONAL
-            self.nmt.update_heartbeat()
+    def on_nmt(self, can_id, data, timestamp) -> None:
+        """Runs after canopen's NmtSlave has taken the command."""
+        if len(data) < 2 or data[1] not in (0, self.id):
+            return
+        if data[0] in (RESET_NODE, RESET_COMM):
+            self._reset(data[0])
+        else:
             self._state_changed()
 
-        def on_nmt(self, can_id, data, timestamp) -> None:
-            """Runs after canopen's NmtSlave has taken the command."""
-            if len(data) < 2 or data[1] not in (0, self.id):
-                return
-            if data[0] in (RESET_NODE, RESET_COMM):
-                self._reset(data[0])
-            else:
-                self._state_changed()
+    def _reset(self, command: int) -> None:
+        self.pdos.stop()
+        if command == RESET_NODE:
+            self.data_store = copy.deepcopy(self._saved)
+            if self.image is not None:
+                self.image.data[:] = self._saved_image
+        else:
+            for index in [i for i in self.data_store if 0x1000 <= i <= 0x1FFF]:
+                del self.data_store[index]
+            for index, subs in self._saved.items():
+                if 0x1000 <= index <= 0x1FFF:
+                    self.data_store[index] = dict(subs)
+        self.event("reset " + ("application" if command == RESET_NODE else "communication"))
+        self.boot()
 
-        def _reset(self, command: int) -> None:
-            self._stop_tpdos()
-            if command == RESET_NODE:
-                self.data_store = copy.deepcopy(self._saved)
-                if self.image is not None:
-                    self.image.data[:] = self._saved_image
-            else:
-                for index in [i for i in self.data_store if 0x1000 <= i <= 0x1FFF]:
-                    del self.data_store[index]
-                for index, subs in self._saved.items():
-                    if 0x1000 <= index <= 0x1FFF:
-                        self.data_store[index] = dict(subs)
-            self._event("reset " + ("application" if command == RESET_NODE else
-                                    "communication"))
-            self.boot()
+    def _state_changed(self) -> None:
+        new = self.nmt._state
+        if new == self.nmt_state:
+            return
+        self.nmt_state = new
+        self.event(f"NMT state {self.nmt.state}")
+        if new == OPERATIONAL:
+            self.pdos.start()
+        else:
+            self.pdos.stop()
 
-        def _state_changed(self) -> None:
-            new = self.nmt._state
-            if new == self._nmt_state:
-                return
-            self._nmt_state = new
-            self._event(f"NMT state {self.nmt.state}")
-            if new == OPERATIONAL:
-                self._start_tpdos()
-            else:
-                self._stop_tpdos()
+    def event(self, text: str) -> None:
+        if self.on_event is not None:
+            self.on_event(text)
 
-        # -- PDOs ---------------------------------------------------------------------------
-        def _maps(self):
-            return list(self.rpdo.map.values()) + list(self.tpdo.map.values())
+    # -- life -------------------------------------------------------------------------------
+    def attach(self, network, *, operational: bool = False) -> None:
+        network.add_node(self)
+        network.subscribe(NMT_COB_ID, self.on_nmt)
+        network.subscribe(SYNC_COB_ID, self.pdos.on_sync)
+        self.boot()
+        if operational:
+            self.go_operational()
 
-        def _map_of(self, index: int):
-            comm = index - 0x200 if is_pdo_mapping(index) else index
-            if comm >= _TPDO_COMM:
-                return self.tpdo.map.get(comm - _TPDO_COMM + 1)
-            return self.rpdo.map.get(comm - _RPDO_COMM + 1)
+    def detach(self) -> None:
+        """Stop the heartbeat and the PDO timers (waiting for their threads), leave the bus."""
+        tasks = self.pdos.tasks() + [self.nmt._send_task]
+        self.pdos.stop()
+        self.nmt.stop_heartbeat()
+        for task in tasks:
+            _join(task)
+        if not self.has_network():
+            return
+        net = self.network
+        self.pdos.unsubscribe()
+        _unsubscribe(net, NMT_COB_ID, self.on_nmt)
+        _unsubscribe(net, SYNC_COB_ID, self.pdos.on_sync)
+        del net[self.id]
 
-        def _read_all_pdos(self) -> None:
-            for pdo_map in self._maps():
-                self._read_map(pdo_map)
 
-        def _reread_pdo(self, index: int) -> None:
-            pdo_map = self._map_of(index)
-            if pdo_map is not None:
-                self._read_map(pdo_map)
-                if self._nmt_state == OPERATIONAL and pdo_map in self.tpdo.map.values():
-                    self._start_tpdo(pdo_map)
+class Pdos:
+    """The node's PDOs as canopen's PdoMaps, read from the node's current data (through its
+    own SDO server) and driven by SYNC, value changes, event timers and received frames."""
 
-        def _read_map(self, pdo_map) -> None:
-            """The map as the node's current data says (canopen reads it through the node's
-            own SDO server); one that cannot be read is off."""
-            import canopen.objectdictionary as od_mod
-            pdo_map.stop()
-            old = self._subscribed.pop(id(pdo_map), None)
-            if old is not None:
-                _unsubscribe(self.network, *old)
-            try:
-                pdo_map.read(from_od=False)      # subscribes an enabled map to its COB-ID
-            except (KeyError, SdoAbortedError, ValueError, TypeError,
-                    od_mod.ObjectDictionaryError) as exc:
-                pdo_map.enabled = False
-                pdo_map.clear()
-                self._event(f"PDO 0x{pdo_map.com_record.od.index:04X} off: {exc}")
-            is_tpdo = pdo_map in self.tpdo.map.values()
-            if pdo_map.enabled and is_tpdo:      # a TPDO does not listen to its own COB-ID
-                _unsubscribe(self.network, pdo_map.cob_id, pdo_map.on_message)
-            elif pdo_map.enabled:
-                self._subscribed[id(pdo_map)] = (pdo_map.cob_id, pdo_map.on_message)
-            if is_tpdo:
-                self._refresh(pdo_map)
+    def __init__(self, node: BenchNode):
+        self.node = node
+        self._sync_count: dict[int, int] = {}
+        self._changed: set[int] = set()          # TPDOs with a changed value (type 0)
+        self._subscribed: dict[int, tuple[int, Callable]] = {}   # id(map) -> (cob, callback)
+        self._refreshing = False
+        for pdo_map in node.rpdo.map.values():
+            pdo_map.add_callback(self.on_rpdo)
 
-        def _refresh(self, pdo_map) -> None:
-            """Copy the mapped entries' values into the TPDO's data."""
-            self._in_pdo_write = True
-            try:
-                for var in pdo_map.map:
-                    if var.index < 0x1000 or not var.length:
-                        continue
-                    try:
-                        raw = self.get_data(var.index, var.subindex)
-                    except SdoAbortedError:
-                        continue
-                    if var.offset % 8 == 0 and var.length % 8 == 0:
-                        raw = raw[:var.length // 8].ljust(var.length // 8, b"\0")
-                    try:
-                        var.set_data(raw)
-                    except (struct.error, ValueError, KeyError):
-                        continue
-            finally:
-                self._in_pdo_write = False
+    @property
+    def tx(self):
+        return list(self.node.tpdo.map.values())
 
-        def _value_changed(self, index: int, sub: int) -> None:
-            for pdo_map in self.tpdo.map.values():
-                if not pdo_map.enabled or not any(
-                        v.index == index and v.subindex == sub for v in pdo_map.map):
-                    continue
-                self._refresh(pdo_map)
-                if self._nmt_state != OPERATIONAL:
-                    continue
-                if pdo_map.trans_type in (254, 255):
-                    pdo_map.transmit()
-                elif pdo_map.trans_type == 0:
-                    self._changed.add(id(pdo_map))
+    def _map_of(self, index: int):
+        comm = index - 0x200 if is_pdo_mapping(index) else index
+        if comm >= _TPDO_COMM:
+            return self.node.tpdo.map.get(comm - _TPDO_COMM + 1)
+        return self.node.rpdo.map.get(comm - _RPDO_COMM + 1)
 
-        def on_sync(self, can_id, data, timestamp) -> None:
-            if self._nmt_state != OPERATIONAL:
-                return
-            for pdo_map in self.tpdo.map.values():
-                t = pdo_map.trans_type
-                if not pdo_map.enabled or t is None or t > 240:
-                    continue
-                if t == 0:
-                    if id(pdo_map) in self._changed:
-                        self._changed.discard(id(pdo_map))
-                        pdo_map.transmit()
-                    continue
-                n = self._sync_count.get(id(pdo_map), 0) + 1
-                if n >= t:
-                    n = 0
-                    self._refresh(pdo_map)
-                    pdo_map.transmit()
-                self._sync_count[id(pdo_map)] = n
+    def read_all(self) -> None:
+        for pdo_map in list(self.node.rpdo.map.values()) + self.tx:
+            self._read(pdo_map)
 
-        def _start_tpdo(self, pdo_map) -> None:
-            pdo_map.stop()
-            if (pdo_map.enabled and pdo_map.trans_type in (254, 255)
-                    and pdo_map.event_timer):
-                self._refresh(pdo_map)
-                pdo_map.start(pdo_map.event_timer / 1000.0)
+    def reread(self, index: int) -> None:
+        """A comm or mapping object was written: that PDO as its objects now say."""
+        pdo_map = self._map_of(index)
+        if pdo_map is not None:
+            self._read(pdo_map)
+            if self.node.nmt_state == OPERATIONAL and pdo_map in self.tx:
+                self._start(pdo_map)
 
-        def _start_tpdos(self) -> None:
-            for pdo_map in self.tpdo.map.values():
-                self._start_tpdo(pdo_map)
+    def _read(self, pdo_map) -> None:
+        """The map as the node's current data says; one that cannot be read is off."""
+        net = self.node.network
+        pdo_map.stop()
+        old = self._subscribed.pop(id(pdo_map), None)
+        if old is not None:
+            _unsubscribe(net, *old)
+        try:
+            pdo_map.read(from_od=False)      # subscribes an enabled map to its COB-ID
+        except (KeyError, SdoAbortedError, ValueError, TypeError,
+                od_mod.ObjectDictionaryError) as exc:
+            pdo_map.enabled = False
+            pdo_map.clear()
+            self.node.event(f"PDO 0x{pdo_map.com_record.od.index:04X} off: {exc}")
+        is_tpdo = pdo_map in self.tx
+        if pdo_map.enabled and is_tpdo:      # a TPDO does not listen to its own COB-ID
+            _unsubscribe(net, pdo_map.cob_id, pdo_map.on_message)
+        elif pdo_map.enabled:
+            self._subscribed[id(pdo_map)] = (pdo_map.cob_id, pdo_map.on_message)
+        if is_tpdo:
+            self._refresh(pdo_map)
 
-        def _stop_tpdos(self) -> None:
-            for pdo_map in self.tpdo.map.values():
-                pdo_map.stop()
-
-        def _on_rpdo(self, pdo_map) -> None:
-            if self._nmt_state != OPERATIONAL:
-                return
-            before = bytes(self.image.data) if self.image is not None else None
+    def _refresh(self, pdo_map) -> None:
+        """Copy the mapped entries' values into the TPDO's data."""
+        self._refreshing = True
+        try:
             for var in pdo_map.map:
                 if var.index < 0x1000 or not var.length:
                     continue
-                if (var.offset + var.length + 7) // 8 > len(pdo_map.data):
-                    continue     # a frame shorter than its mapping: nothing to take
                 try:
-                    self.set_data(var.index, var.subindex, var.get_data())
-                except (SdoAbortedError, struct.error, ValueError, KeyError):
+                    raw = self.node.get_data(var.index, var.subindex)
+                except SdoAbortedError:
                     continue
-            if before is not None and bytes(self.image.data) != before \
-                    and self.on_image_change is not None:
-                self.on_image_change(self.image)
+                if var.offset % 8 == 0 and var.length % 8 == 0:
+                    raw = raw[:var.length // 8].ljust(var.length // 8, b"\0")
+                try:
+                    var.set_data(raw)
+                except (struct.error, ValueError, KeyError):
+                    continue
+        finally:
+            self._refreshing = False
 
-        def _event(self, text: str) -> None:
-            if self.on_event is not None:
-                self.on_event(text)
+    def value_changed(self, index: int, sub: int) -> None:
+        if self._refreshing:
+            return
+        for pdo_map in self.tx:
+            if not pdo_map.enabled or not any(
+                    v.index == index and v.subindex == sub for v in pdo_map.map):
+                continue
+            self._refresh(pdo_map)
+            if self.node.nmt_state != OPERATIONAL:
+                continue
+            if pdo_map.trans_type in (254, 255):
+                pdo_map.transmit()
+            elif pdo_map.trans_type == 0:
+                self._changed.add(id(pdo_map))
 
-        # -- life ---------------------------------------------------------------------------
-        def attach(self, network, *, operational: bool = False) -> None:
-            network.add_node(self)
-            network.subscribe(NMT_COB_ID, self.on_nmt)
-            network.subscribe(SYNC_COB_ID, self.on_sync)
-            self.boot()
-            if operational:
-                self.go_operational()
+    def on_sync(self, can_id, data, timestamp) -> None:
+        if self.node.nmt_state != OPERATIONAL:
+            return
+        for pdo_map in self.tx:
+            t = pdo_map.trans_type
+            if not pdo_map.enabled or t is None or t > 240:
+                continue
+            if t == 0:
+                if id(pdo_map) in self._changed:
+                    self._changed.discard(id(pdo_map))
+                    pdo_map.transmit()
+                continue
+            n = self._sync_count.get(id(pdo_map), 0) + 1
+            if n >= t:
+                n = 0
+                self._refresh(pdo_map)
+                pdo_map.transmit()
+            self._sync_count[id(pdo_map)] = n
 
-        def detach(self) -> None:
-            tasks = [m._task for m in self.tpdo.map.values() if m._task is not None]
-            tasks.append(self.nmt._send_task)
-            self._stop_tpdos()
-            self.nmt.stop_heartbeat()
-            for task in tasks:
-                _join(task)
-            if not self.has_network():
-                return
-            net = self.network
-            for cob, callback in self._subscribed.values():
-                _unsubscribe(net, cob, callback)
-            self._subscribed.clear()
-            _unsubscribe(net, NMT_COB_ID, self.on_nmt)
-            _unsubscribe(net, SYNC_COB_ID, self.on_sync)
-            del net[self.id]
+    def _start(self, pdo_map) -> None:
+        pdo_map.stop()
+        if pdo_map.enabled and pdo_map.trans_type in (254, 255) and pdo_map.event_timer:
+            self._refresh(pdo_map)
+            pdo_map.start(pdo_map.event_timer / 1000.0)
 
-    return BenchNode
+    def start(self) -> None:
+        for pdo_map in self.tx:
+            self._start(pdo_map)
+
+    def stop(self) -> None:
+        for pdo_map in self.tx:
+            pdo_map.stop()
+
+    def tasks(self) -> list:
+        return [m._task for m in self.tx if m._task is not None]
+
+    def unsubscribe(self) -> None:
+        for cob, callback in self._subscribed.values():
+            _unsubscribe(self.node.network, cob, callback)
+        self._subscribed.clear()
+
+    def on_rpdo(self, pdo_map) -> None:
+        node = self.node
+        if node.nmt_state != OPERATIONAL:
+            return
+        before = bytes(node.image.data) if node.image is not None else None
+        for var in pdo_map.map:
+            if var.index < 0x1000 or not var.length:
+                continue
+            if (var.offset + var.length + 7) // 8 > len(pdo_map.data):
+                continue     # a frame shorter than its mapping: nothing to take
+            try:
+                node.set_data(var.index, var.subindex, var.get_data())
+            except (SdoAbortedError, struct.error, ValueError, KeyError):
+                continue
+        if before is not None and bytes(node.image.data) != before \
+                and node.on_image_change is not None:
+            node.on_image_change(node.image)
 
 
 def _join(task, longest: float = 1.0) -> None:
@@ -357,15 +370,9 @@ def _unsubscribe(net, cob_id: int, callback) -> None:
         net.unsubscribe(cob_id, callback)
 
 
-_CLASS = None
-
-
-def bench_node(node_id: int, od, image: ProcessImage | None = None):
+def bench_node(node_id: int, od, image: ProcessImage | None = None) -> BenchNode:
     """A ``canopen.LocalNode`` (subclass) for ``od``; attach it with ``node.attach(net)``."""
-    global _CLASS
-    if _CLASS is None:
-        _CLASS = _local_node_class()
-    return _CLASS(node_id, od, image)
+    return BenchNode(node_id, od, image)
 
 
 def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
@@ -424,7 +431,6 @@ def from_outcome(outcome, node_id: int, memory: int | None = None):
     """A node whose object dictionary is the one DynBuildOd left (SPEC §8): static,
     created and written entries, values as the container wrote them; network variables
     live in the process image at their PI addresses."""
-    import canopen.objectdictionary as od_mod
     od = od_mod.ObjectDictionary()
     od.node_id = node_id
     for index in sorted(outcome.od):

@@ -181,8 +181,7 @@ def _run(net, plan, node_id: int, *, timeout, retries, verify, keep_going, preop
     if reset_comm:
         dl.nmt(net, node_id, "RESET COMMUNICATION")
     if not quiet:
-        done = [f"{plan.source}: {_count(total, 'entry', 'entries')} "
-                f"written to node {node_id}"]
+        done = [f"{plan.source}: {_count(total, 'entry', 'entries')} written to node {node_id}"]
         if verify:
             done.append("read back equal")
         if save:

@@ -58,7 +58,6 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
     image at their PI addresses, and PDOs move them on and off the bus.
     """
     from dcf2bin.bus import link
-    from dcf2bin.bus import node as nodemod
     if (input is None) == (container is None):
         fail("give an EDS/DCF FILE or --container FILE.bin (one of them)",
              code=ExitCode.USAGE)
