@@ -58,10 +58,12 @@ class Bench:
 
     def close(self) -> None:
         from dcf2bin.bus import link
-        for node in self.nodes:
-            node.detach()
-        for net in self.nets:
-            link.close_network(net)
+        try:
+            for node in self.nodes:
+                node.detach()
+        finally:
+            for net in self.nets:
+                link.close_network(net)
 
 
 def bus_args(channel: str) -> list[str]:

@@ -177,6 +177,19 @@ def test_silent_node_is_a_timeout_error_after_the_retries(channel):
                         "within 0.05 s, 3 tries); 0 of 15 entries written before it\n")
 
 
+def test_node_without_sdo_server_is_a_timeout_error(bench):
+    node = bench.device()                               # boots and heartbeats, no SDO server
+    node.network.unsubscribe(node.sdo.rx_cobid, node.sdo.on_request)
+    try:
+        r = run("download", DCF, "-n", "3", "-i", "virtual", "--channel", bench.channel,
+                "--timeout", "0.05", "--retries", "1")
+    finally:
+        node.network.subscribe(node.sdo.rx_cobid, node.sdo.on_request)
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 3 did not answer (no SDO response "
+                        "within 0.05 s, 2 tries); 0 of 15 entries written before it\n")
+
+
 def test_keep_going_still_stops_at_a_silent_node(channel):
     r = run("download", DCF, "-n", "9", "--keep-going", *bus_args(channel))
     assert r.exit_code == 1

@@ -132,6 +132,11 @@ def _target(path, node_id, static_od, pi_size, tx_cobs, rx_cobs, granularity,
     static = None
     if static_od is not None:
         static = StaticOD.from_eds(static_od, read_input(static_od))
+        errors = sum(1 for p in static.dev.problems if p.diagnostic.severity is Severity.ERROR)
+        if errors:
+            emit([Diagnostic(Severity.WARNING, f"the static OD has {errors} error"
+                             f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); the "
+                             "objects that could be read are used", static_od)], quiet)
     opts = TargetOptions(pi_size=pi_size, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                          granularity=granularity, bit_mapping=bit_mapping,
                          address_base=address_base)
