@@ -13,7 +13,7 @@ NODE_ID = click.IntRange(1, 127)
 
 def bus_options(fn):
     """--interface/--channel/--bitrate, shared by download and node."""
-    fn = click.option("--bitrate", type=click.IntRange(1),
+    fn = click.option("--bitrate", type=click.IntRange(1), metavar="BPS",
                       help="Bit rate in bit/s (default: python-can's configuration).")(fn)
     fn = click.option("--channel", metavar="CHANNEL",
                       help="Channel of the interface, e.g. can0, PCAN_USBBUS1, 0, a "
@@ -34,12 +34,13 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 
 @click.command("download", context_settings=CONTEXT)
 @click.argument("input", metavar="FILE", type=click.Path(dir_okay=False, allow_dash=True))
-@click.option("-n", "--node", "node_id", type=NODE_ID, required=True,
+@click.option("-n", "--node", "node_id", type=NODE_ID, required=True, metavar="N",
               help="Node-ID to configure (also the node-ID of $NODEID values).")
 @bus_options
 @click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
+              metavar="SECONDS",
               help="Seconds to wait for each SDO response.")
-@click.option("--retries", type=click.IntRange(0), default=2, show_default=True,
+@click.option("--retries", type=click.IntRange(0), default=2, show_default=True, metavar="N",
               help="Times an unanswered SDO request is sent again.")
 @click.option("--from", "from_", type=click.Choice(["dcf", "json", "bin"]),
               help="Input format (default: by extension; .bin = container, .json = "

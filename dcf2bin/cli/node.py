@@ -14,7 +14,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.command("node", context_settings=CONTEXT)
 @click.argument("input", metavar="[FILE]", required=False,
                 type=click.Path(dir_okay=False, allow_dash=True))
-@click.option("-n", "--node-id", type=NODE_ID,
+@click.option("-n", "--node-id", type=NODE_ID, metavar="N",
               help="Node-ID (default: NodeID in [DeviceComissioning] of FILE).")
 @bus_options
 @click.option("--container", type=click.Path(dir_okay=False, allow_dash=True),
@@ -23,12 +23,12 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               "container.")
 @click.option("--static-od", type=click.Path(dir_okay=False), metavar="EDS",
               help="With --container: the objects the target's firmware already has.")
-@click.option("--pi-size", type=click.IntRange(0),
+@click.option("--pi-size", type=click.IntRange(0), metavar="N",
               help="With --container: PI memory of the target in bytes (default: the "
               "complete size the container gives).")
-@click.option("--tx-cobs", type=click.IntRange(0),
+@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
               help="With --container: PDO entries of the TX COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0),
+@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
               help="With --container: PDO entries of the RX COB table (default: unlimited).")
 @click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
               show_default=True, help="With --container: the stack's PDO granularity in bits.")
