@@ -315,10 +315,32 @@ def test_interface_that_cannot_open_is_exit_3():
                         "type \"no-such-interface\"\n")
 
 
-def test_no_interface_at_all_is_exit_3(monkeypatch, tmp_path):
+def _no_can_config(monkeypatch, home):
     for var in ("CAN_INTERFACE", "CAN_CHANNEL", "CAN_BITRATE", "CAN_CONFIG"):
         monkeypatch.delenv(var, raising=False)
-    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.setenv("HOME", str(home))
+
+
+def test_python_can_configuration_file_when_no_bus_options(bench, monkeypatch, tmp_path):
+    _no_can_config(monkeypatch, tmp_path)
+    (tmp_path / ".canrc").write_text(f"[default]\ninterface = virtual\n"
+                                     f"channel = {bench.channel}\n")
+    bench.device()
+    r = run("download", DCF, "-n", "3", "--timeout", TIMEOUT)
+    assert (r.exit_code, r.stdout) == (0, f"{DCF}: 15 entries written to node 3\n")
+
+
+def test_python_can_environment_when_no_bus_options(bench, monkeypatch, tmp_path):
+    _no_can_config(monkeypatch, tmp_path)
+    monkeypatch.setenv("CAN_INTERFACE", "virtual")
+    monkeypatch.setenv("CAN_CHANNEL", bench.channel)
+    bench.device()
+    r = run("download", DCF, "-n", "3", "--timeout", TIMEOUT)
+    assert (r.exit_code, r.stdout) == (0, f"{DCF}: 15 entries written to node 3\n")
+
+
+def test_no_interface_at_all_is_exit_3(monkeypatch, tmp_path):
+    _no_can_config(monkeypatch, tmp_path)
     monkeypatch.chdir(tmp_path)
     r = run("download", str(SAMPLES / "device.dcf"), "-n", "3")
     assert r.exit_code == 3

@@ -1,8 +1,8 @@
 """Open a ``canopen.Network`` on a python-can interface, and name SDO abort codes.
 
 Interface, channel and bitrate left out are taken from python-can's own
-configuration (``~/.canrc``, ``can.ini``, the ``CAN_INTERFACE``/``CAN_CHANNEL``/
-``CAN_BITRATE`` environment variables), as ``can.Bus()`` does.
+configuration (the ``CAN_INTERFACE``/``CAN_CHANNEL``/``CAN_BITRATE`` environment
+variables, ``~/.canrc`` and the other files python-can reads), as ``can.Bus()`` does.
 """
 from __future__ import annotations
 
