@@ -9,11 +9,23 @@ from click.testing import CliRunner
 
 from dcf2bin.cli import main
 
-TIMEOUT = "0.1"        # SDO response timeout used by the tests (seconds)
+# SDO response timeout of the tests that expect answers: generous, since an answer ends
+# the wait at once and a loaded machine must not fail them (the silence tests use 0.05 s)
+TIMEOUT = "2"
 
 
 def run(*args):
     return CliRunner().invoke(main, list(args), catch_exceptions=False)
+
+
+def eventually(condition, timeout: float = 2.0) -> bool:
+    """Poll ``condition`` until it holds (True) or ``timeout`` seconds pass (False)."""
+    end = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > end:
+            return False
+        time.sleep(0.005)
+    return True
 
 
 def threads_settle(before: set, wait: float = 2.0) -> list[str]:
@@ -52,7 +64,7 @@ class Bench:
         assert errors == []
         return self.add(node)
 
-    def sdo(self, node_id: int, timeout: float = 0.2):
+    def sdo(self, node_id: int, timeout: float = 2.0):
         from dcf2bin.bus.download import sdo_client
         return sdo_client(self.network(), node_id, timeout=timeout, retries=0)
 

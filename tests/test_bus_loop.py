@@ -77,18 +77,17 @@ def test_download_slave_and_see_its_tpdo_in_the_targets_process_image(channel, t
             rc = main.main(["download", "samples/device.dcf", "-n", str(SLAVE_ID), "-q",
                             "--verify", *bus_args(channel)], standalone_mode=False)
             seen["download"] = rc
+            # Every node takes the frames of the bus in order: NMT start before SYNC, the
+            # slave's TPDO before the SDO request that reads the target's image.
             mon.nmt.state = "OPERATIONAL"                    # NMT start, all nodes
-            time.sleep(0.05)
             mon.sync.transmit()                              # slave TPDO1 is type 1 (SYNC)
             seen["tpdo1"] = frames.wait(1, 0x180 + SLAVE_ID)[0]
-            time.sleep(0.05)
             plc = bench.sdo(PLC_ID)
             seen["position"] = plc.upload(*POSITION)
             # a new value on the slave travels on the next SYNC
             bench.sdo(SLAVE_ID).download(0x2001, 0, bytes.fromhex("563412"))
             mon.sync.transmit()
             seen["tpdo2"] = frames.wait(2, 0x180 + SLAVE_ID)[1]
-            time.sleep(0.05)
             # outputs: the target's TPDO (type 254) goes out when a mapped value changes
             plc.download(*WORD, bytes.fromhex("EFBE"))
             plc.download(*DIGOUT, b"\x5a")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from bus_helpers import TIMEOUT, bus_args, run
+from bus_helpers import TIMEOUT, bus_args, eventually, run
 from conftest import SAMPLES
 
 from dcf2bin.compiler import CompileOptions, compile_path
@@ -191,10 +191,11 @@ def test_node_without_sdo_server_is_a_timeout_error(bench):
 
 
 def test_keep_going_still_stops_at_a_silent_node(channel):
-    r = run("download", DCF, "-n", "9", "--keep-going", *bus_args(channel))
+    r = run("download", DCF, "-n", "9", "--keep-going", "-i", "virtual", "--channel", channel,
+            "--timeout", "0.05", "--retries", "0")
     assert r.exit_code == 1
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 9 did not answer (no SDO response "
-                        f"within {TIMEOUT} s, 1 try); 0 of 15 entries written before it\n")
+                        "within 0.05 s, 1 try); 0 of 15 entries written before it\n")
 
 
 # -- verify ---------------------------------------------------------------------------------
@@ -243,14 +244,16 @@ def test_preop_save_and_reset_comm(bench, tmp_path):
     states = []
     net = bench.network()
     net.subscribe(0, lambda can_id, data, ts: states.append(bytes(data)))
+    boots = []
+    net.subscribe(0x703, lambda can_id, data, ts: boots.append(bytes(data)))
     r = run("download", DCF, "-n", "3", "--preop", "--save", "--reset-comm", "--verify",
             *bus_args(bench.channel))
     assert (r.exit_code, r.stderr) == (0, "")
     assert r.stdout == (f"{DCF}: 15 entries written to node 3, read back equal, saved, "
                         "communication reset\n")
+    assert eventually(lambda: b"\x00" in boots)   # the reset's boot-up
     assert states == [b"\x80\x03", b"\x82\x03"]
-    time.sleep(0.05)
-    assert node.nmt.state == "PRE-OPERATIONAL"     # after the reset's boot-up
+    assert node.nmt.state == "PRE-OPERATIONAL"
     assert node.sdo[0x1017].raw == 500             # stored, so kept over the reset
 
 
@@ -258,8 +261,7 @@ def test_reset_comm_without_save_restores_the_communication_area(bench):
     node = bench.device()
     r = run("download", DCF, "-n", "3", "--reset-comm", *bus_args(bench.channel))
     assert r.exit_code == 0
-    time.sleep(0.05)
-    assert node.sdo[0x1017].raw == 0                        # 0x1000-0x1FFF: back to the EDS
+    assert eventually(lambda: node.sdo[0x1017].raw == 0)    # 0x1000-0x1FFF: back to the EDS
     assert node.sdo[0x2003].raw == bytes.fromhex("DEADBEEF")  # the application area stays
 
 

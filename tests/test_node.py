@@ -8,7 +8,7 @@ import threading
 import time
 
 import pytest
-from bus_helpers import Bench, bus_args, run
+from bus_helpers import Bench, bus_args, eventually, run
 from conftest import SAMPLES
 
 pytest_plugins = ["bus_fixtures"]
@@ -71,9 +71,8 @@ def test_tpdo_on_sync_as_the_downloaded_mapping_says(bench):
     sdo = bench.sdo(3)
     sdo.download(0x2001, 0, bytes.fromhex("563412"))
     net.nmt.state = "OPERATIONAL"
-    time.sleep(0.05)
-    assert node.nmt.state == "OPERATIONAL"
-    net.sync.transmit()                             # transmission type 1: every SYNC
+    net.sync.transmit()             # the node takes both in order, NMT start first
+    assert eventually(lambda: node.nmt.state == "OPERATIONAL")                             # transmission type 1: every SYNC
     # 0x2001 (24 bits) then the UNSIGNED8 dummy
     assert tpdo.wait(1) == [(0x183, bytes.fromhex("56341200"))]
 
@@ -83,7 +82,10 @@ def test_no_pdo_before_operational(bench):
     net = bench.network()
     tpdo = Frames(net, 0x183)
     net.sync.transmit()
-    time.sleep(0.1)
+    # the node answers this after it has taken the SYNC, and on the same network any TPDO
+    # it had sent for that SYNC would have arrived before the answer
+    from dcf2bin.bus.download import sdo_client
+    assert sdo_client(net, 3, timeout=2.0, retries=0).upload(0x1017, 0) == b"\xf4\x01"
     assert tpdo.got == []
 
 
@@ -121,9 +123,7 @@ def test_nmt_reset_node_restores_the_files_values(bench):
     sdo = bench.sdo(3)
     sdo.download(0x2003, 0, bytes.fromhex("01020304"))
     net.send_message(0, [0x81, 3])
-    boot.wait(1)
-    time.sleep(0.02)
-    assert boot.got[0] == (0x703, b"\x00")
+    assert boot.wait(1)[0] == (0x703, b"\x00")
     assert sdo.upload(0x2003, 0) == bytes.fromhex("DEADBEEF")
     assert node.nmt.state == "PRE-OPERATIONAL"
 
@@ -140,7 +140,7 @@ def test_node_command_runs_for_its_duration(channel):
         def client():
             boot.wait(1)
             from dcf2bin.bus.download import sdo_client
-            answers.append(sdo_client(net, 3, timeout=0.5, retries=0).upload(0x1017, 0))
+            answers.append(sdo_client(net, 3, timeout=2.0, retries=0).upload(0x1017, 0))
         t = threading.Thread(target=client)
         t.start()
         r = run("node", DCF, "-i", "virtual", "--channel", channel, "--duration", "0.4")

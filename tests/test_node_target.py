@@ -56,7 +56,7 @@ def _serve(channel, args, reads):
         try:
             boot.wait(2)
             from dcf2bin.bus.download import sdo_client
-            sdo = sdo_client(net, 16, timeout=0.5, retries=0)
+            sdo = sdo_client(net, 16, timeout=2.0, retries=0)
             for key in reads:
                 got[key] = sdo.upload(*key)
         finally:
