@@ -313,8 +313,10 @@ def test_property_target_builds_the_od(tmp_path, variables):
     csv.write_text(HEADER + "".join(f"{n},{t},{d}\n" for n, t, d in variables))
     dcf = tmp_path / "v.dcf"
     assert run("allocate", csv, "-o", dcf).exit_code == 0
-    from dcf2bin.compiler import CompileOptions, compile_file
-    assert emulate(compile_file(str(dcf), CompileOptions()), TargetOptions()).code == 0
+    from dcf2bin.compiler import CompileOptions, compile_path
+    res = compile_path(str(dcf), CompileOptions())
+    assert res.ok
+    assert emulate(res.container, TargetOptions()).code == 0     # kCopSuccessful
 
 
 @settings(max_examples=50, deadline=None)
