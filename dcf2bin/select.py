@@ -16,6 +16,7 @@ from dcf2bin.model import (Device, Entry, NV_FIRST, NV_LAST, is_pdo_comm, is_pdo
 AUTO, ALL = "auto", "all"
 CIA301, NONE = "cia301", "none"
 COB_INVALID = 0x80000000
+CAN_ID_MASK = 0x1FFFFFFF   # COB-ID bits 0-28: the CAN-ID
 MAX_MAPPED = 64
 
 
@@ -33,6 +34,9 @@ class PdoRules:
     disable_mask: int = COB_INVALID
     enable_mask: int = 0
     max_mapped: int = MAX_MAPPED
+    # D-12 (DIS-2): when comm sub 1's DefaultValue (the COB-ID the device has) has another
+    # CAN-ID than the final one, the block first writes ``old | disable_mask``
+    old_cob_first: bool = False
 
 
 @dataclass
@@ -213,7 +217,15 @@ class _Selector:
         except DcfError as exc:
             self.error(exc)
             return
-        # a) disable
+        # a) disable (D-12: under the old COB-ID first when the CAN-ID changes)
+        if self.rules.old_cob_first:
+            try:
+                old = dev.default_int(cob)
+            except DcfError as exc:
+                self.error(exc)
+                return
+            if old is not None and (old ^ final) & CAN_ID_MASK:
+                self.write(cob, (old | self.rules.disable_mask).to_bytes(4, "little"))
         self.write(cob, (final | self.rules.disable_mask).to_bytes(4, "little"))
         # b) transmission type, inhibit time, event timer, SYNC start
         for s in (2, 3, 5, 6):
