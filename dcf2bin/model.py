@@ -313,6 +313,12 @@ class Device:
                         out.append(Problem(exc.diagnostic, idx, sub))
                 elif default is not None:
                     self._text_check(out, seen, e, "defaultvalue", default)
+            if is_pdo_mapping(idx) and not (some and written(idx, 0)):
+                unstated = unstated_mapping_count(obj)
+                if unstated is not None:
+                    where, message = unstated
+                    out.append(Problem(Diagnostic(Severity.ERROR, message, where.file,
+                                                  where.line, rule="DCF419"), idx, 0))
         return out
 
     def _text_check(self, out: list, seen: set, e: Entry, key: str, text: str) -> None:
@@ -336,6 +342,30 @@ class Device:
         """
         from dcf2bin.interop import to_canopen
         return to_canopen(self)
+
+
+def unstated_mapping_count(obj: Obj) -> tuple[Where, str] | None:
+    """A PDO mapping object with sub-entries whose sub 0 gives no value (no sub 0 section,
+    or one without DefaultValue/ParameterValue: Elmo EDS files write only HighLimit=8)
+    does not say how many objects it maps; the model's sub 0 is then the highest subindex
+    present (SPEC §1). Returns where to say so and the message (DCF419), else None.
+    ``compile`` refuses to write a PDO block from such a count (README, choices)."""
+    if not is_pdo_mapping(obj.index) or obj.implicit or obj.compact or len(obj.entries) < 2:
+        return None
+    e0 = obj.entries.get(0)
+    if e0 is None:
+        return None
+    highest = max(obj.entries)
+    if e0.implicit:
+        what = f"PDO mapping 0x{obj.index:04X} has no sub 0"
+    elif e0.section is not None and not any(
+            e0.section.values.get(k) for k in ("parametervalue", "defaultvalue", "downloadfile")):
+        what = f"{e0.label} has no DefaultValue or ParameterValue"
+    else:
+        return None
+    return (e0.where or obj.where or Where(""),
+            f"{what}: the number of mapped objects is not given (the highest subindex "
+            f"present, {highest}, would be taken)")
 
 
 # -- building ----------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
 from dcf2bin.model import (Device, Entry, NV_FIRST, NV_LAST, is_pdo_comm, is_pdo_mapping,
-                           is_pdo_object)
+                           is_pdo_object, unstated_mapping_count)
 
 AUTO, ALL = "auto", "all"
 CIA301, NONE = "cia301", "none"
@@ -233,6 +233,10 @@ class _Selector:
             if e is not None and self.counts(e) and not e.obj_flags & 1:
                 self.write(e)
         # c) d) e) mapping
+        unstated = unstated_mapping_count(mapping)
+        if unstated is not None:   # the count would be a guess (README, choices)
+            self.error(unstated[1], unstated[0], "DCF419")
+            return
         sub0 = mapping.entries.get(0)
         try:
             n = dev.effective_int(sub0) if sub0 is not None else 0
