@@ -198,7 +198,9 @@ def test_dis2_profile_values():
     p = get_profile("dis2")
     assert (p.disable_mask, p.enable_mask, p.max_mapped, p.max_bits,
             p.cob_bit30_required) == (0xC0000000, 0x40000000, 4, 64, True)
+    assert p.old_cob_first and p.pdo_rules().old_cob_first          # D-12
     c = get_profile("cia301")
     assert (c.disable_mask, c.enable_mask, c.max_mapped) == (0x80000000, 0, 64)
+    assert not c.old_cob_first and not c.pdo_rules().old_cob_first
     with pytest.raises(ValueError, match="unknown profile 'x'"):
         get_profile("x")
