@@ -294,6 +294,15 @@ class Device:
         seen: set = set()   # CompactSubObj: one DefaultValue line for N entries
         for idx, obj in self.objects.items():
             in_whole = idx in whole
+            if in_whole and not is_pdo_mapping(idx):
+                # every effective value is written (60,000 network variables): only a
+                # DefaultValue behind a ParameterValue/DownloadFile is not
+                for e in obj.entries.values():
+                    if e.default is not None and (e.param is not None or e.download_file
+                                                  is not None) and e.dtype is not None \
+                            and not e.implicit:
+                        self._text_check(out, seen, e, "defaultvalue", e.default)
+                continue
             some = in_whole or written(idx, None)
             for sub, e in obj.entries.items():
                 if e.dtype is None or e.implicit:
