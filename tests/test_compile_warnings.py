@@ -230,3 +230,21 @@ def test_sevcon_dcf_warns_about_values_it_does_not_write():
     assert [line for sev, line in got if sev == "warning"] == [
         "18843", "22187", "22198", "22209", "22220", "22231", "22242", "22253", "22264"]
     assert r.exit_code == 1
+
+
+def test_network_variable_default_behind_its_parameter_value(tmp_path):
+    # group 1 writes every network variable with its effective value (the ParameterValue);
+    # the DefaultValue behind it is not written: a warning. The same text as the written
+    # value is an error.
+    text = ("[A4C0]\nSubNumber=3\n[A4C0sub1]\nParameterName=a\nParameterValue=1\n"
+            "DefaultValue=256\n[A4C0sub2]\nParameterName=b\n")
+    src = write(tmp_path, text)
+    r = run("compile", str(src), "-o", str(tmp_path / "nv.bin"))
+    assert r.exit_code == 0
+    assert lines(r) == [f"{src}:9: warning: 0xA4C0sub1 DefaultValue: value 256 out of range for "
+                        "UNSIGNED8 (0..255) (not written by compile) [DCF200]"]
+    src.write_text(HEAD + text.replace("ParameterValue=1\n", ""))
+    r = run("compile", str(src), "-o", str(tmp_path / "nv.bin"))
+    assert r.exit_code == 1
+    assert lines(r)[0] == (f"{src}:8: error: 0xA4C0sub1: value 256 out of range for UNSIGNED8 "
+                           "(0..255) [DCF200]")
