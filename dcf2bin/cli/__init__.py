@@ -24,9 +24,11 @@ def main(debug: bool) -> None:
 def _register() -> None:
     from dcf2bin.cli import bin2dcf, compile, dump, export, simulate, tunnel, validate
     from dcf2bin.cli import download, node
+    from dcf2bin.cli import allocate, map as map_
     for command in (compile.compile_cmd, dump.dump_cmd, bin2dcf.bin2dcf_cmd,
                     validate.validate_cmd, export.export_cmd, tunnel.tunnel_cmd,
-                    simulate.simulate_cmd, download.download_cmd, node.node_cmd):
+                    simulate.simulate_cmd, download.download_cmd, node.node_cmd,
+                    map_.map_cmd, allocate.allocate_cmd):
         main.add_command(command)
 
 

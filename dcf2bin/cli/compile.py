@@ -65,18 +65,26 @@ def _profile_choice():
               help="Input format (default: by extension; .json = lossless dump).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
 @click.option("-v", "--verbose", is_flag=True, help="Print a summary of what was written.")
+@click.option("--format", "out_format", type=click.Choice(["bin", "c"]), default="bin",
+              show_default=True, help="bin: the container; c: the container as C source "
+              "(an array and a <NAME>_PI_SIZE define).")
+@click.option("--c-name", metavar="NAME", help="c: name of the array (default: the input's "
+              "base name).")
+@click.option("--c-decl", metavar="DECL", default="const unsigned char", show_default=True,
+              help="c: the declaration before the array's name, e.g. 'static CONST BYTE ROM'.")
 @guarded
 def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_process_image,
                 pi_align, pi_size, address_base, container_version, allow_external_files,
                 profile, append, no_target_check, tx_cobs, rx_cobs, granularity,
-                no_bit_mapping, from_, quiet, verbose):
+                no_bit_mapping, from_, quiet, verbose, out_format, c_name, c_decl):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
     data_in = read_input(input)
     if output is None:
         if input == "-":
             fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
-        output = os.path.splitext(input)[0] + ".bin"
+        output = os.path.splitext(input)[0] + (".c" if out_format == "c" else ".bin")
+    write = _writer(out_format, c_name, c_decl, input)
     fmt = from_ or ("json" if input.lower().endswith(".json") else "dcf")
     name = "<stdin>" if input == "-" else input
     if fmt == "json":
@@ -85,7 +93,7 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
         emit(diags, quiet)
         if data is None:
             raise Failure(ExitCode.FINDINGS)
-        write_output(data, output, [input], binary=True)
+        write(data, output, [input])
         return
     opts = CompileOptions(node_id=node_id, select=select_, pdo_sequence=pdo_sequence,
                           static_od=static_od, process_image=not no_process_image,
@@ -104,7 +112,7 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
         n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
         click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
         raise Failure(ExitCode.FINDINGS)
-    write_output(res.data, output, [input], binary=True)
+    write(res.data, output, [input])
     if verbose:
         c = res.container
         msg = f"{name} -> {output}: {len(res.data)} bytes, {len(c.entries)} entries"
@@ -112,3 +120,18 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
             msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
                     f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
         click.echo(msg, err=True)
+
+
+def _writer(out_format: str, c_name: str | None, c_decl: str, input: str):
+    """How the container leaves: as bytes, or (``--format c``) as C source."""
+    if out_format != "c":
+        return lambda data, output, inputs: write_output(data, output, inputs, binary=True)
+    from dcf2bin.plc import csource
+    name = c_name or csource.default_name("container" if input == "-" else input)
+    problem = csource.name_problem(name) if c_name else None
+    problem = problem or csource.decl_problem(c_decl)
+    if problem:
+        fail(problem, code=ExitCode.USAGE)
+    source = "<stdin>" if input == "-" else os.path.basename(input)
+    return lambda data, output, inputs: write_output(
+        csource.render(data, name, decl=c_decl, source=source), output, inputs, binary=False)
