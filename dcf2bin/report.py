@@ -53,7 +53,7 @@ def escape(text: str, *, controls: bool = True) -> str:
             out.append(f"\\x{o - 0xDC00:02x}")
         elif 0xD800 <= o <= 0xDFFF:
             out.append(f"\\u{o:04x}")
-        elif controls and (o < 0x20 or o == 0x7F):
+        elif controls and (o < 0x20 or 0x7F <= o < 0xA0):
             out.append(f"\\x{o:02x}")
         else:
             out.append(ch)
@@ -90,7 +90,7 @@ def format_text(d: Diagnostic, colour: bool = False) -> str:
     sev = d.severity.value
     if colour:
         sev = f"{_COLOURS[d.severity]}{sev}\x1b[0m"
-    text = f"{location(d)}: {sev}: {_msg(d.message)}"
+    text = f"{location(d)}: {sev}: {escape(d.message)}"
     if d.rule:
         text += f" [{d.rule}]"
     return text
@@ -119,7 +119,7 @@ def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool
             continue
         out.append(format_text(d, colour))
         if hints and d.hint:
-            out.append(f"    hint: {_msg(d.hint)}")
+            out.append(f"    hint: {escape(d.hint)}")
         if cap is not None and n == cap and total[key] > cap:
             out.append(left_out(d.file, d.rule, total[key] - cap, cap))
     return out

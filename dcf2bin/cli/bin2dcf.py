@@ -55,7 +55,7 @@ def _bin2dcf_options(fn):
     return fn
 
 
-_BIN2DCF_HELP = """Turn a binary container back into a DCF (SPEC §4).
+_BIN2DCF_HELP = """Turn a binary container back into a DCF.
 
 One object section per index; ParameterValue is the last value written, comments list
 earlier writes (PDO sequences). Types come from the CiA 405 ranges and the attribute
