@@ -126,6 +126,24 @@ def test_a_fifo_is_written_directly(tmp_path):
     assert temps(tmp_path) == []
 
 
+@pytest.mark.skipif(not os.path.exists("/dev/stdout"), reason="needs /dev/stdout")
+@pytest.mark.parametrize("into", ["pipe", "file"])
+def test_dev_stdout_is_written_directly(tmp_path, into):
+    """-o /dev/stdout names this process's standard output: a pipe or the file the shell
+    opened, never a path to put a temporary file beside."""
+    if into == "pipe":
+        out = dcf2bin("compile", BILD8, "-o", "/dev/stdout", capture_output=True)
+        got = out.stdout
+    else:
+        with open(tmp_path / "shell.bin", "wb") as f:
+            out = dcf2bin("compile", BILD8, "-o", "/dev/stdout", stdout=f,
+                          stderr=subprocess.PIPE)
+        got = (tmp_path / "shell.bin").read_bytes()
+    assert out.returncode == 0, out.stderr
+    assert got == BILD8_BIN.read_bytes()
+    assert temps(tmp_path) == []
+
+
 @is_root
 def test_a_character_device_is_written_directly(tmp_path):
     null = tmp_path / "null"

@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import io
 import os
+import re
 import signal
 import stat
 import sys
@@ -285,11 +286,11 @@ def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: b
     if output == "-":
         _write_stdout(data, binary)
         return
-    target = os.path.realpath(output)
     try:
-        st = os.stat(target)
+        st = os.stat(output)        # follows links, /dev/stdout and /proc/self/fd/N too
     except OSError:
         st = None
+    target = os.path.realpath(output)
     for inp in list(inputs) + _State.inputs:
         if inp and inp != "-" and _same_file(inp, target, st):
             fail(f"output '{output}' is the input file; refusing to overwrite it",
@@ -298,12 +299,19 @@ def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: b
         fail("cannot write: Is a directory", output, ExitCode.UNREADABLE)
     old = _install_handlers()
     try:
-        if st is not None and not stat.S_ISREG(st.st_mode):
-            _write_direct(data, target, output)
+        if (st is not None and not stat.S_ISREG(st.st_mode)) or _names_a_descriptor(output):
+            _write_direct(data, output, output)
         else:
             _write_atomic(data, target, output, st)
     finally:
         _restore_handlers(old)
+
+
+def _names_a_descriptor(path: str) -> bool:
+    """/dev/stdout, /dev/fd/N, /proc/self/fd/N: an open file of this process, whatever
+    it is (a pipe, a terminal, a file the shell opened with '>'): written directly."""
+    return bool(re.fullmatch(r"/dev/(stdout|stderr|fd/\d+)|/proc/(self|\d+)/fd/\d+",
+                             os.path.normpath(path)))
 
 
 def _write_direct(data: bytes, target: str, output: str) -> None:
