@@ -56,7 +56,13 @@ def register_input(path: str | None) -> None:
 def _silence(fd: int) -> None:
     """After EPIPE or an error on a standard stream, point it at /dev/null so that later
     writes and the interpreter's final flush cannot fail again (the Python docs' advice
-    for SIGPIPE)."""
+    for SIGPIPE). Only when the stream really is that descriptor (not a test's capture)."""
+    stream = sys.stdout if fd == 1 else sys.stderr
+    try:
+        if stream is None or stream.fileno() != fd:
+            return      # closed at start: the descriptor may be one of our own files now
+    except (OSError, ValueError, AttributeError):
+        return
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, fd)
@@ -151,6 +157,9 @@ def guarded(fn):
             say(f"dcf2bin: internal error: {type(exc).__name__}: {exc} "
                 "(run with --debug for the traceback, and please report it)")
             ctx.exit(int(ExitCode.INTERNAL))
+        finally:
+            _cleanup_temps()
+            _reset()
     return wrapper
 
 
