@@ -101,6 +101,30 @@ def test_a_finding_with_a_column_prints_file_line_in_both(tmp_path):
     assert (doc["diagnostics"][0]["line"], doc["diagnostics"][0]["column"]) == (92, 14)
 
 
+_LINE = re.compile(r"(.*?:\d+): (error|warning|info): (.*) \[(\w+)\]$")
+
+
+def _findings(text: str) -> dict:
+    out: dict = {}
+    for line in text.splitlines():
+        m = _LINE.match(line)
+        if m:
+            message = m[3].replace(" (not written by compile)", "")
+            out.setdefault((m[1], m[4]), set()).add(message)
+    return out
+
+
+@pytest.mark.parametrize("fixture", sorted(p.name for p in FIX.glob("*.fail.dcf")))
+def test_every_line_compile_prints_validate_prints_in_the_same_words(tmp_path, fixture):
+    """Same place, same rule: the same message (compile only adds its suffix)."""
+    path = FIX / fixture
+    c = _findings(run("compile", path, "-o", tmp_path / "x.bin").stderr)
+    v = _findings(run("validate", path).stdout)
+    for key, messages in c.items():
+        assert key in v, key
+        assert messages <= v[key], (key, messages, v[key])
+
+
 def test_quiet_means_errors_only_in_every_command(tmp_path):
     warn = FIX / "DCF007.fail.dcf"        # one warning, compiles
     r = run("validate", "-q", warn)
@@ -171,9 +195,9 @@ def _all_commands():
 
 
 @pytest.mark.parametrize("words, cmd", _all_commands(),
-                         ids=lambda x: " ".join(x) if isinstance(x, list) else "")
+                         ids=["dcf2bin", "bin2dcf"] + [" ".join(w) for w, _ in _all_commands()[2:]])
 def test_help_names_no_internal_document(words, cmd):
-    root = main if cmd is not _all_commands()[1][1] else cmd
+    root = cmd if not words else main        # bin2dcf is also a program of its own
     r = CliRunner().invoke(root, [*words, "--help"], catch_exceptions=False)
     assert r.exit_code == 0
     assert INTERNAL_REFERENCE.findall(r.stdout) == [], r.stdout
