@@ -177,6 +177,10 @@ def test_the_exit_code_table_is_the_same_in_code_readme_and_man_pages():
     man = (ROOT / "man" / "dcf2bin.1").read_text()
     for c in ExitCode:
         assert f"\n.B {int(c)}\n" in man, c
+    for page in (ROOT / "man").glob("*.1"):     # every page lists the codes the same way
+        text = page.read_text()
+        assert ".SH EXIT STATUS\n.TP\n.B 0\n" in text, page.name
+        assert "\n.B 3\n" in text and "\n.B 70\n" in text, page.name
 
 
 # -- item 18: help and man pages say the rules themselves ---------------------------------------
@@ -195,7 +199,7 @@ def _all_commands():
 
 
 @pytest.mark.parametrize("words, cmd", _all_commands(),
-                         ids=["dcf2bin", "bin2dcf"] + [" ".join(w) for w, _ in _all_commands()[2:]])
+                         ids=["dcf2bin", "bin2dcf-program"] + [" ".join(w) for w, _ in _all_commands()[2:]])
 def test_help_names_no_internal_document(words, cmd):
     root = cmd if not words else main        # bin2dcf is also a program of its own
     r = CliRunner().invoke(root, [*words, "--help"], catch_exceptions=False)
