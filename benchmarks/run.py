@@ -9,6 +9,10 @@ with N CiA 405 network variables), then three tools read that file:
   dcf2bin       dcf2bin.compiler.compile_file(path, CompileOptions()) -> bytes
   canopen       canopen.import_od(path)
   configparser  ConfigParser(strict=False, interpolation=None), optionxform=str
+  simulate      dcf2bin.target.emulate_bytes(container) -- DynBuildOd's model on the
+                container compiled from that file (compiled once, not timed), as
+                ``dcf2bin simulate FILE.bin`` does; the report gives simulate/dcf2bin,
+                which should stay within 2x
 
 Each (tool, size) pair runs in a fresh subprocess (this script re-invoked as
 ``run.py --one TOOL PATH``), so imports, caches and memory of one tool do not
@@ -42,7 +46,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
-TOOLS = ("dcf2bin", "canopen", "configparser")
+TOOLS = ("dcf2bin", "canopen", "configparser", "simulate")
 MIB = 1024 * 1024
 
 
@@ -74,6 +78,26 @@ def load_tool(tool: str):
 
         def describe(result) -> str:
             return f"{len(result)} bytes container"
+        return call, describe
+
+    if tool == "simulate":
+        sys.path.insert(0, str(REPO))
+        try:
+            from dcf2bin.compiler import CompileOptions, compile_file
+            from dcf2bin.target import emulate_bytes
+        except ImportError as e:
+            raise Unavailable(f"dcf2bin.target not available yet ({e})") from None
+        containers: dict = {}
+
+        def call(path: Path):
+            return emulate_bytes(containers[path])
+
+        def prepare(path: Path) -> None:      # not timed
+            containers[path] = compile_file(str(path), CompileOptions())
+
+        def describe(out) -> str:
+            return f"0x{out.code:02X} {out.name}, {len(out.pdos)} PDOs"
+        call.prepare = prepare
         return call, describe
 
     if tool == "canopen":
@@ -120,6 +144,8 @@ def measure_one(tool: str, path: Path, repeat: int, memory: bool = True,
 
     times = []
     try:
+        if hasattr(call, "prepare"):
+            call.prepare(path)
         for _ in range(repeat):
             gc.collect()
             if not gc_on:
@@ -241,7 +267,7 @@ def report(sizes: list[int], file_sizes: dict[int, int],
         tables.append(("peak", "Peak traced memory of one call (tracemalloc)", "MiB"))
     for key, title, unit in tables:
         headers = ["N", "file MiB", *(f"{t} {unit}" for t in TOOLS),
-                   "canopen/dcf2bin", "configparser/dcf2bin"]
+                   "canopen/dcf2bin", "configparser/dcf2bin", "simulate/dcf2bin"]
         rows = []
         for n in sizes:
             v = {t: value(n, t, key) for t in TOOLS}
@@ -250,7 +276,8 @@ def report(sizes: list[int], file_sizes: dict[int, int],
                            f"{v[t]:.3f}" if key == "time" else f"{v[t]:.1f}"
                            for t in TOOLS),
                          _ratio(v["canopen"], v["dcf2bin"]),
-                         _ratio(v["configparser"], v["dcf2bin"])])
+                         _ratio(v["configparser"], v["dcf2bin"]),
+                         _ratio(v["simulate"], v["dcf2bin"])])
         out += [title, _table(headers, rows), ""]
 
     # Linearity: how time grows from the smallest to the largest size,

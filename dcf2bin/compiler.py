@@ -32,6 +32,12 @@ class CompileOptions:
     allow_external_files: bool = False
     profile: str = "cia301"
     append: tuple[str, ...] = ()              # extra-writes files, added after all groups
+    # the DynBuildOd check of what is written (SPEC §8, D-11): "error", "warning" or "off"
+    target_check: str = "error"
+    tx_cobs: int | None = None
+    rx_cobs: int | None = None
+    granularity: int = 64
+    bit_mapping: bool = True
 
 
 @dataclass
@@ -41,6 +47,8 @@ class Result:
     device: model.Device | None = None
     container: BinContainer | None = None
     layout: layout_mod.Layout | None = None
+    selection: select_mod.Selection | None = None   # what the index segment writes
+    extra: list = field(default_factory=list)       # the --append writes, after it
 
     @property
     def ok(self) -> bool:
@@ -79,8 +87,6 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     static, static_errors = (static_od_indexes(opts.static_od) if opts.static_od
                              else (None, []))
     lay = None
-    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
-                 for i, o in dev.objects.items())
     if any(model.is_network_variable_index(i) for i in dev.objects):
         lay = layout_mod.compute(dev, align=opts.pi_align, pi_size=opts.pi_size,
                                  address_base=opts.address_base)
@@ -104,6 +110,22 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
             diags.extend(exc.diagnostics)
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
+    c = container_of(dev, sel, lay, opts, extra)
+    segs = c.segments()
+    data = c.to_bytes(segs)
+    _self_check(data, c, segs)
+    found = target_check(dev, sel, c, opts, extra)
+    if found:
+        diags.extend(found)
+        if any(d.severity is Severity.ERROR for d in found):
+            return Result(None, diags, dev, None, lay)
+    return Result(data, diags, dev, c, lay, sel, extra)
+
+
+def container_of(dev: model.Device, sel, lay, opts: CompileOptions, extra=()) -> BinContainer:
+    """The container of a selection and layout (validate builds it too, for its TGT rules)."""
+    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
+                 for i, o in dev.objects.items())
     # extra writes (--append) come after every D-8 group and get no PI address
     c = BinContainer(entries=sel.entries + [(w.index, w.sub, w.data) for w in extra],
                      attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
@@ -113,10 +135,34 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         # group 1, which writes each network-variable object whole, by subindex
         c.addresses = lay.addresses_of(sel.nv_objects)
         c.pi = lay.pi_parameters
-    segs = c.segments()
-    data = c.to_bytes(segs)
-    _self_check(data, c, segs)
-    return Result(data, diags, dev, c, lay)
+    return c
+
+
+def blocked(dev: model.Device, sel) -> bool:
+    """Would compile stop before writing (an error that touches what it writes)?"""
+    return bool(sel.errors) or any(
+        p.diagnostic.severity is Severity.ERROR and (p.index is None or sel.wrote(p.index, p.sub))
+        for p in dev.problems)
+
+
+def target_options(opts: CompileOptions):
+    from dcf2bin.target import TargetOptions
+    return TargetOptions(pi_size=opts.pi_size, tx_cobs=opts.tx_cobs, rx_cobs=opts.rx_cobs,
+                         granularity=opts.granularity, bit_mapping=opts.bit_mapping,
+                         address_base=opts.address_base)
+
+
+def target_check(dev: model.Device, sel, c: BinContainer, opts: CompileOptions,
+                 extra=()) -> list[Diagnostic]:
+    """Run the DynBuildOd emulation on the container just built (SPEC §8.1, D-11): the
+    DCF's objects minus the creation group are the static OD. A failure is an error (or
+    a warning with --no-target-check) at the DCF line of the offending value."""
+    if opts.target_check == "off":
+        return []
+    from dcf2bin.target import check
+    out = check.run(dev, sel, c, target_options(opts), list(extra))
+    severity = Severity.ERROR if opts.target_check == "error" else Severity.WARNING
+    return check.diagnostics(out, dev.path, severity)
 
 
 def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:

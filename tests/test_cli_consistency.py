@@ -151,7 +151,10 @@ def test_quiet_means_errors_only_in_every_command(tmp_path):
     ["compile", str(SAMPLES / "bild8.dcf"), "--static-od", "{dir}", "-o", "{tmp}/x.bin"],
     ["compile", str(SAMPLES / "bild8.dcf"), "--append", "{dir}", "-o", "{tmp}/x.bin"],
     ["dump", str(SAMPLES / "bild8.bin"), "--eds", "{dir}"],
-], ids=["compile", "dump", "bin2dcf", "export", "static-od", "append", "eds"])
+    ["simulate", "{dir}"],
+    ["simulate", str(SAMPLES / "bild8.bin"), "--static-od", "{dir}"],
+], ids=["compile", "dump", "bin2dcf", "export", "static-od", "append", "eds", "simulate",
+        "simulate-static-od"])
 def test_a_directory_as_an_input_file_is_exit_3(tmp_path, args):
     d = tmp_path / "folder.dcf"
     d.mkdir()

@@ -54,10 +54,13 @@ def _commands(tmp_path):
         "export": ["export", "--format", "lenze-st", bad_free],
         "validate": ["validate", clean],
         "tunnel": ["tunnel", "0x1A=1"],
+        "simulate": ["simulate", BILD8_BIN],
     }
 
 
 COMMANDS = ["compile", "dump", "bin2dcf", "export", "validate", "tunnel"]
+# the commands whose result goes to standard output with no -o (simulate: a report)
+STDOUT_ONLY = ["simulate"]
 
 
 # -- item 9: modes ------------------------------------------------------------------------------
@@ -175,6 +178,25 @@ def test_stdout_on_a_full_device_is_exit_3_with_one_line(tmp_path, name):
     assert out.returncode == 3, out.stderr
     assert out.stderr.splitlines()[-1] == "<stdout>: error: cannot write: No space left on device"
     assert "Traceback" not in out.stderr and "Exception ignored" not in out.stderr
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+@pytest.mark.parametrize("name", STDOUT_ONLY)
+def test_a_report_on_a_full_device_is_exit_3(tmp_path, name):
+    with open("/dev/full", "wb") as full:
+        out = dcf2bin(*_commands(tmp_path)[name], stdout=full, stderr=subprocess.PIPE,
+                      text=True)
+    assert out.returncode == 3, out.stderr
+    assert out.stderr.splitlines()[-1] == "<stdout>: error: cannot write: No space left on device"
+
+
+@pytest.mark.parametrize("name", STDOUT_ONLY)
+def test_a_report_to_a_closed_stdout_is_exit_3(tmp_path, name):
+    out = dcf2bin(*_commands(tmp_path)[name], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                  text=True, preexec_fn=lambda: os.close(1))
+    assert out.returncode == 3, out.stderr
+    assert out.stderr.splitlines()[-1] == ("<stdout>: error: cannot write: standard output "
+                                           "is closed")
 
 
 @pytest.mark.parametrize("name", COMMANDS)

@@ -54,6 +54,17 @@ def _profile_choice():
 @click.option("--append", "append", multiple=True, type=click.Path(),
               metavar="FILE", help="Extra-writes file added after all other entries "
               "(repeatable; see dcf2bin-tunnel(1)).")
+@click.option("--no-target-check", is_flag=True,
+              help="Report what the target's DynBuildOd() would refuse as a warning and "
+              "write the container anyway.")
+@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+              help="TPDO entries of the target's COB table (default: unlimited).")
+@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+              help="RPDO entries of the target's COB table (default: unlimited).")
+@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
+              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
+@click.option("--no-bit-mapping", is_flag=True,
+              help="The target cannot map a BOOLEAN as 1 bit.")
 @click.option("--from", "from_", type=click.Choice(["dcf", "json"]),
               help="Input format (default: by extension; .json = lossless dump).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
@@ -61,7 +72,8 @@ def _profile_choice():
 @guarded
 def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_process_image,
                 pi_align, pi_size, address_base, container_version, allow_external_files,
-                profile, append, from_, quiet, verbose):
+                profile, append, no_target_check, tx_cobs, rx_cobs, granularity,
+                no_bit_mapping, from_, quiet, verbose):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
     data_in = read_input(input)
@@ -84,7 +96,10 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
                           pi_align=int(pi_align), pi_size=pi_size, address_base=address_base,
                           container_version=container_version,
                           allow_external_files=allow_external_files, profile=profile,
-                          append=tuple(append))
+                          append=tuple(append),
+                          target_check="warning" if no_target_check else "error",
+                          tx_cobs=tx_cobs, rx_cobs=rx_cobs, granularity=int(granularity),
+                          bit_mapping=not no_bit_mapping)
     for path in (static_od, *append):
         check_input(path)  # missing, a directory, unreadable: exit 3 like any input
     res = compile_path(name, opts, data=data_in)

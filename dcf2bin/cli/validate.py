@@ -42,6 +42,16 @@ FORMATS = ("text", "json", "sarif", "github")
               "process image, or from the start of the variable's area.")
 @click.option("--allow-external-files", is_flag=True,
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
+@click.option("--no-target-check", is_flag=True,
+              help="Do not run the model of the target's DynBuildOd() (the TGT rules).")
+@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+              help="TPDO entries of the target's COB table (default: unlimited).")
+@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+              help="RPDO entries of the target's COB table (default: unlimited).")
+@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
+              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
+@click.option("--no-bit-mapping", is_flag=True,
+              help="The target cannot map a BOOLEAN as 1 bit.")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
@@ -50,7 +60,8 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
-                 pi_size, pi_align, address_base, allow_external_files, stdin_filename, hints,
+                 pi_size, pi_align, address_base, allow_external_files, no_target_check,
+                 tx_cobs, rx_cobs, granularity, no_bit_mapping, stdin_filename, hints,
                  quiet, debug):
     """Lint DCF/EDS files and binary containers: every problem, with rule ids.
 
@@ -82,7 +93,9 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
     stdin = sys.stdin.buffer.read() if "-" in paths else None
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
                    address_base=address_base, profile=profile,
-                   allow_external_files=allow_external_files, active=active, strict=strict)
+                   allow_external_files=allow_external_files, active=active, strict=strict,
+                   target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
+                   granularity=int(granularity), bit_mapping=not no_bit_mapping)
     result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename)
     diags = result.diagnostics
     code = result.exit_code(strict)

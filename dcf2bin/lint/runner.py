@@ -195,7 +195,57 @@ class _Run:
         if ok:
             for d in sel.errors:
                 self.core.append(self._core(d, d.rule or "DCF099"))
+        if ok and self.target_wanted() and (ctx.layout is not None or not any(
+                model.is_network_variable_index(i) for i in dev.objects)):
+            self.guard("the target emulation", self.target_dcf, dev, sel, ctx.layout)
         self.finish()
+
+    def target_wanted(self) -> bool:
+        return self.opts.target_check and any(r.startswith("TGT") for r in self.active)
+
+    def target_dcf(self, dev, sel, lay) -> None:
+        """TGT0xx on a DCF: the container ``compile`` would write, checked as compile checks
+        it (SPEC §8.1); nothing when compile would stop on other errors first."""
+        import gc
+
+        from dcf2bin import compiler
+        if compiler.blocked(dev, sel):
+            return
+        o = self.opts
+        opts = compiler.CompileOptions(
+            node_id=o.node_id, pi_align=o.pi_align, pi_size=o.pi_size,
+            address_base=o.address_base, allow_external_files=o.allow_external_files,
+            profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
+            granularity=o.granularity, bit_mapping=o.bit_mapping)
+        was_enabled = gc.isenabled()
+        gc.disable()        # as compile_path: no reference cycles worth a full rescan here
+        try:
+            found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
+                                          opts)
+        finally:
+            if was_enabled:
+                gc.enable()
+        for d in found:
+            self.core.append(self._core(d, d.rule))
+
+    def target_container(self, data: bytes) -> None:
+        """TGT0xx on a container: the emulation without a static OD. A container the
+        reader rejects is left to the CNT rules."""
+        from dcf2bin.container import ContainerError, read
+        from dcf2bin.target import TargetOptions, emulate
+        from dcf2bin.target.check import message
+        try:
+            c, _ = read(data)
+        except ContainerError:
+            return
+        o = self.opts
+        out = emulate(c, TargetOptions(pi_size=o.pi_size, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
+                                       granularity=o.granularity, bit_mapping=o.bit_mapping,
+                                       address_base=o.address_base))
+        if not out.ok:
+            r = RULES[out.rule]
+            self.core.append(Diagnostic(Severity.ERROR, message(out), self.res.path,
+                                        offset=out.offset, rule=out.rule, hint=r.hint))
 
     def _core(self, d: Diagnostic, rule: str) -> Diagnostic:
         r = RULES.get(rule)
@@ -208,6 +258,12 @@ class _Run:
                              lambda: BinContext(self.res.path, data, self.opts))
         if ok:
             self.checks(BIN, ctx)
+        # a container the CNT rules already call broken is not emulated as well: the
+        # target would refuse it with 0xA1, and the CNT findings say why
+        broken = any(d.severity is Severity.ERROR and d.rule.startswith("CNT")
+                     for d in self.diags)
+        if self.target_wanted() and not broken:
+            self.guard("the target emulation", self.target_container, data)
         self.finish()
 
     def finish(self) -> None:
