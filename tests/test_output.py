@@ -383,3 +383,13 @@ def test_escape_never_raises():
     assert escape("line\nbreak") == "line\\x0abreak"
     assert escape("\ud800") == "\\ud800"
     assert escape("grüße.dcf") == "grüße.dcf"
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+@pytest.mark.parametrize("args", [["--help"], ["--version"], ["compile", "--help"]],
+                         ids=["help", "version", "compile-help"])
+def test_help_and_version_into_a_full_device_are_exit_3(args):
+    with open("/dev/full", "wb") as full:
+        out = dcf2bin(*args, stdout=full, stderr=subprocess.PIPE, text=True)
+    assert (out.returncode, out.stderr) == (
+        3, "<stdout>: error: cannot write: No space left on device\n")

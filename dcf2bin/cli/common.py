@@ -20,6 +20,27 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
 
 
+class _SafeMain:
+    """click's own output (--help, --version, usage errors) into a full disk: one line and
+    exit 3, like any output; into a closed pipe: the code click chose, quietly."""
+
+    def main(self, *args, **kwargs):
+        try:
+            return super().main(*args, **kwargs)
+        except OSError as exc:
+            _silence(1)
+            say(f"<stdout>: error: cannot write: {exc.strerror or exc}")
+            sys.exit(int(ExitCode.UNREADABLE))
+
+
+class Group(_SafeMain, click.Group):
+    """The program's click group (``cls=Group``)."""
+
+
+class Command(_SafeMain, click.Command):
+    """A command that is a program of its own, such as ``bin2dcf`` (``cls=Command``)."""
+
+
 class Failure(Exception):
     """End the command with diagnostics already printed and this exit code."""
 
