@@ -393,3 +393,12 @@ def test_help_and_version_into_a_full_device_are_exit_3(args):
         out = dcf2bin(*args, stdout=full, stderr=subprocess.PIPE, text=True)
     assert (out.returncode, out.stderr) == (
         3, "<stdout>: error: cannot write: No space left on device\n")
+
+
+@pytest.mark.parametrize("args", [["validate", "-"], ["compile", "-", "-o", "-"],
+                                  ["dump", "-"]], ids=["validate", "compile", "dump"])
+def test_a_closed_stdin_is_exit_3_with_one_line(args):
+    out = dcf2bin(*args, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                  preexec_fn=lambda: os.close(0))
+    assert (out.returncode, out.stderr) == (
+        3, "<stdin>: error: cannot read: standard input is closed\n")

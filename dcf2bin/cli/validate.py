@@ -10,7 +10,7 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, guarded, write_output
+from dcf2bin.cli.common import CONTEXT, Failure, guarded, read_input, write_output
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -90,7 +90,7 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         active = resolve(select_, ignore)
     except SelectorError as exc:
         raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
-    stdin = sys.stdin.buffer.read() if "-" in paths else None
+    stdin = read_input("-") if "-" in paths else None
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active, strict=strict,
