@@ -318,7 +318,7 @@ def _writes(tmp_path):
     return f
 
 
-@pytest.mark.parametrize("case", ["append", "static-od", "eds", "hardlink"])
+@pytest.mark.parametrize("case", ["append", "static-od", "eds", "hardlink", "validate-dir"])
 def test_no_output_over_any_input(tmp_path, case):
     if case == "append":
         victim = _writes(tmp_path)
@@ -331,6 +331,11 @@ def test_no_output_over_any_input(tmp_path, case):
         victim = tmp_path / "dev.eds"
         victim.write_bytes((SAMPLES / "device.dcf").read_bytes())
         args = ["bin2dcf", BILD8_BIN, "--eds", victim, "-o", victim]
+    elif case == "validate-dir":      # a file found in a folder is an input too
+        (tmp_path / "cfg").mkdir()
+        victim = tmp_path / "cfg" / "plc.dcf"
+        victim.write_bytes((SAMPLES / "plc.dcf").read_bytes())
+        args = ["validate", tmp_path / "cfg", "-o", victim]
     else:
         victim = tmp_path / "in.dcf"
         victim.write_bytes(BILD8.read_bytes())
