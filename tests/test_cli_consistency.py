@@ -188,7 +188,7 @@ def test_the_exit_code_table_is_the_same_in_code_readme_and_man_pages():
 
 # -- item 18: help and man pages say the rules themselves ---------------------------------------
 
-INTERNAL_REFERENCE = re.compile(r"SPEC|§|\bD-[0-9]|seed [0-9]")
+INTERNAL_REFERENCE = re.compile(r"SPEC|§|\bD-[0-9]|\b[Ss]eeds?\b|[Ss]eed's")
 
 
 def _all_commands():
