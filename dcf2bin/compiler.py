@@ -1,25 +1,31 @@
 """DCF/EDS -> container: the ``compile`` job as a library call.
 
-    >>> from dcf2bin.compiler import compile_file, CompileOptions
-    >>> data = compile_file("samples/plc.dcf", CompileOptions())   # doctest: +SKIP
+    >>> from dcf2bin.compiler import compile_file, compile_path, CompileOptions
+    >>> data = compile_file("samples/plc.dcf")                     # doctest: +SKIP
+    >>> res = compile_path("samples/plc.dcf", CompileOptions(), node_id=5)  # doctest: +SKIP
+
+The documented API is ``dcf2bin.api`` (docs/api.md), which re-exports these.
 
 Errors vs warnings (SPEC.md): a problem stops the build only when it touches an
 entry the container writes (or the layout); problems elsewhere become warnings.
 """
 from __future__ import annotations
 
+import dataclasses
 import gc
+import warnings
 from dataclasses import dataclass, field
 
 from dcf2bin import layout as layout_mod
 from dcf2bin import model
 from dcf2bin import select as select_mod
 from dcf2bin.container import BinContainer
-from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
+from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity
 
 
 @dataclass
 class CompileOptions:
+    """The options of ``dcf2bin compile``, by field name (README, man/dcf2bin.1)."""
     node_id: int | None = None
     select: str = select_mod.AUTO
     pdo_sequence: str = select_mod.CIA301
@@ -42,6 +48,8 @@ class CompileOptions:
 
 @dataclass
 class Result:
+    """What a compile made: the bytes (None when errors stop the build), every finding,
+    and the model, container and process-image layout it went through."""
     data: bytes | None                      # None when errors stop the build
     diagnostics: list[Diagnostic] = field(default_factory=list)
     device: model.Device | None = None
@@ -56,6 +64,8 @@ class Result:
 
 
 class CompileError(Exception):
+    """Errors stopped the build; ``diagnostics`` holds every finding, ``str()`` the errors."""
+
     def __init__(self, diagnostics: list[Diagnostic]):
         self.diagnostics = diagnostics
         errors = [d for d in diagnostics if d.severity is Severity.ERROR]
@@ -180,7 +190,18 @@ def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:
         raise AssertionError("container self-check failed: header and segments disagree")
 
 
-def compile_path(path: str, opts: CompileOptions, data: bytes | None = None) -> Result:
+def compile_path(path: str, opts: CompileOptions | None = None, data: bytes | None = None,
+                 **options) -> Result:
+    """Compile the DCF/EDS file ``path`` (or ``data``, named ``path`` in diagnostics).
+
+    Options: a ``CompileOptions``, keyword arguments with its field names, or both
+    (the keywords win). Errors and warnings are in the result's ``diagnostics``;
+    ``data`` is None when errors stop the build. An unreadable file raises OSError.
+    """
+    if opts is None:
+        opts = CompileOptions()
+    if options:
+        opts = dataclasses.replace(opts, **options)
     # A compile builds hundreds of thousands of small objects and no reference cycles
     # worth collecting: the cyclic GC would only rescan them (about a third of the time
     # on a 60,000-variable file). Restore the caller's setting afterwards.
@@ -195,13 +216,19 @@ def compile_path(path: str, opts: CompileOptions, data: bytes | None = None) -> 
             gc.enable()
 
 
-def compile_file(path: str, opts: CompileOptions | None = None) -> bytes:
-    """Compile and return the container bytes; raises CompileError on errors."""
-    res = compile_path(path, opts or CompileOptions())
+def compile_file(path: str, opts: CompileOptions | None = None, **options) -> bytes:
+    """Compile and return the container bytes (options as for ``compile_path``).
+
+    Errors raise CompileError (its ``diagnostics`` hold every finding); warnings are
+    delivered through ``warnings.warn`` as ``DiagnosticWarning``s, one per finding.
+    """
+    res = compile_path(path, opts, **options)
     if res.data is None:
         raise CompileError(res.diagnostics)
+    for d in res.diagnostics:
+        warnings.warn(DiagnosticWarning(d), stacklevel=2)
     return res.data
 
 
 __all__ = ["CompileOptions", "CompileError", "Result", "compile_file", "compile_path",
-           "compile_device", "DcfError"]
+           "compile_device", "DcfError", "DiagnosticWarning"]

@@ -23,6 +23,7 @@ class ExitCode(enum.IntEnum):
 
 
 class Severity(str, enum.Enum):
+    """How bad a finding is; errors stop a compile (exit 1), warnings and infos do not."""
     ERROR = "error"
     WARNING = "warning"
     INFO = "info"
@@ -30,6 +31,8 @@ class Severity(str, enum.Enum):
 
 @dataclass(frozen=True)
 class Diagnostic:
+    """One finding: ``format()`` gives ``file:line: severity: message [RULE]`` (a byte
+    offset ``file:0x1C:`` for containers), as the command line prints it."""
     severity: Severity
     message: str
     file: str = ""
@@ -110,3 +113,17 @@ class Diagnostics:
 
     def __len__(self) -> int:
         return len(self.items)
+
+
+class DiagnosticWarning(UserWarning):
+    """A warning (or info) finding, delivered through ``warnings.warn`` by the Python API
+    functions that return a single value (``compile_file``, ``read_container``, ...);
+    ``diagnostic`` holds the finding, ``str()`` is its one-line form."""
+
+    def __init__(self, diagnostic: Diagnostic):
+        super().__init__(diagnostic.format())
+        self.diagnostic = diagnostic
+
+
+__all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
+           "Where"]

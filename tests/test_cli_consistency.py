@@ -153,8 +153,10 @@ def test_quiet_means_errors_only_in_every_command(tmp_path):
     ["dump", str(SAMPLES / "bild8.bin"), "--eds", "{dir}"],
     ["simulate", "{dir}"],
     ["simulate", str(SAMPLES / "bild8.bin"), "--static-od", "{dir}"],
+    ["download", "{dir}", "--node", "3", "--dry-run"],
+    ["node", "{dir}"],
 ], ids=["compile", "dump", "bin2dcf", "export", "static-od", "append", "eds", "simulate",
-        "simulate-static-od"])
+        "simulate-static-od", "download", "node"])
 def test_a_directory_as_an_input_file_is_exit_3(tmp_path, args):
     d = tmp_path / "folder.dcf"
     d.mkdir()

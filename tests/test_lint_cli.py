@@ -287,25 +287,19 @@ def test_a_directory_without_inputs_is_an_error_in_every_format(tmp_path, fmt):
 
 # -- performance --------------------------------------------------------------------------------
 
-def test_60000_variables_take_about_as_long_as_compile():
-    """No quadratic rule: validating a 60,000-variable PLC DCF costs about what compile
-    does (both parse, build the model and lay out the PI), and a few seconds at most."""
+def test_60000_variables_validate_without_errors():
+    """A 60,000-variable PLC DCF validates without errors or crashed rules. (Its time is
+    measured against compile by benchmarks/run.py, not asserted here: a timed unit test
+    fails on a loaded machine and proves nothing on an idle one.)"""
     import importlib.util
     import sys
-    import time
 
-    from dcf2bin.compiler import CompileOptions, compile_path
     from dcf2bin.lint import lint_bytes
     spec = importlib.util.spec_from_file_location("gen_dcf", ROOT / "benchmarks" / "gen_dcf.py")
     gen = importlib.util.module_from_spec(spec)
     sys.modules["gen_dcf"] = gen        # its dataclasses look themselves up there
     spec.loader.exec_module(gen)
     data = gen.generate(60000).encode("ascii")
-    t0 = time.perf_counter()
-    assert compile_path("big.dcf", CompileOptions(), data=data).ok
-    t1 = time.perf_counter()
     res = lint_bytes("big.dcf", data)
-    t2 = time.perf_counter()
     assert res.tracebacks == []
     assert [d.format() for d in res.diagnostics if d.severity.value == "error"] == []
-    assert t2 - t1 < 3 * (t1 - t0) + 1.0, (t1 - t0, t2 - t1)

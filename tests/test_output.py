@@ -55,12 +55,13 @@ def _commands(tmp_path):
         "validate": ["validate", clean],
         "tunnel": ["tunnel", "0x1A=1"],
         "simulate": ["simulate", BILD8_BIN],
+        "download": ["download", SAMPLES / "device.dcf", "--node", "3", "--dry-run"],
     }
 
 
 COMMANDS = ["compile", "dump", "bin2dcf", "export", "validate", "tunnel"]
 # the commands whose result goes to standard output with no -o (simulate: a report)
-STDOUT_ONLY = ["simulate"]
+STDOUT_ONLY = ["simulate", "download"]
 
 
 # -- item 9: modes ------------------------------------------------------------------------------

@@ -23,9 +23,10 @@ def main(debug: bool) -> None:
 
 def _register() -> None:
     from dcf2bin.cli import bin2dcf, compile, dump, export, simulate, tunnel, validate
+    from dcf2bin.cli import download, node
     for command in (compile.compile_cmd, dump.dump_cmd, bin2dcf.bin2dcf_cmd,
                     validate.validate_cmd, export.export_cmd, tunnel.tunnel_cmd,
-                    simulate.simulate_cmd):
+                    simulate.simulate_cmd, download.download_cmd, node.node_cmd):
         main.add_command(command)
 
 
