@@ -10,8 +10,8 @@ import re
 import click
 import pytest
 from click.testing import CliRunner
-
 from conftest import ROOT, SAMPLES
+
 from dcf2bin import __version__, report
 from dcf2bin.cli import main
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -41,8 +41,8 @@ def test_compile_prints_20_per_rule_then_says_how_many_were_left_out(tmp_path):
     assert lines[:20] == [f"{src}:{5 + i}: error: line without '=': 'junk line {i}' [DCF002]"
                           for i in range(20)]
     assert lines[20:] == [
-        f"{src}: note: 10 more DCF002 diagnostics left out (text output shows 20 per rule "
-        "and file)",
+        (f"{src}: note: 10 more DCF002 diagnostics left out (text output shows 20 per rule "
+         "and file)"),
         f"{src}: 30 errors, nothing written"]
 
 
@@ -177,7 +177,7 @@ def test_a_missing_side_input_is_exit_3_like_the_main_input(tmp_path, option):
 def test_the_exit_code_table_is_the_same_in_code_readme_and_man_pages():
     readme = (ROOT / "README.md").read_text()
     table = readme.split("### Exit codes", 1)[1].split("\n#", 1)[0]
-    codes = [int(m) for m in re.findall(r"^\| (\d+) \|", table, re.M)]
+    codes = [int(m) for m in re.findall(r"^\| (\d+) \|", table, re.MULTILINE)]
     assert codes == [int(c) for c in ExitCode]
     man = (ROOT / "man" / "dcf2bin.1").read_text()
     for c in ExitCode:

@@ -274,13 +274,11 @@ class _Run:
         core = {}
         for d in self.core:
             core.setdefault((d.rule, d.file, d.line), d)
-        used = set()
         diags = []
         for d in self.diags:
             key = (d.rule, d.file, d.line)
             c = core.get(key)
             if c is not None and d.line is not None:
-                used.add(key)
                 d = Diagnostic(c.severity, c.message, d.file, d.line,
                                d.column if c.column is None else c.column, d.offset, d.rule,
                                c.hint or d.hint)
