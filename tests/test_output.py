@@ -256,7 +256,11 @@ def test_a_successful_run_into_a_broken_pipe_exits_0_without_noise(tmp_path, nam
 # -- item 13: signals and fsync -----------------------------------------------------------------
 
 _SLOW_RENAME = """
-import os, sys, time
+import os, signal, sys, time
+# a test runner started in the background may hand down ignored signals: start as a shell would
+signal.signal(signal.SIGINT, signal.default_int_handler)
+signal.signal(signal.SIGTERM, signal.SIG_DFL)
+signal.signal(signal.SIGHUP, signal.SIG_DFL)
 marker = sys.argv[1]
 def slow_replace(a, b):
     open(marker, "w").close()
