@@ -111,6 +111,14 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                                d.file, d.line, d.column, d.offset, d.rule, d.hint)
         diags.append(d)
     diags.extend(sel.errors)
+    # the values the container does not write: warnings, as validate words them (minus
+    # what the selection already reported as an error, e.g. a DIS-2 old COB-ID, D-12)
+    reported = {(d.rule, d.line) for d in sel.errors}
+    for p in dev.value_problems(sel.wrote, sel.created):
+        d = p.diagnostic
+        if (d.rule, d.line) not in reported:
+            diags.append(Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
+                                    d.file, d.line, d.column, d.offset, d.rule, d.hint))
     extra = []
     for path in opts.append:
         from dcf2bin.writes import ExtraWritesError, load_extra_writes

@@ -37,7 +37,8 @@ def _encode(ctx, dtype: dt.DataType, text: str, node_id: int | None) -> bytes:
 
 @rule("DCF200", "bad-value", ERROR,
       "A DefaultValue/ParameterValue cannot be encoded as its DataType or lies outside the "
-      "type's range (also reported by compile for the entries it writes).",
+      "type's range (compile: an error for the values it writes, a warning for the "
+      "others).",
       hint="write a value of the entry's DataType; values are never truncated")
 def bad_value(ctx):
     seen: set = set()
