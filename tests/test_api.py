@@ -312,7 +312,7 @@ def test_validate_selects_rules_and_reads_directories(tmp_path):
     (tmp_path / "b.bin").write_bytes(b"\x00")
     diags = dcf2bin.validate(tmp_path, select=["DCF200", "CNT001"])
     assert [d.format() for d in diags] == [
-        f"{tmp_path / 'a.dcf'}:4:16: error: 0x2000sub0 ParameterValue: value 300 out of range "
+        f"{tmp_path / 'a.dcf'}:4: error: 0x2000sub0: value 300 out of range "
         "for UNSIGNED8 (0..255) [DCF200]",
         f"{tmp_path / 'b.bin'}:0x0: error: 1 bytes: too short for the 40-byte header [CNT001]"]
     assert dcf2bin.validate(tmp_path, select="DCF200,CNT001") == diags

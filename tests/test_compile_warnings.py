@@ -59,9 +59,9 @@ def test_bad_value_of_an_unwritten_entry_is_a_warning(tmp_path):
     data = out.read_bytes()
     assert data[40:44] == b"\x01\x00\x00\x00"
     assert data[44:53] == bytes.fromhex("012000 02000000 0700".replace(" ", ""))
-    # validate words it the same way (at its severity, with the column)
+    # validate words it the same way (at its severity)
     v = run("validate", str(src))
-    assert f"{src}:8:14: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 " \
+    assert f"{src}:8: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 " \
            "(0..255) [DCF200]" in findings(v)
 
 

@@ -39,7 +39,7 @@ def test_error_exits_1():
     r = run(BAD)
     assert r.exit_code == ExitCode.FINDINGS
     assert r.stdout.splitlines() == [
-        f"{BAD}:92:14: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 "
+        f"{BAD}:92: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 "
         "(0..255) [DCF200]",
         "1 error, 0 warnings, 0 infos in 1 file"]
 
@@ -109,9 +109,9 @@ def test_directories_are_searched_recursively_case_insensitively(tmp_path):
 
 def test_stdin_dcf_and_container():
     r = run("-", input=BAD.read_bytes())
-    assert r.exit_code == 1 and r.stdout.startswith("<stdin>:92:14: error:")
+    assert r.exit_code == 1 and r.stdout.startswith("<stdin>:92: error:")
     r = run("--stdin-filename", "plc.dcf", "-", input=BAD.read_bytes())
-    assert r.stdout.startswith("plc.dcf:92:14: error:")
+    assert r.stdout.startswith("plc.dcf:92: error:")
     r = run("-", input=BAD_BIN.read_bytes())
     assert r.stdout.splitlines()[0] == (
         "<stdin>:0x35: warning: attribute 0x74 of entry 1 sets undefined bits 0x04 [CNT013]")
@@ -272,11 +272,17 @@ def test_help_names_the_exit_codes():
 
 
 @pytest.mark.parametrize("fmt", ["text", "json", "sarif", "github"])
-def test_every_format_handles_an_empty_run(tmp_path, fmt):
+def test_a_directory_without_inputs_is_an_error_in_every_format(tmp_path, fmt):
+    """A CI job pointed at the wrong folder must not pass: exit 3 and one IO001 line."""
     empty = tmp_path / "empty"
     empty.mkdir()
+    (empty / "notes.txt").write_text("no DCF here")
     r = run("--format", fmt, empty)
-    assert r.exit_code == 0
+    assert r.exit_code == ExitCode.UNREADABLE
+    assert "IO001" in r.stdout
+    if fmt == "text":
+        assert r.stdout == (f"{empty}: error: no *.dcf, *.eds or *.bin file in this directory "
+                            "[IO001]\n1 error, 0 warnings, 0 infos in 1 file\n")
 
 
 # -- performance --------------------------------------------------------------------------------

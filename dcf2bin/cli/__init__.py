@@ -10,10 +10,10 @@ from __future__ import annotations
 import click
 
 from dcf2bin import __version__
-from dcf2bin.cli.common import CONTEXT
+from dcf2bin.cli.common import CONTEXT, Group
 
 
-@click.group(context_settings=CONTEXT)
+@click.group(cls=Group, context_settings=CONTEXT)
 @click.version_option(__version__, "-V", "--version", prog_name="dcf2bin")
 @click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")
 def main(debug: bool) -> None:

@@ -9,7 +9,8 @@ import os
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guarded, read_input,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 # -- compile ------------------------------------------------------------------------------------
@@ -23,31 +24,34 @@ def _profile_choice():
 
 
 @click.command("compile", context_settings=CONTEXT)
-@click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("input", type=click.Path(allow_dash=True))
 @click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
               help="Output file ('-' for stdout). Default: INPUT with the suffix .bin.")
 @click.option("--node-id", type=click.IntRange(1, 127),
               help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
 @click.option("--select", "select_", type=_SELECT, default="auto", show_default=True,
-              help="Which entries to write (SPEC D-8).")
+              help="Which entries to write: auto = configured entries (ParameterValue or "
+                   "DownloadFile); all = every entry that has a value, DefaultValue included.")
 @click.option("--pdo-sequence", type=_SEQ, default="cia301", show_default=True,
               help="How a PDO block is written: CiA 301 reconfiguration, or as configured.")
-@click.option("--static-od", type=click.Path(dir_okay=False, exists=True),
+@click.option("--static-od", type=click.Path(),
               help="EDS of the target's static OD: objects absent from it are created.")
 @click.option("--no-process-image", is_flag=True,
               help="Omit the PI address and PI parameter segments.")
 @click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
-              show_default=True, help="Alignment of the output area's start (D-4).")
+              show_default=True,
+              help="Alignment in bytes of the output area's start in the process image.")
 @click.option("--pi-size", type=click.IntRange(0), help="PI memory of the target in bytes.")
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
-              show_default=True, help="PI addresses from the image start or the area (D-10).")
+              show_default=True, help="PI addresses count from the start of the whole "
+              "process image, or from the start of the variable's area.")
 @click.option("--container-version", type=click.IntRange(0, 0xFFFF), default=1,
-              show_default=True, help="Header version field (D-5).")
+              show_default=True, help="Value of the container header's version field.")
 @click.option("--allow-external-files", is_flag=True,
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
 @click.option("--profile", type=_profile_choice(), default="cia301", show_default=True,
               help="Device profile for PDO writes (dis2: Metronix DIS-2).")
-@click.option("--append", "append", multiple=True, type=click.Path(dir_okay=False),
+@click.option("--append", "append", multiple=True, type=click.Path(),
               metavar="FILE", help="Extra-writes file added after all other entries "
               "(repeatable; see dcf2bin-tunnel(1)).")
 @click.option("--no-target-check", is_flag=True,
@@ -104,8 +108,8 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
                           target_check="warning" if no_target_check else "error",
                           tx_cobs=tx_cobs, rx_cobs=rx_cobs, granularity=int(granularity),
                           bit_mapping=not no_bit_mapping)
-    for path in append:
-        read_input(path)  # an unreadable extra-writes file is exit 3, like any input
+    for path in (static_od, *append):
+        check_input(path)  # missing, a directory, unreadable: exit 3 like any input
     res = compile_path(name, opts, data=data_in)
     emit(res.diagnostics, quiet)
     if not res.ok:

@@ -5,7 +5,7 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input
+from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 NODE_ID = click.IntRange(1, 127)
@@ -33,7 +33,7 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 
 
 @click.command("download", context_settings=CONTEXT)
-@click.argument("input", metavar="FILE", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("input", metavar="FILE", type=click.Path(allow_dash=True))
 @click.option("-n", "--node", "node_id", type=NODE_ID, required=True, metavar="N",
               help="Node-ID to configure (also the node-ID of $NODEID values).")
 @bus_options
@@ -75,7 +75,7 @@ def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, 
     if manager is not None:
         plan, target = plan.concise(node_id), manager
     if dry_run:
-        click.echo("\n".join(dl.render(plan, target)))
+        write_output("\n".join(dl.render(plan, target)) + "\n", "-", [], binary=False)
         return
     from dcf2bin.bus import link
     link.quiet_libraries()
@@ -189,4 +189,4 @@ def _run(net, plan, node_id: int, *, timeout, retries, verify, keep_going, preop
             done.append("saved")
         if reset_comm:
             done.append("communication reset")
-        click.echo(", ".join(done))
+        write_output(", ".join(done) + "\n", "-", [], binary=False)

@@ -13,15 +13,15 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 @click.command("node", context_settings=CONTEXT)
 @click.argument("input", metavar="[FILE]", required=False,
-                type=click.Path(dir_okay=False, allow_dash=True))
+                type=click.Path(allow_dash=True))
 @click.option("-n", "--node-id", type=NODE_ID, metavar="N",
               help="Node-ID (default: NodeID in [DeviceComissioning] of FILE).")
 @bus_options
-@click.option("--container", type=click.Path(dir_okay=False, allow_dash=True),
+@click.option("--container", type=click.Path(allow_dash=True),
               metavar="FILE.bin", help="Be an emulated SYS TEC target: build the object "
               "dictionary and process image the way DynBuildOd builds them from this "
               "container.")
-@click.option("--static-od", type=click.Path(dir_okay=False), metavar="EDS",
+@click.option("--static-od", type=click.Path(), metavar="EDS",
               help="With --container: the objects the target's firmware already has.")
 @click.option("--pi-size", type=click.IntRange(0), metavar="N",
               help="With --container: PI memory of the target in bytes (default: the "

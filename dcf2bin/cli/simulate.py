@@ -30,11 +30,11 @@ def _kind(path: str, data: bytes, forced: str | None) -> str:
 
 
 @click.command("simulate", context_settings=CONTEXT)
-@click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("input", type=click.Path(allow_dash=True))
 @click.option("--from", "from_", type=click.Choice(["bin", "dcf", "json"]),
               help="Input kind (default: by extension: .bin container, .json lossless dump, "
               ".dcf/.eds compiled first).")
-@click.option("--static-od", type=click.Path(dir_okay=False), metavar="EDS",
+@click.option("--static-od", type=click.Path(), metavar="EDS",
               help="EDS of the objects the target's firmware already has. Without it, a "
               "container's entries are all created from their attributes, and what the "
               "container never writes is not checked (a warning says so).")
@@ -66,7 +66,7 @@ def _kind(path: str, data: bytes, forced: str | None) -> str:
               show_default=True, help="DCF input: alignment of the output area's start.")
 @click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
               show_default=True, help="DCF input: device profile for PDO writes.")
-@click.option("--append", "append", multiple=True, type=click.Path(dir_okay=False),
+@click.option("--append", "append", multiple=True, type=click.Path(),
               metavar="FILE", help="DCF input: extra-writes file added after all entries.")
 @click.option("--allow-external-files", is_flag=True,
               help="DCF input: allow DownloadFile paths outside the DCF's folder.")
@@ -145,7 +145,7 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
                 out = emulate(c, topts, static)
     emit([Diagnostic(Severity.WARNING, w, name) for w in out.warnings], quiet)
     text = report.to_json(out, name) if fmt == "json" else report.text(out, name)
-    click.echo(text, nl=False)
+    write_output(text, "-", [], binary=False)   # a full disk or closed stdout: exit 3
     if emit_od:
         write_output(report.emit_od(out, name, names), emit_od,
                      [input] + ([static_od] if static_od else []) + list(append), binary=False)

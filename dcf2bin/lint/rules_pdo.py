@@ -297,7 +297,7 @@ def transmission_type(ctx):
 @rule("DCF415", "pdo-comm-sub-not-written", WARNING,
       "A configured PDO communication sub-entry that the PDO block never writes (sub 0, 4, "
       "7 and above).",
-      hint="compile writes comm subs 1, 2, 3, 5 and 6 only (SPEC §3.2 b)")
+      hint="compile writes comm subs 1, 2, 3, 5 and 6 only")
 def comm_sub_not_written(ctx):
     for p in pdos(ctx):
         for s, e in p.comm.entries.items():

@@ -19,6 +19,7 @@ from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
 SUFFIXES = (".eds", ".dcf", ".bin")
 DCF_SUFFIXES = (".eds", ".dcf", ".ini")
 KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
+NOTHING_FOUND = "no *.dcf, *.eds or *.bin file in this directory"
 
 
 @dataclass
@@ -76,6 +77,10 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
         out.extend((f, None) for f in sorted(found, key=lambda f: f.split(os.sep)))
         for exc in errors:
             out.append((exc.filename or p, exc.strerror or str(exc)))
+        if not found and not errors:
+            # a CI job pointed at the wrong folder must not pass: exit 3, like an input
+            # that cannot be read
+            out.append((p, NOTHING_FOUND))
     return out
 
 
@@ -108,8 +113,9 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
                 error = exc.strerror or str(exc)
         if error is not None:
             rule = RULES["IO001"]
+            message = error if error is NOTHING_FOUND else f"cannot read: {error}"
             result.files.append(FileResult(shown, KIND_UNREADABLE, [Diagnostic(
-                Severity.ERROR, f"cannot read: {error}", shown, rule="IO001", hint=rule.hint)]))
+                Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)]))
             continue
         result.files.append(lint_bytes(shown, data, opts))
     return result
@@ -262,10 +268,24 @@ class _Run:
 
     def finish(self) -> None:
         # A check here and the core may report one fact under one id (DCF200, DCF202,
-        # DCF203: the core only for what compile encodes); the check's finding wins.
+        # DCF203: the core only for what compile encodes). Then the core's words are
+        # printed, so that compile and validate say the same thing about the same line;
+        # the check adds the column it knows.
+        core = {}
+        for d in self.core:
+            core.setdefault((d.rule, d.file, d.line), d)
+        diags = []
+        for d in self.diags:
+            key = (d.rule, d.file, d.line)
+            c = core.get(key)
+            if c is not None and d.line is not None:
+                d = Diagnostic(c.severity, c.message, d.file, d.line,
+                               d.column if c.column is None else c.column, d.offset, d.rule,
+                               c.hint or d.hint)
+            diags.append(d)
         seen = {(d.rule, d.file, d.line) for d in self.diags}
         out, keys = [], set()
-        for d in self.diags + [d for d in self.core if (d.rule, d.file, d.line) not in seen]:
+        for d in diags + [d for d in self.core if (d.rule, d.file, d.line) not in seen]:
             if d.rule not in self.active:
                 continue
             key = (d.rule, d.line, d.column, d.offset, d.message)
