@@ -9,6 +9,15 @@ with N CiA 405 network variables), then three tools read that file:
   dcf2bin       dcf2bin.compiler.compile_file(path, CompileOptions()) -> bytes
   canopen       canopen.import_od(path)
   configparser  ConfigParser(strict=False, interpolation=None), optionxform=str
+  simulate      dcf2bin.target.emulate_bytes(container) -- DynBuildOd's model on the
+                container compiled from that file (compiled once, not timed), as
+                ``dcf2bin simulate FILE.bin`` does; the report gives simulate/dcf2bin,
+                which should stay within 2x
+  map-F         the same compile, then the variable map in format F (text, csv,
+                json, iec, c, svg, html): what ``dcf2bin map FILE --format F``
+                does but for writing the file; its child also times compile_file,
+                alternating call for call, and the report gives map/compile from
+                those (target: within 2x; svg/html within 5 s)
 
 Each (tool, size) pair runs in a fresh subprocess (this script re-invoked as
 ``run.py --one TOOL PATH``), so imports, caches and memory of one tool do not
@@ -42,7 +51,13 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
-TOOLS = ("dcf2bin", "canopen", "configparser")
+TOOLS = ("dcf2bin", "canopen", "configparser", "simulate")
+# dcf2bin map FILE --format F, in process: compile + the variable map in that format
+MAP_FORMATS = ("text", "csv", "json", "iec", "c", "svg", "html")
+MAP_TOOLS = tuple(f"map-{f}" for f in MAP_FORMATS)
+# issue 11: every map format within 2x of compile's time; svg/html within 5 s
+MAP_PICTURE_LIMIT_S = 5.0
+MAP_RATIO_LIMIT = 2.0
 MIB = 1024 * 1024
 
 
@@ -76,6 +91,54 @@ def load_tool(tool: str):
             return f"{len(result)} bytes container"
         return call, describe
 
+    if tool == "simulate":
+        sys.path.insert(0, str(REPO))
+        try:
+            from dcf2bin.compiler import CompileOptions, compile_file
+            from dcf2bin.target import emulate_bytes
+        except ImportError as e:
+            raise Unavailable(f"dcf2bin.target not available yet ({e})") from None
+        containers: dict = {}
+
+        def call(path: Path):
+            return emulate_bytes(containers[path])
+
+        def prepare(path: Path) -> None:      # not timed
+            containers[path] = compile_file(str(path), CompileOptions())
+
+        def describe(out) -> str:
+            return f"0x{out.code:02X} {out.name}, {len(out.pdos)} PDOs"
+        call.prepare = prepare
+        return call, describe
+
+    if tool in MAP_TOOLS:
+        fmt = tool[len("map-"):]
+        sys.path.insert(0, str(REPO))
+        try:
+            from dcf2bin.compiler import CompileOptions, compile_path
+            from dcf2bin.plc import varmap
+            from dcf2bin.cli.map import render
+        except ImportError as e:
+            raise Unavailable(f"dcf2bin map not available yet ({e})") from None
+
+        def call(path: Path):
+            # what 'dcf2bin map PATH --format FMT' does, but for writing the file
+            res = compile_path(str(path), CompileOptions())
+            if not res.ok:
+                raise RuntimeError(f"{path}: the DCF does not compile")
+            was = gc.isenabled()
+            gc.disable()
+            try:
+                vm = varmap.from_result(res, path.name)
+                return render(vm, fmt, "byte", "DCF_")
+            finally:
+                if was:
+                    gc.enable()
+
+        def describe(text) -> str:
+            return f"{len(text)} characters of {fmt}"
+        return call, describe
+
     if tool == "canopen":
         import canopen
 
@@ -100,7 +163,7 @@ def load_tool(tool: str):
             return f"{len(cp.sections())} sections"
         return call, describe
 
-    raise SystemExit(f"unknown tool {tool!r} (choose from {', '.join(TOOLS)})")
+    raise SystemExit(f"unknown tool {tool!r} (choose from {', '.join(TOOLS + MAP_TOOLS)})")
 
 
 def measure_one(tool: str, path: Path, repeat: int, memory: bool = True,
@@ -119,8 +182,19 @@ def measure_one(tool: str, path: Path, repeat: int, memory: bool = True,
         return result
 
     times = []
+    # a map is compared with a compile timed in the same process, call for call
+    # alternating, so that both see the same load of a shared machine
+    pair = load_tool("dcf2bin")[0] if tool in MAP_TOOLS else None
+    pair_times = []
     try:
+        if hasattr(call, "prepare"):
+            call.prepare(path)
         for _ in range(repeat):
+            if pair is not None:
+                gc.collect()
+                t0 = time.perf_counter()
+                pair(path)
+                pair_times.append(time.perf_counter() - t0)
             gc.collect()
             if not gc_on:
                 gc.disable()
@@ -147,6 +221,8 @@ def measure_one(tool: str, path: Path, repeat: int, memory: bool = True,
         result["times"] = times
         return result
 
+    if pair_times:
+        result["compile_best"] = min(pair_times)
     result.update(ok=True, times=times, best=min(times), peak_bytes=peak,
                   summary=summary, max_rss_mib=_max_rss_mib())
     return result
@@ -241,7 +317,7 @@ def report(sizes: list[int], file_sizes: dict[int, int],
         tables.append(("peak", "Peak traced memory of one call (tracemalloc)", "MiB"))
     for key, title, unit in tables:
         headers = ["N", "file MiB", *(f"{t} {unit}" for t in TOOLS),
-                   "canopen/dcf2bin", "configparser/dcf2bin"]
+                   "canopen/dcf2bin", "configparser/dcf2bin", "simulate/dcf2bin"]
         rows = []
         for n in sizes:
             v = {t: value(n, t, key) for t in TOOLS}
@@ -250,7 +326,8 @@ def report(sizes: list[int], file_sizes: dict[int, int],
                            f"{v[t]:.3f}" if key == "time" else f"{v[t]:.1f}"
                            for t in TOOLS),
                          _ratio(v["canopen"], v["dcf2bin"]),
-                         _ratio(v["configparser"], v["dcf2bin"])])
+                         _ratio(v["configparser"], v["dcf2bin"]),
+                         _ratio(v["simulate"], v["dcf2bin"])])
         out += [title, _table(headers, rows), ""]
 
     # Linearity: how time grows from the smallest to the largest size,
@@ -264,6 +341,29 @@ def report(sizes: list[int], file_sizes: dict[int, int],
             text = f"{(b / a) / (hi / lo):.2f}" if a and b else "n/a"
             out.append(f"  {t:<13} {text}")
         out.append("")
+
+    map_rows = []
+    for n in sizes:
+        for fmt in MAP_FORMATS:
+            t = value(n, f"map-{fmt}", "time")
+            if t is None:
+                continue
+            base = results[(n, f"map-{fmt}")].get("compile_best")
+            if fmt in ("svg", "html"):
+                ok = t <= MAP_PICTURE_LIMIT_S
+                goal = f"<= {MAP_PICTURE_LIMIT_S:.0f} s"
+            else:
+                ok = base is not None and t <= MAP_RATIO_LIMIT * base
+                goal = f"<= {MAP_RATIO_LIMIT:.0f}x compile"
+            map_rows.append([str(n), fmt, f"{base:.3f}" if base else "n/a", f"{t:.3f}",
+                             _ratio(t, base), goal,
+                             "ok" if ok else "MISSED"])
+    if map_rows:
+        out += ["dcf2bin map FILE --format F (compile + map, in process), "
+                f"best of {repeat}{gc_note}; compile timed in the same process, "
+                "alternating with the map",
+                _table(["N", "format", "compile s", "map s", "map/compile", "target", ""],
+                       map_rows), ""]
 
     problems = [f"  N={n} {t}: {r['error']}" for (n, t), r in results.items()
                 if not r.get("ok")]
@@ -281,8 +381,9 @@ def main(argv: list[str] | None = None) -> int:
                          "(default: 6000,60000)")
     ap.add_argument("--repeat", type=int, default=3,
                     help="timed calls per tool and size; the best counts (default: 3)")
-    ap.add_argument("--tools", default=",".join(TOOLS),
-                    help=f"comma-separated subset of {','.join(TOOLS)}")
+    ap.add_argument("--tools", default=",".join(TOOLS + MAP_TOOLS),
+                    help=f"comma-separated subset of {','.join(TOOLS + MAP_TOOLS)} "
+                         "(map-F: dcf2bin map --format F)")
     ap.add_argument("--out-dir", type=Path, default=HERE / "out",
                     help="where the DCFs and results.json go (default: benchmarks/out)")
     ap.add_argument("--no-memory", dest="memory", action="store_false",
@@ -318,7 +419,7 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--sizes: at most {MAX_VARS} network variables fit the 16-bit "
                  "PI addresses with the generator's type mix (see gen_dcf.py)")
     tools = [t.strip() for t in args.tools.split(",") if t.strip()]
-    if unknown := set(tools) - set(TOOLS):
+    if unknown := set(tools) - set(TOOLS + MAP_TOOLS):
         ap.error(f"unknown tool(s): {', '.join(sorted(unknown))}")
 
     args.out_dir.mkdir(parents=True, exist_ok=True)

@@ -1,25 +1,31 @@
 """DCF/EDS -> container: the ``compile`` job as a library call.
 
-    >>> from dcf2bin.compiler import compile_file, CompileOptions
-    >>> data = compile_file("samples/plc.dcf", CompileOptions())   # doctest: +SKIP
+    >>> from dcf2bin.compiler import compile_file, compile_path, CompileOptions
+    >>> data = compile_file("samples/plc.dcf")                     # doctest: +SKIP
+    >>> res = compile_path("samples/plc.dcf", CompileOptions(), node_id=5)  # doctest: +SKIP
+
+The documented API is ``dcf2bin.api`` (docs/api.md), which re-exports these.
 
 Errors vs warnings (SPEC.md): a problem stops the build only when it touches an
 entry the container writes (or the layout); problems elsewhere become warnings.
 """
 from __future__ import annotations
 
+import dataclasses
 import gc
+import warnings
 from dataclasses import dataclass, field
 
 from dcf2bin import layout as layout_mod
 from dcf2bin import model
 from dcf2bin import select as select_mod
 from dcf2bin.container import BinContainer
-from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
+from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity
 
 
 @dataclass
 class CompileOptions:
+    """The options of ``dcf2bin compile``, by field name (README, man/dcf2bin.1)."""
     node_id: int | None = None
     select: str = select_mod.AUTO
     pdo_sequence: str = select_mod.CIA301
@@ -32,15 +38,25 @@ class CompileOptions:
     allow_external_files: bool = False
     profile: str = "cia301"
     append: tuple[str, ...] = ()              # extra-writes files, added after all groups
+    # the DynBuildOd check of what is written (SPEC §8, D-11): "error", "warning" or "off"
+    target_check: str = "error"
+    tx_cobs: int | None = None
+    rx_cobs: int | None = None
+    granularity: int = 64
+    bit_mapping: bool = True
 
 
 @dataclass
 class Result:
+    """What a compile made: the bytes (None when errors stop the build), every finding,
+    and the model, container and process-image layout it went through."""
     data: bytes | None                      # None when errors stop the build
     diagnostics: list[Diagnostic] = field(default_factory=list)
     device: model.Device | None = None
     container: BinContainer | None = None
     layout: layout_mod.Layout | None = None
+    selection: select_mod.Selection | None = None   # what the index segment writes
+    extra: list = field(default_factory=list)       # the --append writes, after it
 
     @property
     def ok(self) -> bool:
@@ -48,6 +64,8 @@ class Result:
 
 
 class CompileError(Exception):
+    """Errors stopped the build; ``diagnostics`` holds every finding, ``str()`` the errors."""
+
     def __init__(self, diagnostics: list[Diagnostic]):
         self.diagnostics = diagnostics
         errors = [d for d in diagnostics if d.severity is Severity.ERROR]
@@ -80,8 +98,6 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     static, static_errors = (static_od_indexes(opts.static_od) if opts.static_od
                              else (None, []))
     lay = None
-    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
-                 for i, o in dev.objects.items())
     if any(model.is_network_variable_index(i) for i in dev.objects):
         lay = layout_mod.compute(dev, align=opts.pi_align, pi_size=opts.pi_size,
                                  address_base=opts.address_base)
@@ -96,6 +112,14 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
                                d.file, d.line, d.column, d.offset, d.rule, d.hint)
         diags.append(d)
     diags.extend(sel.errors)
+    # the values the container does not write: warnings, as validate words them (minus
+    # what the selection already reported as an error, e.g. a DIS-2 old COB-ID, D-12)
+    reported = {(d.rule, d.line) for d in sel.errors}
+    for p in dev.value_problems(sel.wrote, sel.created):
+        d = p.diagnostic
+        if (d.rule, d.line) not in reported:
+            diags.append(Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
+                                    d.file, d.line, d.column, d.offset, d.rule, d.hint))
     extra = []
     for path in opts.append:
         from dcf2bin.writes import ExtraWritesError, load_extra_writes
@@ -105,6 +129,24 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
             diags.extend(exc.diagnostics)
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
+    c = container_of(dev, sel, lay, opts, extra)
+    if not c.entries:
+        diags.append(_nothing_to_write(dev, opts))
+    segs = c.segments()
+    data = c.to_bytes(segs)
+    _self_check(data, c, segs)
+    found = target_check(dev, sel, c, opts, extra)
+    if found:
+        diags.extend(found)
+        if any(d.severity is Severity.ERROR for d in found):
+            return Result(None, diags, dev, None, lay)
+    return Result(data, diags, dev, c, lay, sel, extra)
+
+
+def container_of(dev: model.Device, sel, lay, opts: CompileOptions, extra=()) -> BinContainer:
+    """The container of a selection and layout (validate builds it too, for its TGT rules)."""
+    has_nv = any(model.is_network_variable_index(i) and any(s for s in o.entries)
+                 for i, o in dev.objects.items())
     # extra writes (--append) come after every D-8 group and get no PI address
     c = BinContainer(entries=sel.entries + [(w.index, w.sub, w.data) for w in extra],
                      attributes=bytes(sel.attrs) + bytes(w.attr for w in extra),
@@ -114,12 +156,34 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         # group 1, which writes each network-variable object whole, by subindex
         c.addresses = lay.addresses_of(sel.nv_objects)
         c.pi = lay.pi_parameters
-    if not c.entries:
-        diags.append(_nothing_to_write(dev, opts))
-    segs = c.segments()
-    data = c.to_bytes(segs)
-    _self_check(data, c, segs)
-    return Result(data, diags, dev, c, lay)
+    return c
+
+
+def blocked(dev: model.Device, sel) -> bool:
+    """Would compile stop before writing (an error that touches what it writes)?"""
+    return bool(sel.errors) or any(
+        p.diagnostic.severity is Severity.ERROR and (p.index is None or sel.wrote(p.index, p.sub))
+        for p in dev.problems)
+
+
+def target_options(opts: CompileOptions):
+    from dcf2bin.target import TargetOptions
+    return TargetOptions(pi_size=opts.pi_size, tx_cobs=opts.tx_cobs, rx_cobs=opts.rx_cobs,
+                         granularity=opts.granularity, bit_mapping=opts.bit_mapping,
+                         address_base=opts.address_base)
+
+
+def target_check(dev: model.Device, sel, c: BinContainer, opts: CompileOptions,
+                 extra=()) -> list[Diagnostic]:
+    """Run the DynBuildOd emulation on the container just built (SPEC §8.1, D-11): the
+    DCF's objects minus the creation group are the static OD. A failure is an error (or
+    a warning with --no-target-check) at the DCF line of the offending value."""
+    if opts.target_check == "off":
+        return []
+    from dcf2bin.target import check
+    out = check.run(dev, sel, c, target_options(opts), list(extra))
+    severity = Severity.ERROR if opts.target_check == "error" else Severity.WARNING
+    return check.diagnostics(out, dev.path, severity)
 
 
 def _nothing_to_write(dev: model.Device, opts: CompileOptions) -> Diagnostic:
@@ -148,7 +212,18 @@ def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:
         raise AssertionError("container self-check failed: header and segments disagree")
 
 
-def compile_path(path: str, opts: CompileOptions, data: bytes | None = None) -> Result:
+def compile_path(path: str, opts: CompileOptions | None = None, data: bytes | None = None,
+                 **options) -> Result:
+    """Compile the DCF/EDS file ``path`` (or ``data``, named ``path`` in diagnostics).
+
+    Options: a ``CompileOptions``, keyword arguments with its field names, or both
+    (the keywords win). Errors and warnings are in the result's ``diagnostics``;
+    ``data`` is None when errors stop the build. An unreadable file raises OSError.
+    """
+    if opts is None:
+        opts = CompileOptions()
+    if options:
+        opts = dataclasses.replace(opts, **options)
     # A compile builds hundreds of thousands of small objects and no reference cycles
     # worth collecting: the cyclic GC would only rescan them (about a third of the time
     # on a 60,000-variable file). Restore the caller's setting afterwards.
@@ -163,13 +238,19 @@ def compile_path(path: str, opts: CompileOptions, data: bytes | None = None) -> 
             gc.enable()
 
 
-def compile_file(path: str, opts: CompileOptions | None = None) -> bytes:
-    """Compile and return the container bytes; raises CompileError on errors."""
-    res = compile_path(path, opts or CompileOptions())
+def compile_file(path: str, opts: CompileOptions | None = None, **options) -> bytes:
+    """Compile and return the container bytes (options as for ``compile_path``).
+
+    Errors raise CompileError (its ``diagnostics`` hold every finding); warnings are
+    delivered through ``warnings.warn`` as ``DiagnosticWarning``s, one per finding.
+    """
+    res = compile_path(path, opts, **options)
     if res.data is None:
         raise CompileError(res.diagnostics)
+    for d in res.diagnostics:
+        warnings.warn(DiagnosticWarning(d), stacklevel=2)
     return res.data
 
 
 __all__ = ["CompileOptions", "CompileError", "Result", "compile_file", "compile_path",
-           "compile_device", "DcfError"]
+           "compile_device", "DcfError", "DiagnosticWarning"]

@@ -9,14 +9,21 @@ from dataclasses import dataclass, field
 
 
 class ExitCode(enum.IntEnum):
+    """The one table of exit codes (README "Exit codes", man pages), for every command."""
     OK = 0
-    FINDINGS = 1      # the input has errors (compile: nothing written)
-    USAGE = 2         # bad command line
-    UNREADABLE = 3    # an input could not be read at all
+    FINDINGS = 1      # the input has errors (compile: nothing written); a broken pipe after
+                      # errors were reported
+    USAGE = 2         # bad command line; an output that would overwrite an input; binary
+                      # data to a terminal
+    UNREADABLE = 3    # an input could not be read (missing, a directory, no permission;
+                      # validate: a directory without DCF/EDS/bin files), or an output could
+                      # not be written (full disk, closed standard output)
     INTERNAL = 70     # a bug in dcf2bin (EX_SOFTWARE); --debug shows the traceback
+    # a caught signal ends the run with 128 + its number (130 SIGINT, 143 SIGTERM)
 
 
 class Severity(str, enum.Enum):
+    """How bad a finding is; errors stop a compile (exit 1), warnings and infos do not."""
     ERROR = "error"
     WARNING = "warning"
     INFO = "info"
@@ -24,6 +31,8 @@ class Severity(str, enum.Enum):
 
 @dataclass(frozen=True)
 class Diagnostic:
+    """One finding: ``format()`` gives ``file:line: severity: message [RULE]`` (a byte
+    offset ``file:0x1C:`` for containers), as the command line prints it."""
     severity: Severity
     message: str
     file: str = ""
@@ -35,20 +44,14 @@ class Diagnostic:
 
     @property
     def location(self) -> str:
-        loc = self.file or "<input>"
-        if self.line is not None:
-            loc += f":{self.line}"
-            if self.column is not None:
-                loc += f":{self.column}"
-        elif self.offset is not None:
-            loc += f":0x{self.offset:X}"
-        return loc
+        """``file:line``, ``file:0xOFFSET`` or ``file`` (report.location)."""
+        from dcf2bin.report import location
+        return location(self)
 
     def format(self) -> str:
-        text = f"{self.location}: {self.severity.value}: {self.message}"
-        if self.rule:
-            text += f" [{self.rule}]"
-        return text
+        """The one text form, ``file:line: severity: message [RULE]`` (report.format_text)."""
+        from dcf2bin.report import format_text
+        return format_text(self)
 
 
 @dataclass(slots=True)
@@ -110,3 +113,17 @@ class Diagnostics:
 
     def __len__(self) -> int:
         return len(self.items)
+
+
+class DiagnosticWarning(UserWarning):
+    """A warning (or info) finding, delivered through ``warnings.warn`` by the Python API
+    functions that return a single value (``compile_file``, ``read_container``, ...);
+    ``diagnostic`` holds the finding, ``str()`` is its one-line form."""
+
+    def __init__(self, diagnostic: Diagnostic):
+        super().__init__(diagnostic.format())
+        self.diagnostic = diagnostic
+
+
+__all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
+           "Where"]

@@ -679,7 +679,7 @@ def header_notes(c: BinContainer, h: dict[str, int], nvs: int) -> dict[str, str]
     """Where the header disagrees with the segments (or with D-5...D-7): field -> note."""
     notes: dict[str, str] = {}
     if h["version"] != 1:
-        notes["version"] = "not the default 1 (D-5)"
+        notes["version"] = "not the default 1"
     present = sum(1 for name in schema.SEGMENTS if h[f"{name}_size"])
     if h["segment_count"] != present:
         notes["segment_count"] = f"{present} segments are present"
@@ -691,7 +691,7 @@ def header_notes(c: BinContainer, h: dict[str, int], nvs: int) -> dict[str, str]
     spans = sorted((h[f"{n}_offset"], n) for n in schema.SEGMENTS if h[f"{n}_size"])
     order = [n for _, n in spans]
     if order != [n for n in schema.SEGMENTS if n in order]:
-        notes["order"] = "segments are not in the header's order (D-7)"
+        notes["order"] = "segments are not in the header's order"
     for name in schema.SEGMENTS:
         if not h[f"{name}_size"] and h[f"{name}_offset"]:
             notes[f"{name}_offset"] = "an empty segment should have offset 0"
@@ -700,7 +700,7 @@ def header_notes(c: BinContainer, h: dict[str, int], nvs: int) -> dict[str, str]
         notes["extinfo_size"] = f"{_count(len(c.attributes or b''), 'attribute byte')} for " \
                                 f"{_count(n, 'entry', 'entries')}"
     if c.raw_piparam is not None:
-        notes["piparam_size"] = "a PI parameter segment has 20 bytes (SPEC §3.5)"
+        notes["piparam_size"] = "a PI parameter segment has 20 bytes"
     n_addr = len(c.addresses or [])
     if n_addr != nvs:
         notes["address_size"] = f"{_count(n_addr, 'address', 'addresses')} for " \
@@ -777,7 +777,7 @@ def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
     else:
         w(f"PI address segment: {_count(len(addrs), 'address', 'addresses')}, "
           f"{_count(len(nvs), 'network variable')}"
-          + ("  ! they should match (SPEC §3.4)" if "address_size" in notes else ""))
+          + ("  ! they should match" if "address_size" in notes else ""))
         pi = c.pi
         first: dict[tuple[int, int], bytes] = {}
         for index, sub, d in c.entries:

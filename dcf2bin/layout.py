@@ -212,8 +212,8 @@ def parse_channels(dev) -> list[Channel]:
                     if dtype.code != dt.BOOLEAN.code:
                         raise values.ValueProblem("a step is only allowed for BOOLEAN segments")
                     if step != 1:  # D-2
-                        raise values.ValueProblem(f"step {step} is not supported (D-2: BOOLEANs "
-                                                  "are not bit-packed, the step must be 1)")
+                        raise values.ValueProblem(f"step {step} is not supported (BOOLEANs are "
+                                                  "not bit-packed, the step must be 1)")
                 if offset < 0:
                     raise values.ValueProblem("offset must not be negative")
             except values.ValueProblem as exc:

@@ -1,6 +1,8 @@
 """Render diagnostics: one function per output format. Nothing here decides exit codes.
 
-* text   -- ``file:line:col: severity: message [RULE]`` (``render_text``, ``text_report``)
+* text   -- ``file:line: severity: message [RULE]`` (``format_text``, ``render_text``,
+            ``text_report``): the one text form every command prints, at most ``CAP``
+            per rule and file
 * json   -- a versioned document with stable keys (``json_report``; schema in
             ``dcf2bin/lint/report_schema.py``)
 * sarif  -- SARIF 2.1.0 for GitHub code scanning (``sarif_report``)
@@ -34,26 +36,103 @@ def use_colour(stream: TextIO) -> bool:
     return hasattr(stream, "isatty") and stream.isatty()
 
 
+# -- names ------------------------------------------------------------------------------------
+
+def escape(text: str, *, controls: bool = True) -> str:
+    """A file name (or a message naming one) as printable text, the same in every format.
+
+    Python hands over the bytes of a name that is not UTF-8 as lone surrogates
+    (surrogateescape); each becomes ``\\xNN`` for its byte, and so does a control
+    character (a newline in a name would break a line-based report). Never raises."""
+    if text.isprintable() and text.isascii():
+        return text
+    out = []
+    for ch in text:
+        o = ord(ch)
+        if 0xDC80 <= o <= 0xDCFF:
+            out.append(f"\\x{o - 0xDC00:02x}")
+        elif 0xD800 <= o <= 0xDFFF:
+            out.append(f"\\u{o:04x}")
+        elif controls and (o < 0x20 or 0x7F <= o < 0xA0):
+            out.append(f"\\x{o:02x}")
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def _msg(text: str) -> str:
+    return escape(text, controls=False)
+
+
 # -- text ---------------------------------------------------------------------------------------
 
+# At most this many diagnostics of one rule in one file are printed in the text form; one
+# line then says how many more were left out (json and sarif keep every one).
+CAP = 20
+
+
+def location(d: Diagnostic) -> str:
+    """``file:line`` (text files) or ``file:0xOFFSET`` (containers) or ``file``.
+
+    The column is not part of the text form: compile and validate do not always know it
+    for the same finding, and one finding must print the same everywhere (json, sarif and
+    github carry the column where it is known)."""
+    loc = escape(d.file) if d.file else "<input>"
+    if d.line is not None:
+        loc += f":{d.line}"
+    elif d.offset is not None:
+        loc += f":0x{d.offset:X}"
+    return loc
+
+
 def format_text(d: Diagnostic, colour: bool = False) -> str:
+    """The one text form of a diagnostic: ``file:line: severity: message [RULE]``."""
     sev = d.severity.value
     if colour:
         sev = f"{_COLOURS[d.severity]}{sev}\x1b[0m"
-    text = f"{d.location}: {sev}: {d.message}"
+    text = f"{location(d)}: {sev}: {escape(d.message)}"
     if d.rule:
         text += f" [{d.rule}]"
     return text
 
 
-def render_text(diags: Iterable[Diagnostic], stream: TextIO | None = None,
-                *, hints: bool = False) -> None:
-    stream = stream or sys.stderr
-    colour = use_colour(stream)
+def left_out(file: str, rule: str, n: int, cap: int = CAP) -> str:
+    what = f"{rule} diagnostic" if rule else "diagnostic"
+    return (f"{escape(file) if file else '<input>'}: note: {n} more {what}{'' if n == 1 else 's'}"
+            f" left out (text output shows {cap} per rule and file)")
+
+
+def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool = False,
+               cap: int | None = CAP) -> list[str]:
+    """Lines of the text form, at most ``cap`` per rule and file (then one line saying how
+    many were left out)."""
+    diags = list(diags)
+    total: dict = {}
     for d in diags:
-        stream.write(format_text(d, colour) + "\n")
+        total[(d.file, d.rule)] = total.get((d.file, d.rule), 0) + 1
+    seen: dict = {}
+    out = []
+    for d in diags:
+        key = (d.file, d.rule)
+        n = seen[key] = seen.get(key, 0) + 1
+        if cap is not None and n > cap:
+            continue
+        out.append(format_text(d, colour))
         if hints and d.hint:
-            stream.write(f"    hint: {d.hint}\n")
+            out.append(f"    hint: {escape(d.hint)}")
+        if cap is not None and n == cap and total[key] > cap:
+            out.append(left_out(d.file, d.rule, total[key] - cap, cap))
+    return out
+
+
+def render_text(diags: Iterable[Diagnostic], stream: TextIO | None = None,
+                *, hints: bool = False, colour: bool | None = None,
+                cap: int | None = CAP) -> None:
+    stream = stream or sys.stderr
+    if colour is None:
+        colour = use_colour(stream)
+    stream.write("".join(line + "\n" for line in text_lines(diags, colour=colour, hints=hints,
+                                                             cap=cap)))
 
 
 def summary(diags: Iterable[Diagnostic]) -> str:
@@ -68,13 +147,11 @@ def summary(diags: Iterable[Diagnostic]) -> str:
 
 
 def text_report(diags: Sequence[Diagnostic], n_files: int, *, colour: bool = False,
-                hints: bool = False, show_summary: bool = True) -> str:
-    """The text format of ``validate``: one line per finding, then a summary line."""
-    out = []
-    for d in diags:
-        out.append(format_text(d, colour))
-        if hints and d.hint:
-            out.append(f"    hint: {d.hint}")
+                hints: bool = False, show_summary: bool = True,
+                cap: int | None = CAP) -> str:
+    """The text format of ``validate``: one line per finding (capped per rule and file),
+    then a summary line that counts every finding."""
+    out = text_lines(diags, colour=colour, hints=hints, cap=cap)
     if show_summary:
         out.append(f"{summary(diags)} in {n_files} file{'' if n_files == 1 else 's'}")
     return "".join(line + "\n" for line in out)
@@ -84,15 +161,15 @@ def text_report(diags: Sequence[Diagnostic], n_files: int, *, colour: bool = Fal
 
 def diagnostic_dict(d: Diagnostic, rules: dict[str, dict] | None = None) -> dict:
     name = (rules or {}).get(d.rule, {}).get("name", "")
-    return {"rule": d.rule, "name": name, "severity": d.severity.value, "file": d.file,
-            "line": d.line, "column": d.column, "offset": d.offset, "message": d.message,
-            "hint": d.hint}
+    return {"rule": d.rule, "name": name, "severity": d.severity.value, "file": escape(d.file),
+            "line": d.line, "column": d.column, "offset": d.offset, "message": _msg(d.message),
+            "hint": _msg(d.hint)}
 
 
 def json_report(diags: Sequence[Diagnostic], files: Sequence[tuple[str, str]],
                 rules: dict[str, dict], *, exit_code: int, tool_version: str) -> str:
     """A versioned JSON document; every key is always present (null when unknown)."""
-    per_file = {path: {"path": path, "kind": kind, "errors": 0, "warnings": 0, "infos": 0}
+    per_file = {path: {"path": escape(path), "kind": kind, "errors": 0, "warnings": 0, "infos": 0}
                 for path, kind in files}
     totals = {"errors": 0, "warnings": 0, "infos": 0}
     for d in diags:
@@ -126,16 +203,16 @@ def artifact_uri(path: str, cwd: str | None = None) -> tuple[str, bool]:
     (GitHub resolves it from the repository root) when the file lies below it."""
     cwd = cwd or os.getcwd()
     if path.startswith("<"):
-        return quote(path.strip("<>")), True
+        return quote(os.fsencode(path.strip("<>"))), True
     full = os.path.abspath(path)
     try:
         rel = os.path.relpath(full, cwd)
     except ValueError:   # another drive on Windows
         rel = None
     if rel is not None and not rel.startswith(".."):
-        return quote(rel.replace(os.sep, "/")), True
-    from pathlib import Path
-    return Path(full).as_uri(), False
+        return quote(os.fsencode(rel.replace(os.sep, "/"))), True
+    # a URI names the file's bytes: percent-encoded, so a name that is not UTF-8 works too
+    return "file://" + quote(os.fsencode(full.replace(os.sep, "/"))), False
 
 
 def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_code: int,
@@ -167,7 +244,7 @@ def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_cod
         elif d.rule.startswith("DCF"):
             phys["region"] = {"startLine": 1}   # a finding about the whole text file
         result = {"ruleId": d.rule, "level": _SARIF_LEVEL[d.severity],
-                  "message": {"text": d.message}, "locations": [{"physicalLocation": phys}]}
+                  "message": {"text": _msg(d.message)}, "locations": [{"physicalLocation": phys}]}
         if d.rule in index:
             result["ruleIndex"] = index[d.rule]
         results.append(result)
@@ -201,7 +278,7 @@ def _gh_prop(text: str) -> str:
 
 def format_github(d: Diagnostic, rules: dict[str, dict] | None = None) -> str:
     """One workflow command: ``::error file=F,line=L,col=C,title=T::message``."""
-    props = [f"file={_gh_prop(d.file)}"]
+    props = [f"file={_gh_prop(escape(d.file))}"]
     if d.line is not None:
         props.append(f"line={d.line}")
         if d.column is not None:
@@ -209,7 +286,7 @@ def format_github(d: Diagnostic, rules: dict[str, dict] | None = None) -> str:
     name = (rules or {}).get(d.rule, {}).get("name", "")
     title = f"{d.rule} {name}".strip() if d.rule else "dcf2bin"
     props.append(f"title={_gh_prop(title)}")
-    message = d.message
+    message = _msg(d.message)
     if d.line is None and d.offset is not None:
         message += f" (at byte 0x{d.offset:X})"
     return f"::{_GITHUB_LEVEL[d.severity]} {','.join(props)}::{_gh_data(message)}"

@@ -11,11 +11,12 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
 from dcf2bin.model import (Device, Entry, NV_FIRST, NV_LAST, is_pdo_comm, is_pdo_mapping,
-                           is_pdo_object)
+                           is_pdo_object, unstated_mapping_count)
 
 AUTO, ALL = "auto", "all"
 CIA301, NONE = "cia301", "none"
 COB_INVALID = 0x80000000
+CAN_ID_MASK = 0x1FFFFFFF   # COB-ID bits 0-28: the CAN-ID
 MAX_MAPPED = 64
 
 
@@ -33,6 +34,9 @@ class PdoRules:
     disable_mask: int = COB_INVALID
     enable_mask: int = 0
     max_mapped: int = MAX_MAPPED
+    # D-12 (DIS-2): when comm sub 1's DefaultValue (the COB-ID the device has) has another
+    # CAN-ID than the final one, the block first writes ``old | disable_mask``
+    old_cob_first: bool = False
 
 
 @dataclass
@@ -213,7 +217,15 @@ class _Selector:
         except DcfError as exc:
             self.error(exc)
             return
-        # a) disable
+        # a) disable (D-12: under the old COB-ID first when the CAN-ID changes)
+        if self.rules.old_cob_first:
+            try:
+                old = dev.default_int(cob)
+            except DcfError as exc:
+                self.error(exc)
+                return
+            if old is not None and (old ^ final) & CAN_ID_MASK:
+                self.write(cob, (old | self.rules.disable_mask).to_bytes(4, "little"))
         self.write(cob, (final | self.rules.disable_mask).to_bytes(4, "little"))
         # b) transmission type, inhibit time, event timer, SYNC start
         for s in (2, 3, 5, 6):
@@ -221,6 +233,10 @@ class _Selector:
             if e is not None and self.counts(e) and not e.obj_flags & 1:
                 self.write(e)
         # c) d) e) mapping
+        unstated = unstated_mapping_count(mapping)
+        if unstated is not None:   # the count would be a guess (README, choices)
+            self.error(unstated[1], unstated[0], "DCF419")
+            return
         sub0 = mapping.entries.get(0)
         try:
             n = dev.effective_int(sub0) if sub0 is not None else 0

@@ -278,6 +278,8 @@ def test_prediction_with_options(c):
                 opts["container_version"] = int(o.split()[1])
             if o == "--no-process-image":
                 opts["process_image"] = False
+            if o == "--select all":
+                opts["select"] = "all"
         back = compile_text(res.to_bytes(), **opts)
         assert back.data == data
 
@@ -326,6 +328,82 @@ def test_version_and_missing_pi_name_the_options():
     assert _warnings(c) == [
         "x.bin: warning: compile gives the same bytes only with --container-version 7 "
         "--no-process-image [B2D010]"]
+
+
+def test_select_all_is_suggested_when_it_reproduces_the_container():
+    """Item 20: ro entries outside a PDO block come back only with --select all (SPEC §3.2);
+    B2D010 says so, and the options name it."""
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
+                     attributes=b"\x30\x70")
+    assert _warnings(c) == [
+        "x.bin:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); compile does not "
+        "write ro entries in the configuration group (D-8) [B2D004]",
+        "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
+        "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub0 = 05 (attribute "
+        "0x70); compile gives the same bytes only with --select all [B2D010]",
+    ]
+    data = c.to_bytes()
+    res = convert(data)
+    assert res.options == ["--select all"]
+    assert compile_text(res.to_bytes(), select="all").data == data
+
+
+def test_select_all_suggestion_on_the_command_line(tmp_path):
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00")], attributes=b"\x30")
+    (tmp_path / "ro.bin").write_bytes(c.to_bytes())
+    r = run("bin2dcf", tmp_path / "ro.bin", "-o", tmp_path / "ro.dcf")
+    assert (r.exit_code, r.stderr) == (0, (
+        f"{tmp_path / 'ro.bin'}:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); "
+        "compile does not write ro entries in the configuration group (D-8) [B2D004]\n"
+        f"{tmp_path / 'ro.bin'}:0x2C: warning: the DCF will not compile back to the same "
+        "container: entry 1 is 0x1000sub0 = 95010000 (attribute 0x30), compile writes "
+        "nothing; compile gives the same bytes only with --select all [B2D010]\n"))
+    r = run("compile", tmp_path / "ro.dcf", "--select", "all", "-o", tmp_path / "back.bin")
+    assert r.exit_code == 0 and (tmp_path / "back.bin").read_bytes() == c.to_bytes()
+
+
+def test_select_all_with_other_options():
+    c = BinContainer(entries=[(0xA4C0, 0, b"\x01"), (0xA4C0, 1, b"\x07"),
+                              (0x1000, 0, b"\x91\x01\x0f\x00")],
+                     attributes=b"\x30\xf0\x30", version=3)
+    data = c.to_bytes()
+    res = convert(data)
+    assert [d.format() for d in res.diagnostics if d.rule == dcfwriter.R_SUMMARY] == [
+        "x.bin:0x3C: warning: the DCF will not compile back to the same container: entry 3 is "
+        "0x1000sub0 = 91010F00 (attribute 0x30), compile writes nothing; compile gives the "
+        "same bytes only with --select all --container-version 3 --no-process-image [B2D010]"]
+    back = compile_text(res.to_bytes(), select="all", container_version=3, process_image=False)
+    assert back.data == data
+
+
+def test_select_all_is_not_suggested_when_it_would_write_more():
+    """--select all would also write the implied sub 0 of 0x2000 (a DefaultValue): no hint."""
+    c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 1, b"\x05")],
+                     attributes=b"\x30\x70")
+    data = c.to_bytes()
+    res = convert(data)
+    assert res.options == []
+    assert [d.format() for d in res.diagnostics if d.rule == dcfwriter.R_SUMMARY] == [
+        "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
+        "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub1 = 05 (attribute "
+        "0x70); for a lossless copy use 'dcf2bin dump --format json' [B2D010]"]
+    assert compile_text(res.to_bytes(), select="all").data != data
+
+
+@PROPS
+@given(dcf_texts())
+def test_containers_compiled_with_select_all(text):
+    """Containers compiled with --select all: bin2dcf's options are exactly what compiles
+    them back, and the default-options prediction stays exact."""
+    first = compile_text(text.encode("utf-8"), "gen.dcf", select="all")
+    assume(first.ok)
+    res = convert(first.data)
+    back = compile_text(res.to_bytes())
+    assert (back.data == first.data) == res.roundtrip
+    if res.options:
+        again = compile_text(res.to_bytes(), select="all" if "--select all" in res.options
+                             else "auto")
+        assert again.data == first.data, [d.format() for d in res.diagnostics]
 
 
 def test_string_with_a_line_break_becomes_octet_string():

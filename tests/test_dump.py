@@ -334,7 +334,7 @@ def _compile_json(tmp_path, text: str):
      "x.json:31: error: colour: unknown key 'colour' (expected one of format, schema_version, "
      "layout, header, entries, extra_attributes, addresses, pi_parameters, gaps) [JSN002]"),
     (lambda t: t.replace('"entries": [', '"entries": [,', 1),
-     "x.json:18:15: error: invalid JSON: Expecting value [JSN001]"),
+     "x.json:18: error: invalid JSON: Expecting value [JSN001]"),
     (lambda t: t.replace('"version": 1,', '"version": 1, "version": 2,'),
      "x.json:7: error: key 'version' repeated in one object [JSN001]"),
 ])

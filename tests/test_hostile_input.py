@@ -113,7 +113,7 @@ def test_thousands_of_overlapping_segments_end(tmp_path):
     src.write_bytes(_segments(3000).encode())
     out = bounded("compile", "-q", str(src), "-o", str(tmp_path / "segs.bin"))
     assert out.returncode == 1
-    assert out.stderr.count("[DCF315]") == 2999 and out.stderr.count("\n") == 3000
+    assert out.stderr.endswith(f"{src}: 2999 errors, nothing written\n")
 
 
 # -- 2. [Comments] Lines= ---------------------------------------------------------------------
@@ -122,10 +122,10 @@ def test_thousands_of_overlapping_segments_end(tmp_path):
 def test_comment_lines_count_is_not_a_list_size(tmp_path, count):
     src = tmp_path / "c.dcf"
     src.write_bytes(f"[Comments]\nLines={count}\nLine1=one\n".encode())
-    out = bounded("validate", "-q", "--select", "DCF059", str(src))
+    out = bounded("validate", "--select", "DCF059", str(src))
     assert (out.returncode, out.stdout, out.stderr) == (0, (
-        f"{src}:2:7: warning: [Comments] Lines={count} but the Line<k> keys are 1 "
-        "[DCF059]\n"), "")
+        f"{src}:2: warning: [Comments] Lines={count} but the Line<k> keys are 1 "
+        "[DCF059]\n0 errors, 1 warning, 0 infos in 1 file\n"), "")
 
 
 # -- 3. integer literals of any length -------------------------------------------------------
@@ -139,10 +139,9 @@ def test_huge_default_value_is_a_value_error():
     assert messages(compile_text(text)) == [
         "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits) [DCF200]"]
     assert errors_of(lint(text.encode(), "test.dcf", active={"DCF200"})) == [
-        "test.dcf:5:14: error: 0x2000sub0 DefaultValue: integer literal too long (4400 digits) "
+        "test.dcf:5: error: 0x2000sub0 DefaultValue: integer literal too long (4400 digits) "
         "[DCF200]",
-        "test.dcf:6:16: error: 0x2000sub0 ParameterValue: integer literal too long "
-        "(4400 digits) [DCF200]"]
+        "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits) [DCF200]"]
 
 
 @pytest.mark.parametrize("key,extra", [("SubNumber", ""),
@@ -192,7 +191,7 @@ def test_nul_in_download_file_is_a_diagnostic_everywhere(tmp_path):
     r = run("compile", "-q", str(src), "-o", str(tmp_path / "nul.bin"))
     assert (r.exit_code, r.stderr) == (1, message + f"{src}: 1 error, nothing written\n")
     r = run("validate", "-q", "--select", "DCF202", str(src))
-    assert (r.exit_code, r.stdout) == (1, message.replace(":6:", ":6:14:"))
+    assert (r.exit_code, r.stdout) == (1, message)
     r = run("export", "-q", "--format", "port-c", str(src), "-o", str(tmp_path / "nul.c"))
     assert (r.exit_code, r.stderr) == (1, message + f"{src}: 1 error, nothing written\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["nul.dcf"]
@@ -347,7 +346,7 @@ def test_fifo_is_refused_without_blocking(tmp_path):
             f"{src}: 1 error, nothing written\n"))
     out = bounded("validate", "-q", "--hints", "--select", "DCF202", str(src))
     assert (out.returncode, out.stdout) == (
-        1, f"{src}:6:14: error: DownloadFile 'pipe' is not a regular file [DCF202]\n"
+        1, f"{src}:6: error: DownloadFile 'pipe' is not a regular file [DCF202]\n"
            "    hint: name a regular file, not a device, pipe or directory\n")
 
 

@@ -168,8 +168,8 @@ def test_pi_size_limit():
 
 @pytest.mark.parametrize("channels, expected", [
     ("NrOfSeg=1\nType1=0x0001\nDir1=ro\nRange1=0xA080-0xA0BF\nPPOffset1=0, 8\n",
-     "test.dcf:6: error: [DynamicChannels] PPOffset1: step 8 is not supported (D-2: BOOLEANs "
-     "are not bit-packed, the step must be 1) [DCF313]"),
+     "test.dcf:6: error: [DynamicChannels] PPOffset1: step 8 is not supported (BOOLEANs are "
+     "not bit-packed, the step must be 1) [DCF313]"),
     ("NrOfSeg=1\nType1=0x0005\nDir1=ro\nRange1=0xA040-0xA07F\nPPOffset1=0\nPIOffset1=0\n",
      "test.dcf:7: error: [DynamicChannels] segment 1 gives both PPOffset1 and PIOffset1 [DCF314]"),
     ("NrOfSeg=1\nType1=0x0005\nRange1=0xA040-0xA07F\n",

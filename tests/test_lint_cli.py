@@ -39,7 +39,7 @@ def test_error_exits_1():
     r = run(BAD)
     assert r.exit_code == ExitCode.FINDINGS
     assert r.stdout.splitlines() == [
-        f"{BAD}:92:14: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 "
+        f"{BAD}:92: error: 0x2000sub0 DefaultValue: value 300 out of range for UNSIGNED8 "
         "(0..255) [DCF200]",
         "1 error, 0 warnings, 0 infos in 1 file"]
 
@@ -109,9 +109,9 @@ def test_directories_are_searched_recursively_case_insensitively(tmp_path):
 
 def test_stdin_dcf_and_container():
     r = run("-", input=BAD.read_bytes())
-    assert r.exit_code == 1 and r.stdout.startswith("<stdin>:92:14: error:")
+    assert r.exit_code == 1 and r.stdout.startswith("<stdin>:92: error:")
     r = run("--stdin-filename", "plc.dcf", "-", input=BAD.read_bytes())
-    assert r.stdout.startswith("plc.dcf:92:14: error:")
+    assert r.stdout.startswith("plc.dcf:92: error:")
     r = run("-", input=BAD_BIN.read_bytes())
     assert r.stdout.splitlines()[0] == (
         "<stdin>:0x35: warning: attribute 0x74 of entry 1 sets undefined bits 0x04 [CNT013]")
@@ -272,34 +272,34 @@ def test_help_names_the_exit_codes():
 
 
 @pytest.mark.parametrize("fmt", ["text", "json", "sarif", "github"])
-def test_every_format_handles_an_empty_run(tmp_path, fmt):
+def test_a_directory_without_inputs_is_an_error_in_every_format(tmp_path, fmt):
+    """A CI job pointed at the wrong folder must not pass: exit 3 and one IO001 line."""
     empty = tmp_path / "empty"
     empty.mkdir()
+    (empty / "notes.txt").write_text("no DCF here")
     r = run("--format", fmt, empty)
-    assert r.exit_code == 0
+    assert r.exit_code == ExitCode.UNREADABLE
+    assert "IO001" in r.stdout
+    if fmt == "text":
+        assert r.stdout == (f"{empty}: error: no *.dcf, *.eds or *.bin file in this directory "
+                            "[IO001]\n1 error, 0 warnings, 0 infos in 1 file\n")
 
 
 # -- performance --------------------------------------------------------------------------------
 
-def test_60000_variables_take_about_as_long_as_compile():
-    """No quadratic rule: validating a 60,000-variable PLC DCF costs about what compile
-    does (both parse, build the model and lay out the PI), and a few seconds at most."""
+def test_60000_variables_validate_without_errors():
+    """A 60,000-variable PLC DCF validates without errors or crashed rules. (Its time is
+    measured against compile by benchmarks/run.py, not asserted here: a timed unit test
+    fails on a loaded machine and proves nothing on an idle one.)"""
     import importlib.util
     import sys
-    import time
 
-    from dcf2bin.compiler import CompileOptions, compile_path
     from dcf2bin.lint import lint_bytes
     spec = importlib.util.spec_from_file_location("gen_dcf", ROOT / "benchmarks" / "gen_dcf.py")
     gen = importlib.util.module_from_spec(spec)
     sys.modules["gen_dcf"] = gen        # its dataclasses look themselves up there
     spec.loader.exec_module(gen)
     data = gen.generate(60000).encode("ascii")
-    t0 = time.perf_counter()
-    assert compile_path("big.dcf", CompileOptions(), data=data).ok
-    t1 = time.perf_counter()
     res = lint_bytes("big.dcf", data)
-    t2 = time.perf_counter()
     assert res.tracebacks == []
     assert [d.format() for d in res.diagnostics if d.severity.value == "error"] == []
-    assert t2 - t1 < 3 * (t1 - t0) + 1.0, (t1 - t0, t2 - t1)

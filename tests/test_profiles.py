@@ -60,6 +60,74 @@ def test_dis2_sample_recompiles_byte_identically():
     assert data == (SAMPLES / "dis2.bin").read_bytes()
 
 
+# samples/dis2_cobid.dcf, node 5, checked by hand against SPEC §3.2 and §6 (D-12): the
+# COB-ID the drive has is sub 1's DefaultValue; when its CAN-ID (bits 0-28) differs from
+# the final one, the block starts with old | 0xC0000000. No group 2 entries (the only
+# configured entries are PDO parameters); every attribute is UNSIGNED8/32 rw = 0x70.
+DIS2_COBID = """
+e3000000 0100 0200          # total 227 = 40 + 170 + 17; version 1; 2 segments
+28000000 aa000000           # index segment @40, 170 bytes = 4 + 17*7 + 47 data bytes
+00000000 00000000           # no PI address segment
+d2000000 11000000           # extended info @210 = 40 + 170, 17 bytes
+00000000 00000000           # no PI parameter segment
+11000000                    # 17 entries
+0014 01 04000000 050200c0   # RPDO1    1400sub1 := 0xC0000205: DefaultValue $NODEID+0xC0000200
+                            #          (CAN-ID 0x205 != 0x301) | 0xC0000000 -- the D-12 write
+0014 01 04000000 010300c0   #       a) 1400sub1 := 0x40000301 | 0xC0000000 (disable)
+0016 00 01000000 00         #       c) 1600sub0 := 0 (b: no comm sub 2/3/5/6 configured)
+0016 01 04000000 10004060   #       d) 1600sub1 := 0x60400010 controlword, 16 bits
+0016 00 01000000 01         #       e) 1600sub0 := 1
+0014 01 04000000 01030040   #       f) 1400sub1 := 0x40000301 | 0x40000000 (enable)
+0018 01 04000000 850100c0   # TPDO1 a) 1800sub1 := 0x40000185 | 0xC0000000; DefaultValue
+                            #          0xC0000185 has the same CAN-ID 0x185: no D-12 write
+001a 00 01000000 00         #       c) 1A00sub0 := 0
+001a 01 04000000 10004160   #       d) 1A00sub1 := 0x60410010 statusword
+001a 00 01000000 01         #       e) 1A00sub0 := 1
+0018 01 04000000 85010040   #       f) 1800sub1 := 0x40000185
+0118 01 04000000 850200c0   # TPDO2 a) 1801sub1 := 0x40000285 | 0xC0000000; no DefaultValue:
+                            #          no D-12 write
+0118 02 01000000 01         #       b) 1801sub2 transmission type := 1
+011a 00 01000000 00         #       c) 1A01sub0 := 0
+011a 01 04000000 20006460   #       d) 1A01sub1 := 0x60640020 position actual value, 32 bits
+011a 00 01000000 01         #       e) 1A01sub0 := 1
+0118 01 04000000 85020040   #       f) 1801sub1 := 0x40000285
+70 70 70 70 70 70 70 70 70  # 17 attributes: UNSIGNED8/32 rw -> NUMERIC|R|W (D-9)
+70 70 70 70 70 70 70 70
+"""
+
+
+def test_dis2_cobid_golden_is_the_annotated_bytes():
+    assert (SAMPLES / "dis2_cobid.bin").read_bytes() == unhex(DIS2_COBID)
+
+
+def test_dis2_cobid_sample_recompiles_byte_identically():
+    data = compile_file(str(SAMPLES / "dis2_cobid.dcf"), CompileOptions(profile="dis2"))
+    assert data == (SAMPLES / "dis2_cobid.bin").read_bytes()
+
+
+def test_dis2_cobid_old_write_is_dis2_only():
+    # CiA 301 reconfiguration has no old-COB-ID write: RPDO1 is disable, c-e, enable
+    data = compile_file(str(SAMPLES / "dis2_cobid.dcf"), CompileOptions())
+    assert _cob_writes(data) == [(0x1400, 0xC0000301), (0x1400, 0x40000301),
+                                 (0x1800, 0xC0000185), (0x1800, 0x40000185)]
+
+
+def test_dis2_cobid_node_id_decides_the_old_write(tmp_path):
+    # --node-id 1: RPDO1's DefaultValue is 0xC0000201 (still another CAN-ID than 0x301);
+    # TPDO1's DefaultValue and final value both follow the node-ID (0x181): no old write
+    data = compile_file(str(SAMPLES / "dis2_cobid.dcf"), CompileOptions(profile="dis2",
+                                                                        node_id=1))
+    assert _cob_writes(data) == [(0x1400, 0xC0000201), (0x1400, 0xC0000301),
+                                 (0x1400, 0x40000301), (0x1800, 0xC0000181),
+                                 (0x1800, 0x40000181)]
+    # an RPDO1 configured to its default CAN-ID needs no old write
+    path = tmp_path / "same.dcf"
+    path.write_text((SAMPLES / "dis2_cobid.dcf").read_text().replace(
+        "ParameterValue=0x40000301", "ParameterValue=0x40000205"))
+    data = compile_file(str(path), CompileOptions(profile="dis2"))
+    assert _cob_writes(data)[:2] == [(0x1400, 0xC0000205), (0x1400, 0x40000205)]
+
+
 def _without_bit30(tmp_path):
     """dis2.dcf with COB-IDs that lack bit 30: there cia301 and dis2 differ."""
     text = (SAMPLES / "dis2.dcf").read_text()
@@ -130,7 +198,9 @@ def test_dis2_profile_values():
     p = get_profile("dis2")
     assert (p.disable_mask, p.enable_mask, p.max_mapped, p.max_bits,
             p.cob_bit30_required) == (0xC0000000, 0x40000000, 4, 64, True)
+    assert p.old_cob_first and p.pdo_rules().old_cob_first          # D-12
     c = get_profile("cia301")
     assert (c.disable_mask, c.enable_mask, c.max_mapped) == (0x80000000, 0, 64)
+    assert not c.old_cob_first and not c.pdo_rules().old_cob_first
     with pytest.raises(ValueError, match="unknown profile 'x'"):
         get_profile("x")

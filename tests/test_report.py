@@ -24,13 +24,13 @@ def _rules():
 
 
 def test_text_lines_and_summary():
-    assert report.format_text(E) == "a.dcf:12:14: error: value 300 out of range [DCF200]"
+    assert report.format_text(E) == "a.dcf:12: error: value 300 out of range [DCF200]"
     assert report.format_text(W) == "b.bin:0x35: warning: undefined bits [CNT013]"
     assert report.format_text(F) == "a.dcf: error: mandatory object 0x1000 is missing [DCF101]"
     assert report.format_text(E, colour=True) == (
-        "a.dcf:12:14: \x1b[31merror\x1b[0m: value 300 out of range [DCF200]")
+        "a.dcf:12: \x1b[31merror\x1b[0m: value 300 out of range [DCF200]")
     assert report.text_report([E, W, I], 2, hints=True) == (
-        "a.dcf:12:14: error: value 300 out of range [DCF200]\n"
+        "a.dcf:12: error: value 300 out of range [DCF200]\n"
         "    hint: fix it\n"
         "b.bin:0x35: warning: undefined bits [CNT013]\n"
         "a.dcf:3: info: vendor section [DCF051]\n"
@@ -42,7 +42,7 @@ def test_text_lines_and_summary():
 def test_render_text_still_writes_compile_diagnostics():
     out = io.StringIO()
     report.render_text([E], out, hints=True)
-    assert out.getvalue() == ("a.dcf:12:14: error: value 300 out of range [DCF200]\n"
+    assert out.getvalue() == ("a.dcf:12: error: value 300 out of range [DCF200]\n"
                               "    hint: fix it\n")
 
 

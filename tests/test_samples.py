@@ -11,7 +11,8 @@ from conftest import SAMPLES
 from dcf2bin.compiler import CompileOptions, compile_file
 
 # (sample, options) -> golden .bin beside it
-CASES = [("bild8.dcf", {}), ("plc.dcf", {}), ("device.dcf", {})]
+CASES = [("bild8.dcf", {}), ("plc.dcf", {}), ("device.dcf", {}), ("dis2.dcf", {"profile": "dis2"}),
+         ("dis2_cobid.dcf", {"profile": "dis2"})]
 
 
 @pytest.mark.parametrize("name, opts", CASES, ids=[c[0] for c in CASES])

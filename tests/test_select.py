@@ -3,7 +3,16 @@ from __future__ import annotations
 
 import pytest
 
-from helpers import compile_text, messages, nv_objects
+from helpers import compile_text as _compile_text
+from helpers import messages, nv_objects
+
+
+def compile_text(text, **opts):
+    # These are DCF fragments (a PDO maps 0x2000 that the fragment lacks; --pdo-sequence
+    # none writes a mapping while its PDO is valid): compile's DynBuildOd check would refuse
+    # them. It has its own tests (test_target*.py, test_simulate.py); here only the order.
+    opts.setdefault("target_check", "off")
+    return _compile_text(text, **opts)
 
 
 def writes(res):
@@ -124,10 +133,66 @@ def test_pdo_sequence_none():
 
 
 def test_dis2_profile_masks():
+    # node 1: the DefaultValue $NODEID+0x180 is 0x181, the final CAN-ID too (no D-12 write)
     text = PDO.format(cob="ParameterValue=0x40000181", tt="")
-    w = writes(compile_text(text, profile="dis2"))
+    w = writes(compile_text(text, profile="dis2", node_id=1))
     assert w[0] == (0x1800, 1, "810100c0", 0x70)
+    assert w[1] == (0x1A00, 0, "00", 0x70)
     assert w[-1] == (0x1800, 1, "81010040", 0x70)
+
+
+def test_dis2_old_cob_id_first_when_the_can_id_changes():
+    # D-12: node 5, DefaultValue $NODEID+0x180 = 0x185 (the COB-ID the drive has), final
+    # 0x40000181: the CAN-IDs differ, so the block starts with 0x185 | 0xC0000000
+    text = PDO.format(cob="ParameterValue=0x40000181", tt="")
+    w = writes(compile_text(text, profile="dis2", node_id=5))
+    assert w[:3] == [(0x1800, 1, "850100c0", 0x70), (0x1800, 1, "810100c0", 0x70),
+                     (0x1A00, 0, "00", 0x70)]
+    assert w[-1] == (0x1800, 1, "81010040", 0x70)
+    assert len(w) == 7   # a, c, d (2 entries), e, f: 6 writes (no b here) plus the old one
+    # the CiA 301 profile never writes the old COB-ID (final | 0x80000000, then final)
+    assert [x for x in writes(compile_text(text, node_id=5)) if x[1] == 1 and x[0] == 0x1800] \
+        == [(0x1800, 1, "810100c0", 0x70), (0x1800, 1, "81010040", 0x70)]
+
+
+@pytest.mark.parametrize("default, first", [
+    ("0xC0000181", "810100c0"),      # same CAN-ID, other flags: no old write
+    ("0x181", "810100c0"),
+    ("0x20000181", "810100c0"),      # bit 29 (frame format) is not part of the CAN-ID
+    ("0x20010181", "810101e0"),      # a 29-bit CAN-ID 0x10181 differs from 0x181
+    ("0x1234567", "674523c1"),       # old | 0xC0000000, whatever the old bits are
+])
+def test_dis2_old_cob_id_compares_bits_0_to_28(default, first):
+    text = PDO.format(cob="ParameterValue=0x40000181", tt="").replace(
+        "DefaultValue=$NODEID+0x180", f"DefaultValue={default}")
+    w = writes(compile_text(text, profile="dis2"))
+    assert w[0] == (0x1800, 1, first, 0x70)
+    assert w[1][:3] == ((0x1800, 1, "810100c0") if first != "810100c0" else (0x1A00, 0, "00"))
+
+
+def test_dis2_no_default_value_no_old_cob_id():
+    text = PDO.format(cob="ParameterValue=0x40000181", tt="").replace(
+        "DefaultValue=$NODEID+0x180\n", "")
+    w = writes(compile_text(text, profile="dis2"))
+    assert w[:2] == [(0x1800, 1, "810100c0", 0x70), (0x1A00, 0, "00", 0x70)]
+
+
+def test_dis2_old_cob_id_needs_the_node_id_and_a_good_value():
+    text = PDO.format(cob="ParameterValue=0x40000181", tt="")
+    assert messages(compile_text(text, profile="dis2")) == [
+        "test.dcf:10: error: value '$NODEID+0x180' of 0x1800sub1 uses $NODEID but no node-ID "
+        "is known [DCF201]"]
+    bad = text.replace("DefaultValue=$NODEID+0x180", "DefaultValue=0x1FFFFFFFF")
+    res = compile_text(bad, profile="dis2")
+    assert messages(res) == [
+        "test.dcf:10: error: 0x1800sub1 DefaultValue: value 0x1FFFFFFFF (= 8589934591) out of "
+        "range for UNSIGNED32 (0..4294967295) [DCF200]"]
+    assert messages(res, "warning") == []   # not also a "not written" warning
+    # without the profile the DefaultValue is not written: a warning, and a container
+    res = compile_text(bad)
+    assert res.ok and messages(res, "warning") == [
+        "test.dcf:10: warning: 0x1800sub1 DefaultValue: value 0x1FFFFFFFF (= 8589934591) out of "
+        "range for UNSIGNED32 (0..4294967295) (not written by compile) [DCF200]"]
 
 
 def test_select_all_takes_default_values():

@@ -6,7 +6,7 @@ import os
 import click
 
 from dcf2bin import __version__
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_container,
+from dcf2bin.cli.common import (CONTEXT, Command, Failure, emit, fail, guarded, read_container,
                                 read_eds, write_output)
 from dcf2bin.cli.dump import EDS, INPUT, QUIET
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -55,7 +55,7 @@ def _bin2dcf_options(fn):
     return fn
 
 
-_BIN2DCF_HELP = """Turn a binary container back into a DCF (SPEC §4).
+_BIN2DCF_HELP = """Turn a binary container back into a DCF.
 
 One object section per index; ParameterValue is the last value written, comments list
 earlier writes (PDO sequences). Types come from the CiA 405 ranges and the attribute
@@ -71,7 +71,7 @@ def bin2dcf_cmd(input, output, eds, strict, quiet):
     _bin2dcf(input, output, eds, strict, quiet)
 
 
-@click.command("bin2dcf", context_settings=CONTEXT, help=_BIN2DCF_HELP)
+@click.command("bin2dcf", cls=Command, context_settings=CONTEXT, help=_BIN2DCF_HELP)
 @click.version_option(__version__, "-V", "--version", prog_name="bin2dcf")
 @_bin2dcf_options
 @click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")

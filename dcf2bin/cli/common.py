@@ -6,15 +6,39 @@ everywhere. Only click is imported here.
 from __future__ import annotations
 
 import functools
+import io
 import os
+import re
+import signal
+import stat
 import sys
-import tempfile
 
 import click
 
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
+
+
+class _SafeMain:
+    """click's own output (--help, --version, usage errors) into a full disk: one line and
+    exit 3, like any output; into a closed pipe: the code click chose, quietly."""
+
+    def main(self, *args, **kwargs):
+        try:
+            return super().main(*args, **kwargs)
+        except OSError as exc:
+            _silence(1)
+            say(f"<stdout>: error: cannot write: {exc.strerror or exc}")
+            sys.exit(int(ExitCode.UNREADABLE))
+
+
+class Group(_SafeMain, click.Group):
+    """The program's click group (``cls=Group``)."""
+
+
+class Command(_SafeMain, click.Command):
+    """A command that is a program of its own, such as ``bin2dcf`` (``cls=Command``)."""
 
 
 class Failure(Exception):
@@ -24,10 +48,89 @@ class Failure(Exception):
         self.code = code
 
 
+class Interrupted(BaseException):
+    """A caught signal (SIGTERM, SIGHUP) while an output was being written."""
+
+    def __init__(self, signum: int):
+        self.signum = signum
+
+
+class _State:
+    """What this invocation did so far (reset by ``guarded``)."""
+    inputs: list[str] = []          # every input read or registered: never overwritten
+    errors_emitted = False          # an error diagnostic was printed (a broken pipe's code)
+    temps: set[str] = set()         # temporary outputs to remove if the run is stopped
+
+
+def _reset() -> None:
+    _State.inputs = []
+    _State.errors_emitted = False
+    _State.temps = set()
+
+
+def register_input(path: str | None) -> None:
+    """Name a file this command reads, so that no output is ever written over it."""
+    if path and path != "-":
+        _State.inputs.append(path)
+
+
+def _silence(fd: int) -> None:
+    """After EPIPE or an error on a standard stream, point it at /dev/null so that later
+    writes and the interpreter's final flush cannot fail again (the Python docs' advice
+    for SIGPIPE). Only when the stream really is that descriptor (not a test's capture)."""
+    stream = sys.stdout if fd == 1 else sys.stderr
+    try:
+        if stream is None or stream.fileno() != fd:
+            return      # closed at start: the descriptor may be one of our own files now
+    except (OSError, ValueError, AttributeError):
+        return
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, fd)
+        os.close(devnull)
+    except OSError:
+        pass
+
+
+def _write_stderr(text: str) -> None:
+    stream = sys.stderr
+    if stream is None:           # started with standard error closed
+        return
+    try:
+        stream.write(text)
+        stream.flush()
+    except (OSError, ValueError):
+        # a reader that went away (2>&1 | head) or a full disk: diagnostics are lost, but
+        # the run goes on and ends with the exit code it earned
+        _silence(2)
+
+
+def say(message: str) -> None:
+    """One line to standard error (status lines such as 'nothing written')."""
+    _write_stderr(message + "\n")
+
+
 def emit(diags, quiet: bool = False) -> None:
+    """Print diagnostics on standard error in the one text form of report.py; -q keeps the
+    errors only."""
     from dcf2bin.report import render_text
+    diags = list(diags)
+    if any(d.severity is Severity.ERROR for d in diags):
+        _State.errors_emitted = True
     shown = [d for d in diags if not (quiet and d.severity is not Severity.ERROR)]
-    render_text(shown, sys.stderr, hints=True)
+    if not shown or sys.stderr is None:
+        return
+    buf = io.StringIO()
+    render_text(shown, buf, hints=True, colour=_colour(sys.stderr))
+    _write_stderr(buf.getvalue())
+
+
+def _colour(stream) -> bool:
+    from dcf2bin.report import use_colour
+    try:
+        return use_colour(stream)
+    except (OSError, ValueError):
+        return False
 
 
 def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
@@ -35,12 +138,21 @@ def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
     raise Failure(code)
 
 
+def _earned() -> int:
+    return int(ExitCode.FINDINGS if _State.errors_emitted else ExitCode.OK)
+
+
 def guarded(fn):
-    """Turn Failure into its exit code and any bug into one line plus exit 70."""
+    """Turn Failure into its exit code and any bug into one line plus exit 70.
+
+    A broken pipe never hides a failure: the run ends with the code it had earned so far
+    (1 once an error was reported). A caught signal ends with 128 + its number, after the
+    temporary output file is removed."""
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         ctx = click.get_current_context()
         debug = (ctx.find_root().params or {}).get("debug", False) or ctx.params.get("debug")
+        _reset()
         try:
             return fn(*args, **kwargs)
         except Failure as f:
@@ -48,61 +160,232 @@ def guarded(fn):
         except (click.exceptions.Exit, click.ClickException, click.Abort):
             raise
         except KeyboardInterrupt:
-            click.echo("dcf2bin: interrupted", err=True)
-            ctx.exit(130)
+            _cleanup_temps()
+            say("dcf2bin: interrupted")
+            ctx.exit(128 + signal.SIGINT)
+        except Interrupted as sig:
+            _cleanup_temps()
+            say(f"dcf2bin: stopped by signal {signal.Signals(sig.signum).name}")
+            ctx.exit(128 + sig.signum)
         except BrokenPipeError:
-            ctx.exit(int(ExitCode.OK))
+            # a write outside write_output/emit met a closed pipe (say, click.echo)
+            _silence(1)
+            _silence(2)
+            ctx.exit(_earned())
         except Exception as exc:  # a bug: never a traceback unless asked
             if debug or os.environ.get("DCF2BIN_DEBUG"):
                 raise
-            click.echo(f"dcf2bin: internal error: {type(exc).__name__}: {exc} "
-                       "(run with --debug for the traceback, and please report it)", err=True)
+            say(f"dcf2bin: internal error: {type(exc).__name__}: {exc} "
+                "(run with --debug for the traceback, and please report it)")
             ctx.exit(int(ExitCode.INTERNAL))
+        finally:
+            _cleanup_temps()
+            _reset()
     return wrapper
 
 
 def read_input(path: str) -> bytes:
-    """Read a file or '-' (stdin); an unreadable input ends with exit 3."""
+    """Read a file or '-' (stdin); an unreadable input (missing, a directory, no
+    permission) ends with exit 3. The file is registered as an input: no output of this
+    run may overwrite it."""
+    register_input(path)
     try:
         if path == "-":
+            if sys.stdin is None:
+                fail("cannot read: standard input is closed", "<stdin>", ExitCode.UNREADABLE)
             return sys.stdin.buffer.read()
         with open(path, "rb") as f:
             return f.read()
     except OSError as exc:
-        fail(f"cannot read: {exc.strerror}", path, ExitCode.UNREADABLE)
+        fail(f"cannot read: {exc.strerror or exc}", path, ExitCode.UNREADABLE)
 
 
-def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: bool) -> None:
-    """Write atomically (temp file + rename); never over an input; no binary to a terminal."""
-    if isinstance(data, str):
-        data = data.encode("utf-8")
-    if output == "-":
-        if binary and sys.stdout.isatty():
+def check_input(path: str | None) -> None:
+    """An input file that a command hands on by name (--static-od, --append, --eds):
+    missing, a directory or unreadable is exit 3 like the main input, not a usage error."""
+    if path is not None and path != "-":
+        read_input(path)
+
+
+def _write_stdout(data: bytes, binary: bool) -> None:
+    stream = sys.stdout
+    if stream is None or getattr(stream, "buffer", None) is None:
+        fail("cannot write: standard output is closed", "<stdout>", ExitCode.UNREADABLE)
+    try:
+        if binary and stream.isatty():
             fail("refusing to write binary data to a terminal; use -o FILE or a pipe",
-                  code=ExitCode.USAGE)
-        sys.stdout.buffer.write(data)
-        sys.stdout.buffer.flush()
-        return
-    out_abs = os.path.realpath(output)
-    for inp in inputs:
-        if inp != "-" and os.path.exists(inp) and os.path.realpath(inp) == out_abs:
-            fail(f"output '{output}' is the input file; refusing to overwrite it",
-                  code=ExitCode.USAGE)
-    folder = os.path.dirname(out_abs) or "."
+                 code=ExitCode.USAGE)
+        stream.flush()
+        stream.buffer.write(data)
+        stream.buffer.flush()
+    except BrokenPipeError:
+        _silence(1)        # the reader went away (| head): not a failure of this run
+    except (OSError, ValueError) as exc:
+        _silence(1)
+        reason = getattr(exc, "strerror", None) or "standard output is closed"
+        fail(f"cannot write: {reason}", "<stdout>", ExitCode.UNREADABLE)
+
+
+def _same_file(a: str, b: str, b_stat) -> bool:
     try:
-        fd, tmp = tempfile.mkstemp(prefix=".dcf2bin-", suffix=".tmp", dir=folder)
-    except OSError as exc:
-        fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, output)
-    except OSError as exc:
+        st = os.stat(a)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+    if b_stat is not None:
+        return (st.st_dev, st.st_ino) == (b_stat.st_dev, b_stat.st_ino)
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def _umask() -> int:
+    old = os.umask(0o022)
+    os.umask(old)
+    return old
+
+
+def _raise_signal(signum, frame):
+    raise Interrupted(signum)
+
+
+_CAUGHT = ("SIGTERM", "SIGHUP", "SIGINT")
+
+
+def _install_handlers() -> dict:
+    old = {}
+    for name in _CAUGHT:
+        sig = getattr(signal, name, None)
+        if sig is None:
+            continue
+        try:
+            current = signal.getsignal(sig)
+            if sig == signal.SIGINT and current is signal.default_int_handler:
+                continue     # raises KeyboardInterrupt already
+            if current is signal.SIG_IGN:
+                continue     # nohup and friends: keep ignoring
+            old[sig] = signal.signal(sig, _raise_signal)
+        except (ValueError, OSError):   # not the main thread
+            pass
+    return old
+
+
+def _restore_handlers(old: dict) -> None:
+    for sig, handler in old.items():
+        try:
+            signal.signal(sig, handler)
+        except (ValueError, OSError):
+            pass
+
+
+def _cleanup_temps() -> None:
+    for tmp in list(_State.temps):
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        fail(f"cannot write: {exc.strerror}", output, ExitCode.UNREADABLE)
+        _State.temps.discard(tmp)
+
+
+def _fsync_dir(folder: str) -> None:
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: bool) -> None:
+    """Write an output file, the one way every command does it.
+
+    * '-' is standard output (binary data refused on a terminal); a reader that goes away
+      is not an error, a full disk or closed stdout is exit 3.
+    * Never over an input: the paths given here and every file read through read_input
+      or named with register_input (same file = same device and inode, links included).
+    * A symlink is followed: the file it points to is replaced, the link stays.
+    * A character/block device or FIFO is written directly (no temporary file).
+    * A regular file is written atomically: a temporary file beside the real target,
+      fsync, rename, fsync of the folder; a new file gets 0666 & ~umask, an overwritten
+      one keeps its mode. The temporary file is removed on any error and on SIGTERM,
+      SIGHUP or SIGINT.
+    """
+    if isinstance(data, str):
+        data = data.encode("utf-8", "surrogateescape")
+    if output == "-":
+        _write_stdout(data, binary)
+        return
+    try:
+        st = os.stat(output)        # follows links, /dev/stdout and /proc/self/fd/N too
+    except OSError:
+        st = None
+    target = os.path.realpath(output)
+    for inp in list(inputs) + _State.inputs:
+        if inp and inp != "-" and _same_file(inp, target, st):
+            fail(f"output '{output}' is the input file; refusing to overwrite it",
+                 code=ExitCode.USAGE)
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        fail("cannot write: Is a directory", output, ExitCode.UNREADABLE)
+    old = _install_handlers()
+    try:
+        if (st is not None and not stat.S_ISREG(st.st_mode)) or _names_a_descriptor(output):
+            _write_direct(data, output, output)
+        else:
+            _write_atomic(data, target, output, st)
+    finally:
+        _restore_handlers(old)
+
+
+def _names_a_descriptor(path: str) -> bool:
+    """/dev/stdout, /dev/fd/N, /proc/self/fd/N: an open file of this process, whatever
+    it is (a pipe, a terminal, a file the shell opened with '>'): written directly."""
+    return bool(re.fullmatch(r"/dev/(stdout|stderr|fd/\d+)|/proc/(self|\d+)/fd/\d+",
+                             os.path.normpath(path)))
+
+
+def _write_direct(data: bytes, target: str, output: str) -> None:
+    try:
+        with open(target, "wb") as f:
+            f.write(data)
+            f.flush()
+    except OSError as exc:
+        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
+
+
+def _write_atomic(data: bytes, target: str, output: str, st) -> None:
+    folder = os.path.dirname(target) or "."
+    mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
+    tmp = None
+    try:
+        for _ in range(100):
+            tmp = os.path.join(folder, f".dcf2bin-{os.urandom(6).hex()}.tmp")
+            _State.temps.add(tmp)
+            try:
+                fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+                break
+            except FileExistsError:
+                _State.temps.discard(tmp)
+        else:  # pragma: no cover - 100 random names taken
+            raise FileExistsError(17, "File exists")
+        with os.fdopen(fd, "wb") as f:
+            os.fchmod(f.fileno(), mode)
+            if st is not None and hasattr(os, "fchown"):
+                try:
+                    os.fchown(f.fileno(), st.st_uid, st.st_gid)
+                except OSError:
+                    pass   # not ours to give away: the new owner is us
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, target)
+        _State.temps.discard(tmp)
+        _fsync_dir(folder)
+    except OSError as exc:
+        _cleanup_temps()
+        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
+    finally:
+        _cleanup_temps()
 
 
 def read_container(path: str, quiet: bool):

@@ -6,8 +6,8 @@ import click
 from dcf2bin.cli.common import CONTEXT, guarded, read_container, read_eds, write_output
 
 INPUT = click.argument("input", metavar="FILE.bin",
-                        type=click.Path(dir_okay=False, allow_dash=True))
-EDS = click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+                        type=click.Path(allow_dash=True))
+EDS = click.option("--eds", type=click.Path(), metavar="EDS",
                     help="EDS/DCF of the device: exact data types, access and names.")
 QUIET = click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
 
@@ -21,7 +21,7 @@ QUIET = click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
               "'compile' turns back into the same bytes.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
               help="Output file ('-' for stdout, the default).")
-@click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+@click.option("--eds", type=click.Path(), metavar="EDS",
               help="EDS/DCF of the device: exact types and names in the text report.")
 @click.option("--full", is_flag=True, help="Show long data in full (text format).")
 @QUIET

@@ -44,7 +44,7 @@ def _identifier(kind: str):
 
 
 @click.command("export", context_settings=CONTEXT)
-@click.argument("input", type=click.Path(dir_okay=False, allow_dash=True))
+@click.argument("input", type=click.Path(allow_dash=True))
 @click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), required=True,
               help="lenze-st: IEC 61131-3 text; lenze-bin: packed records; port-c: C source.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
@@ -66,7 +66,7 @@ def _identifier(kind: str):
               help="port-c: prefix of the data variables (od_1018).")
 @click.option("--max-object-size", type=click.IntRange(2, None), metavar="BYTES",
               help="port-c: split ARRAY/RECORD objects with more data bytes than this "
-                   "over following indices (seed 002 names 255).")
+                   "over following indices (the port manual's limit is 255).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
 @guarded
 def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with_type,

@@ -10,8 +10,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, guarded, write_output
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.cli.common import CONTEXT, Failure, guarded, read_input, write_output
+from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
 
@@ -35,25 +35,41 @@ FORMATS = ("text", "json", "sarif", "github")
               help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
 @click.option("--pi-size", type=click.IntRange(0), help="PI memory of the target in bytes.")
 @click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
-              show_default=True, help="Alignment of the output area's start (D-4).")
+              show_default=True,
+              help="Alignment in bytes of the output area's start in the process image.")
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
-              show_default=True, help="PI addresses from the image start or the area (D-10).")
+              show_default=True, help="PI addresses count from the start of the whole "
+              "process image, or from the start of the variable's area.")
 @click.option("--allow-external-files", is_flag=True,
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
+@click.option("--no-target-check", is_flag=True,
+              help="Do not run the model of the target's DynBuildOd() (the TGT rules).")
+@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+              help="TPDO entries of the target's COB table (default: unlimited).")
+@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+              help="RPDO entries of the target's COB table (default: unlimited).")
+@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
+              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
+@click.option("--no-bit-mapping", is_flag=True,
+              help="The target cannot map a BOOLEAN as 1 bit.")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
-@click.option("-q", "--quiet", is_flag=True, help="Text format: no summary line.")
+@click.option("-q", "--quiet", is_flag=True,
+              help="Text format: print errors only, and no summary line.")
 @click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
-                 pi_size, pi_align, address_base, allow_external_files, stdin_filename, hints,
+                 pi_size, pi_align, address_base, allow_external_files, no_target_check,
+                 tx_cobs, rx_cobs, granularity, no_bit_mapping, stdin_filename, hints,
                  quiet, debug):
     """Lint DCF/EDS files and binary containers: every problem, with rule ids.
 
     PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
-    case) and '-' for stdin. Exit status: 0 no errors (warnings allowed unless
-    --strict), 1 findings, 2 usage error, 3 an input could not be read, 70 internal error.
+    case) and '-' for stdin. Text output shows at most 20 findings per rule and file (the
+    other formats all). Exit status: 0 no errors (warnings allowed unless --strict),
+    1 findings, 2 usage error, 3 an input could not be read (or a directory holds no such
+    file) or the report could not be written, 70 internal error.
     """
     from dcf2bin import __version__, report
     from dcf2bin.lint import Options, SelectorError, all_rules, resolve, run
@@ -74,10 +90,12 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         active = resolve(select_, ignore)
     except SelectorError as exc:
         raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
-    stdin = sys.stdin.buffer.read() if "-" in paths else None
+    stdin = read_input("-") if "-" in paths else None
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
                    address_base=address_base, profile=profile,
-                   allow_external_files=allow_external_files, active=active, strict=strict)
+                   allow_external_files=allow_external_files, active=active, strict=strict,
+                   target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
+                   granularity=int(granularity), bit_mapping=not no_bit_mapping)
     result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename)
     diags = result.diagnostics
     code = result.exit_code(strict)
@@ -92,9 +110,10 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         text = report.github_report(diags, table)
     else:
         colour = output == "-" and report.use_colour(sys.stdout)
-        text = report.text_report(diags, len(result.files), colour=colour, hints=hints,
+        shown = [d for d in diags if not quiet or d.severity is Severity.ERROR]
+        text = report.text_report(shown, len(result.files), colour=colour, hints=hints,
                                   show_summary=not quiet)
-    _write(text, output, paths)
+    _write(text, output, list(paths) + [f.path for f in result.files])
     root = click.get_current_context().find_root().params or {}
     if result.tracebacks and (debug or root.get("debug")):
         for tb in result.tracebacks:
@@ -104,7 +123,4 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
 
 
 def _write(text: str, output: str, paths) -> None:
-    if output == "-":
-        click.echo(text, nl=False)
-    else:
-        write_output(text, output, [p for p in paths if p != "-"], binary=False)
+    write_output(text, output, [p for p in paths if p != "-"], binary=False)

@@ -29,6 +29,12 @@ class Options:
     allow_external_files: bool = False
     active: set[str] | None = None      # rule ids to run; None = all
     strict: bool = False
+    # the DynBuildOd emulation (TGT0xx, SPEC §8): what the target was built with
+    target_check: bool = True
+    tx_cobs: int | None = None
+    rx_cobs: int | None = None
+    granularity: int = 64
+    bit_mapping: bool = True
 
 
 class DcfContext:

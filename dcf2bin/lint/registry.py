@@ -33,6 +33,7 @@ FAMILIES = {
     "DCF3": "network variables and process image",
     "DCF4": "PDOs",
     "CNT0": "containers",
+    "TGT0": "target emulation (DynBuildOd)",
     "IO0": "inputs",
     "INT0": "internal",
 }
@@ -111,8 +112,10 @@ def all_rules() -> list[Rule]:
 
 def _sort_key(rule_id: str):
     # DCF before CNT before IO/INT; numerically inside a family
-    order = {"DCF": 0, "CNT": 1, "IO": 2, "INT": 3}
+    order = {"DCF": 0, "CNT": 1, "TGT": 2, "IO": 3, "INT": 4}
     prefix = rule_id.rstrip("0123456789")
+    if prefix.startswith("TGT"):     # TGT + a hex code: TGT0A1
+        prefix = "TGT"
     return (order.get(prefix, 9), rule_id)
 
 
@@ -163,3 +166,4 @@ def _load() -> None:
     _loaded = True
     from dcf2bin.lint import (core_rules, rules_container, rules_nv, rules_od,  # noqa: F401
                               rules_pdo, rules_syntax, rules_values)
+    from dcf2bin.lint import rules_target  # noqa: F401

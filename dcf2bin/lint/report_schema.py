@@ -45,7 +45,7 @@ REPORT_SCHEMA = {
                              "message", "hint"],
                 "additionalProperties": False,
                 "properties": {
-                    "rule": {"type": "string", "pattern": "^(DCF|CNT)[0-9]{3}$|^(IO|INT)[0-9]{3}$"},
+                    "rule": {"type": "string", "pattern": "^(DCF|CNT)[0-9]{3}$|^TGT0[0-9A-F]{2}$|^(IO|INT)[0-9]{3}$"},
                     "name": {"type": "string"},
                     "severity": _SEVERITY,
                     "file": {"type": "string"},

@@ -77,7 +77,7 @@ def overlap(ctx):
 
 
 @rule("CNT006", "segment-count-mismatch", WARNING,
-      "The header's segment count differs from the number of non-empty segments (D-6).",
+      "The header's segment count differs from the number of non-empty segments.",
       hint="count the segments whose size is not 0", kind=BIN)
 def segment_count(ctx):
     if ctx.header is None:
@@ -103,7 +103,8 @@ def empty_offset(ctx):
 @rule("CNT008", "segment-layout", WARNING,
       "Segments are not back to back in header order after the header: out of order, or "
       "with bytes between them (accepted, but not what dcf2bin writes).",
-      hint="D-7: segments follow the header in table order without gaps", kind=BIN)
+      hint="dcf2bin writes the segments right after the header, in the header's table "
+           "order, without gaps", kind=BIN)
 def segment_layout(ctx):
     if ctx.header is None or ctx.bad_segments or ctx.cut_segments:
         return
@@ -157,7 +158,7 @@ def extinfo_length(ctx):
 
 @rule("CNT013", "undefined-attribute-bits", WARNING,
       "Attribute bytes set the undefined bits 0x02/0x04 (kept as stored).",
-      hint="SPEC §3.3 defines 0x01, 0x08, 0x10, 0x20, 0x40, 0x80", kind=BIN)
+      hint="the defined attribute bits are 0x01, 0x08, 0x10, 0x20, 0x40, 0x80", kind=BIN)
 def undefined_bits(ctx):
     attrs = ctx.segment_bytes("extinfo")
     if not attrs:
@@ -230,7 +231,7 @@ def address_count(ctx):
 @rule("CNT016", "pi-segments-incomplete", WARNING,
       "Only one of the two PI segments (addresses, parameters) is present, or the PI "
       "parameter segment is not 20 bytes.",
-      hint="the PI address and PI parameter segments come together (SPEC §3.1)", kind=BIN)
+      hint="the PI address and PI parameter segments come together", kind=BIN)
 def pi_incomplete(ctx):
     if ctx.header is None:
         return
@@ -253,7 +254,8 @@ def _pi(ctx):
 
 @rule("CNT017", "pi-parameters-inconsistent", ERROR,
       "The PI parameters contradict themselves: areas overlap or exceed the complete size.",
-      hint="total, input offset/size, output offset/size (SPEC §3.5, D-4)", kind=BIN)
+      hint="five DWORDs: total size, input offset and size, output offset and size",
+      kind=BIN)
 def pi_inconsistent(ctx):
     pi = _pi(ctx)
     if pi is None:
@@ -338,7 +340,8 @@ def address_overlap(ctx):
 
 @rule("CNT020", "nv-size-mismatch", ERROR,
       "A network variable's data size differs from its CiA 405 range's type size.",
-      hint="the target creates the variable with its range's type (SPEC §2.1)", kind=BIN)
+      hint="the target creates the variable with the data type of its CiA 405 index range",
+      kind=BIN)
 def nv_size(ctx):
     for index, sub, size, i in _variables(ctx):
         ch = layout.table_channel(index)

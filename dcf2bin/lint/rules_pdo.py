@@ -4,8 +4,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
-from dcf2bin.lint.registry import ERROR, WARNING, Finding, rule
-from dcf2bin.model import NV_FIRST, NV_LAST, is_pdo_comm, is_pdo_mapping
+from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
+from dcf2bin.model import (NV_FIRST, NV_LAST, is_pdo_comm, is_pdo_mapping,
+                           unstated_mapping_count)
 
 COB_INVALID, COB_NO_RTR, COB_29BIT = 0x80000000, 0x40000000, 0x20000000
 MAX_MAPPED = 64
@@ -296,7 +297,7 @@ def transmission_type(ctx):
 @rule("DCF415", "pdo-comm-sub-not-written", WARNING,
       "A configured PDO communication sub-entry that the PDO block never writes (sub 0, 4, "
       "7 and above).",
-      hint="compile writes comm subs 1, 2, 3, 5 and 6 only (SPEC §3.2 b)")
+      hint="compile writes comm subs 1, 2, 3, 5 and 6 only")
 def comm_sub_not_written(ctx):
     for p in pdos(ctx):
         for s, e in p.comm.entries.items():
@@ -356,6 +357,28 @@ def entry_type(ctx):
                               *_at(ctx, e, "datatype"))
 
 
+def _block_written(ctx, comm_index: int) -> bool:
+    """Does compile (default selection) write this PDO's block: both objects exist and one
+    of them has a configured sub-entry (SPEC §3.2 step 3)?"""
+    objs = [ctx.dev.objects.get(comm_index), ctx.dev.objects.get(comm_index + 0x200)]
+    return None not in objs and any(e.configured for o in objs for e in o.entries.values())
+
+
+@rule("DCF419", "pdo-mapping-count-unstated", WARNING,
+      "A PDO mapping object lists sub-entries but its sub 0 gives no value (no sub 0, or "
+      "no DefaultValue/ParameterValue; e.g. only HighLimit=8): how many objects it maps is "
+      "not said. An error where compile writes that PDO's block.",
+      hint="give mapping sub 0 a DefaultValue (EDS) or ParameterValue (DCF)")
+def mapping_count_unstated(ctx):
+    for idx in sorted(ctx.dev.objects):
+        if not is_pdo_mapping(idx) or _block_written(ctx, idx - 0x200):
+            continue   # a written block: the compile selection reports it as an error
+        unstated = unstated_mapping_count(ctx.dev.objects[idx])
+        if unstated is not None:
+            where, message = unstated
+            yield Finding(message, where.line)
+
+
 # -- device profiles (SPEC §6) ---------------------------------------------------------------
 
 @rule("DCF450", "profile-too-many-mapped", ERROR,
@@ -383,3 +406,29 @@ def profile_bit30(ctx):
             e1 = p.comm.entries[1]
             yield Finding(f"{p.label}: COB-ID {e1.value_text} lacks bit 30 (no RTR), required by "
                           f"profile {ctx.profile.name}", *_at(ctx, e1))
+
+
+@rule("DCF452", "profile-old-cob-id-write", INFO,
+      "With --profile dis2: a PDO block first writes the COB-ID the drive has (comm sub 1's "
+      "DefaultValue) | 0xC0000000, because its CAN-ID differs from the final COB-ID's.",
+      hint="the drive changes a COB-ID only while the PDO is disabled under its old one")
+def profile_old_cob_id(ctx):
+    if not ctx.profile.old_cob_first:
+        return
+    for p in pdos(ctx):
+        e1 = p.comm.entries.get(1)
+        if p.cob is None or e1 is None or e1.default is None \
+                or not _block_written(ctx, p.comm_index):
+            continue
+        old, old_nodeid = ctx.int_value(e1, e1.default)
+        if old is None:
+            continue   # DCF200 reports it (compile: an error with this profile)
+        if ctx.dev.node_id is None and old_nodeid != p.cob_nodeid:
+            continue   # the answer depends on the node-ID (compile: DCF201)
+        if (old ^ p.cob) & 0x1FFFFFFF:
+            value = f" = 0x{old | 0xC0000000:08X}" if ctx.dev.node_id is not None \
+                or not old_nodeid else ""
+            yield Finding(f"{p.label}: the PDO block first writes the old COB-ID "
+                          f"{e1.default} | 0xC0000000{value} (DefaultValue of {e1.label}): "
+                          f"its CAN-ID differs from the final {e1.value_text}",
+                          *_at(ctx, e1, "defaultvalue"))

@@ -37,7 +37,8 @@ def _encode(ctx, dtype: dt.DataType, text: str, node_id: int | None) -> bytes:
 
 @rule("DCF200", "bad-value", ERROR,
       "A DefaultValue/ParameterValue cannot be encoded as its DataType or lies outside the "
-      "type's range (also reported by compile for the entries it writes).",
+      "type's range (compile: an error for the values it writes, a warning for the "
+      "others).",
       hint="write a value of the entry's DataType; values are never truncated")
 def bad_value(ctx):
     seen: set = set()
@@ -75,7 +76,7 @@ def _value_problem(ctx, dtype, text: str) -> str | None:
 
 @rule("DCF203", "numeric-comment", WARNING,
       "A numeric value (DefaultValue, ParameterValue, LowLimit, HighLimit) is followed by a "
-      "';' or '#' comment; the comment is ignored (SPEC §1).",
+      "';' or '#' comment; the comment is ignored.",
       hint="CiA 306 has no inline comments: put the comment on its own line")
 def numeric_comment(ctx):
     if _COMMENT_RE.search(ctx.text) is None:
@@ -216,7 +217,7 @@ def outside_limits(ctx):
 
 @rule("DCF213", "parametervalue-read-only", INFO,
       "A ParameterValue on a ro/const entry: it records what was read and is not written.",
-      hint="compile does not write ro/const entries (SPEC §3.2)")
+      hint="compile does not write ro/const entries")
 def param_read_only(ctx):
     for e in _entries(ctx):
         if e.param is None or e.access not in ("ro", "const") \

@@ -19,6 +19,7 @@ from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
 SUFFIXES = (".eds", ".dcf", ".bin")
 DCF_SUFFIXES = (".eds", ".dcf", ".ini")
 KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
+NOTHING_FOUND = "no *.dcf, *.eds or *.bin file in this directory"
 
 
 @dataclass
@@ -77,6 +78,10 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
         out.extend((f, None) for f in sorted(found, key=lambda f: f.split(os.sep)))
         for exc in errors:
             out.append((exc.filename or p, exc.strerror or str(exc)))
+        if not found and not errors:
+            # a CI job pointed at the wrong folder must not pass: exit 3, like an input
+            # that cannot be read
+            out.append((p, NOTHING_FOUND))
     return out
 
 
@@ -109,8 +114,9 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
                 error = exc.strerror or str(exc)
         if error is not None:
             rule = RULES["IO001"]
+            message = error if error is NOTHING_FOUND else f"cannot read: {error}"
             result.files.append(FileResult(shown, KIND_UNREADABLE, [Diagnostic(
-                Severity.ERROR, f"cannot read: {error}", shown, rule="IO001", hint=rule.hint)]))
+                Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)]))
             continue
         result.files.append(lint_bytes(shown, data, opts))
     return result
@@ -190,7 +196,57 @@ class _Run:
         if ok:
             for d in sel.errors:
                 self.core.append(self._core(d, d.rule or "DCF099"))
+        if ok and self.target_wanted() and (ctx.layout is not None or not any(
+                model.is_network_variable_index(i) for i in dev.objects)):
+            self.guard("the target emulation", self.target_dcf, dev, sel, ctx.layout)
         self.finish()
+
+    def target_wanted(self) -> bool:
+        return self.opts.target_check and any(r.startswith("TGT") for r in self.active)
+
+    def target_dcf(self, dev, sel, lay) -> None:
+        """TGT0xx on a DCF: the container ``compile`` would write, checked as compile checks
+        it (SPEC §8.1); nothing when compile would stop on other errors first."""
+        import gc
+
+        from dcf2bin import compiler
+        if compiler.blocked(dev, sel):
+            return
+        o = self.opts
+        opts = compiler.CompileOptions(
+            node_id=o.node_id, pi_align=o.pi_align, pi_size=o.pi_size,
+            address_base=o.address_base, allow_external_files=o.allow_external_files,
+            profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
+            granularity=o.granularity, bit_mapping=o.bit_mapping)
+        was_enabled = gc.isenabled()
+        gc.disable()        # as compile_path: no reference cycles worth a full rescan here
+        try:
+            found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
+                                          opts)
+        finally:
+            if was_enabled:
+                gc.enable()
+        for d in found:
+            self.core.append(self._core(d, d.rule))
+
+    def target_container(self, data: bytes) -> None:
+        """TGT0xx on a container: the emulation without a static OD. A container the
+        reader rejects is left to the CNT rules."""
+        from dcf2bin.container import ContainerError, read
+        from dcf2bin.target import TargetOptions, emulate
+        from dcf2bin.target.check import message
+        try:
+            c, _ = read(data)
+        except ContainerError:
+            return
+        o = self.opts
+        out = emulate(c, TargetOptions(pi_size=o.pi_size, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
+                                       granularity=o.granularity, bit_mapping=o.bit_mapping,
+                                       address_base=o.address_base))
+        if not out.ok:
+            r = RULES[out.rule]
+            self.core.append(Diagnostic(Severity.ERROR, message(out), self.res.path,
+                                        offset=out.offset, rule=out.rule, hint=r.hint))
 
     def _core(self, d: Diagnostic, rule: str) -> Diagnostic:
         r = RULES.get(rule)
@@ -203,14 +259,34 @@ class _Run:
                              lambda: BinContext(self.res.path, data, self.opts))
         if ok:
             self.checks(BIN, ctx)
+        # a container the CNT rules already call broken is not emulated as well: the
+        # target would refuse it with 0xA1, and the CNT findings say why
+        broken = any(d.severity is Severity.ERROR and d.rule.startswith("CNT")
+                     for d in self.diags)
+        if self.target_wanted() and not broken:
+            self.guard("the target emulation", self.target_container, data)
         self.finish()
 
     def finish(self) -> None:
         # A check here and the core may report one fact under one id (DCF200, DCF202,
-        # DCF203: the core only for what compile encodes); the check's finding wins.
+        # DCF203: the core only for what compile encodes). Then the core's words are
+        # printed, so that compile and validate say the same thing about the same line;
+        # the check adds the column it knows.
+        core = {}
+        for d in self.core:
+            core.setdefault((d.rule, d.file, d.line), d)
+        diags = []
+        for d in self.diags:
+            key = (d.rule, d.file, d.line)
+            c = core.get(key)
+            if c is not None and d.line is not None:
+                d = Diagnostic(c.severity, c.message, d.file, d.line,
+                               d.column if c.column is None else c.column, d.offset, d.rule,
+                               c.hint or d.hint)
+            diags.append(d)
         seen = {(d.rule, d.file, d.line) for d in self.diags}
         out, keys = [], set()
-        for d in self.diags + [d for d in self.core if (d.rule, d.file, d.line) not in seen]:
+        for d in diags + [d for d in self.core if (d.rule, d.file, d.line) not in seen]:
             if d.rule not in self.active:
                 continue
             key = (d.rule, d.line, d.column, d.offset, d.message)

@@ -21,10 +21,11 @@ class Profile:
     max_mapped: int = 64               # mapped objects per PDO
     max_bits: int = 64                 # bits per PDO
     cob_bit30_required: bool = False   # COB-ID bit 30 (no RTR) must be set
+    old_cob_first: bool = False        # disable under the drive's old COB-ID first (DIS-2)
 
     def pdo_rules(self):
         from dcf2bin.select import PdoRules
-        return PdoRules(self.disable_mask, self.enable_mask, self.max_mapped)
+        return PdoRules(self.disable_mask, self.enable_mask, self.max_mapped, self.old_cob_first)
 
 
 def get_profile(name: str) -> Profile:

@@ -1,0 +1,221 @@
+"""The Python API of dcf2bin: each command as a function (docs/api.md).
+
+Import the names from the package; they load on first use, so ``import dcf2bin``
+itself stays cheap::
+
+    >>> import dcf2bin
+    >>> res = dcf2bin.compile_path("samples/plc.dcf")
+    >>> res.ok, res.data == open("samples/plc.bin", "rb").read()
+    (True, True)
+    >>> dcf2bin.to_dcf("samples/plc.bin").roundtrip
+    True
+
+Findings are ``Diagnostic`` values (severity, message, file, line or byte offset,
+rule), the same the command line prints. Two kinds of function deliver them:
+
+* those that return a result object (``compile_path``, ``to_dcf``, ``validate``)
+  put every finding into it;
+* those that return one value (``compile_file``, ``read_container``, ``dump_json``,
+  ``dump_text``, ``from_json``) raise ``CompileError`` or ``ReadError`` on errors --
+  both carry ``diagnostics`` -- and deliver each warning through ``warnings.warn``
+  as a ``DiagnosticWarning`` (its ``diagnostic`` holds the finding).
+
+A file that cannot be read raises ``OSError``, as ``open`` does. Containers may be
+given as bytes (the content), as a path (``str`` or ``os.PathLike``) or as a
+``BinContainer``.
+"""
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from collections.abc import Iterable
+
+from dcf2bin import dcfwriter
+from dcf2bin import dump as _dump
+from dcf2bin.compiler import CompileError, CompileOptions, compile_file, compile_path
+from dcf2bin.compiler import Result as CompileResult
+from dcf2bin.container import BinContainer
+from dcf2bin.dcfwriter import Result as DcfResult
+from dcf2bin.diagnostics import Diagnostic, DiagnosticWarning, Severity
+from dcf2bin.model import Device, load
+
+__all__ = ["BinContainer", "CompileError", "CompileOptions", "CompileResult", "DcfResult",
+           "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
+           "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
+           "read_container", "to_dcf", "validate"]
+
+Container = bytes | str | os.PathLike | BinContainer
+
+
+class ReadError(ValueError):
+    """A container (or JSON dump) that cannot be read; ``diagnostics`` name the byte
+    offset (or line) and the rule, as ``dcf2bin dump`` and ``compile`` print them."""
+
+    def __init__(self, diagnostics: list[Diagnostic]):
+        self.diagnostics = diagnostics
+        super().__init__("\n".join(d.format() for d in diagnostics
+                                   if d.severity is Severity.ERROR))
+
+
+def read_container(source: Container, *, name: str | None = None) -> BinContainer:
+    """Decode a container: entries, attributes, PI segments, and whatever is odd about
+    its layout (so that ``BinContainer.to_bytes()`` gives the same bytes back).
+
+    ``name`` names the source in diagnostics (default: the path, or ``<bytes>``).
+    Raises ``ReadError`` when the bytes are no container; warnings (a non-canonical
+    layout, a segment count that disagrees) go through ``warnings.warn``.
+
+        >>> c = read_container("samples/bild8.bin")
+        >>> len(c.entries), c.addresses
+        (6, [0, 1, 2, 4])
+        >>> c.to_bytes() == open("samples/bild8.bin", "rb").read()
+        True
+    """
+    c, _, diags = _read(source, name)
+    _warn(diags)
+    return c
+
+
+def dump_json(source: Container, *, name: str | None = None) -> str:
+    """The lossless JSON form of a container (``dcf2bin dump --format json``); schema in
+    docs/dump.md. ``from_json`` turns it back into the same bytes.
+
+        >>> data = open("samples/plc.bin", "rb").read()
+        >>> from_json(dump_json(data)) == data
+        True
+    """
+    c, _, diags = _read(source, name)
+    _warn(diags)
+    return _dump.to_json(c)
+
+
+def dump_text(source: Container, *, eds: str | os.PathLike | None = None, full: bool = False,
+              name: str | None = None) -> str:
+    """The readable report of ``dcf2bin dump``: header, entries with decoded values and
+    attribute bits, process image. ``eds``: the device's EDS/DCF, for exact types and
+    names; ``full``: long data in full.
+
+        >>> print(dump_text("samples/bild8.bin").splitlines()[0])
+        samples/bild8.bin: binary DCF segment container, 127 bytes, canonical layout
+    """
+    c, shown, diags = _read(source, name)
+    info, _, eds_diags = _eds(eds)
+    _warn(diags + eds_diags)
+    return _dump.report(c, shown, eds=info, full=full)
+
+
+def from_json(doc: str | bytes | dict, *, name: str = "<json>") -> bytes:
+    """The container bytes of a lossless JSON dump (text, bytes or the parsed ``dict``),
+    as ``dcf2bin compile FILE.json`` builds them. Raises ``ReadError`` on a document
+    that is not a valid dump (the diagnostics name the line)."""
+    if isinstance(doc, dict):
+        doc = json.dumps(doc, indent=1)
+    data = doc.encode("utf-8") if isinstance(doc, str) else bytes(doc)
+    out, diags = _dump.from_json_bytes(data, name)
+    if out is None:
+        raise ReadError(diags)
+    _warn(diags)
+    return out
+
+
+def to_dcf(source: Container, *, eds: str | os.PathLike | None = None,
+           dcf_name: str | None = None, name: str | None = None) -> DcfResult:
+    """A container as DCF text (``bin2dcf``), which compiles back to the same bytes
+    whenever a DCF can say what the container holds.
+
+    The result has ``text`` (write it with ``to_bytes()``, which uses the file's
+    encoding), ``diagnostics`` (B2Dxxx warnings name what will not compile back, and
+    the container's own warnings), ``roundtrip`` (compile with default options gives
+    the container's bytes) and ``options`` (the compile options that give them
+    otherwise, e.g. ``["--select all"]``). ``eds``: the device's EDS, for exact types,
+    access and names; ``dcf_name`` goes into ``[FileInfo] FileName``.
+    Raises ``ReadError`` when the bytes are no container.
+
+        >>> res = to_dcf("samples/bild8.bin")
+        >>> res.roundtrip, res.diagnostics, res.text.count("[A4C0sub")
+        (True, [], 4)
+        >>> compile_path("bild8.dcf", data=res.to_bytes()).data == \\
+        ...     open("samples/bild8.bin", "rb").read()
+        True
+    """
+    c, shown, diags = _read(source, name)
+    info, dev, eds_diags = _eds(eds)
+    if dcf_name is None:
+        base = os.path.basename(shown) if isinstance(source, (str, os.PathLike)) else "container"
+        dcf_name = os.path.splitext(base)[0] + ".dcf"
+    res = dcfwriter.convert(c, shown, dcf_name=dcf_name, eds=info, eds_device=dev)
+    res.diagnostics[:0] = diags + eds_diags
+    return res
+
+
+def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
+             select: str | Iterable[str] | None = None,
+             ignore: str | Iterable[str] | None = None, profile: str = "cia301",
+             node_id: int | None = None, pi_size: int | None = None, pi_align: int = 8,
+             address_base: str = "image", allow_external_files: bool = False
+             ) -> list[Diagnostic]:
+    """Lint DCF/EDS files, containers and directories (``dcf2bin validate``): every
+    finding (errors, warnings and infos), file by file.
+
+    ``select``/``ignore`` pick rules by id, id prefix (``"DCF4"``, ``"CNT"``) or name,
+    one string (comma-separated) or several; an unknown one raises ``ValueError``.
+    An unreadable path is an ``IO001`` finding, not an exception.
+
+        >>> [(d.severity.value, d.line, d.rule) for d in validate("samples/plc.dcf",
+        ...                                                       select="DCF2")]
+        [('info', 69, 'DCF213')]
+        >>> [d.rule for d in validate(["samples/bild8.bin"], select="CNT")]
+        []
+    """
+    from dcf2bin.lint import Options, resolve, run
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    active = resolve(_names(select), _names(ignore))
+    opts = Options(node_id=node_id, pi_size=pi_size, pi_align=pi_align,
+                   address_base=address_base, profile=profile,
+                   allow_external_files=allow_external_files, active=active)
+    return run([os.fspath(p) for p in paths], opts).diagnostics
+
+
+# -- helpers ---------------------------------------------------------------------------------
+
+def _read(source: Container, name: str | None) -> tuple[BinContainer, str, list[Diagnostic]]:
+    if isinstance(source, BinContainer):
+        return source, name or "<container>", []
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        data, shown = bytes(source), name or "<bytes>"
+    else:
+        shown = name or os.fspath(source)
+        with open(source, "rb") as f:
+            data = f.read()
+    c, diags = _dump.read_bytes(data, shown)
+    if c is None:
+        raise ReadError(diags)
+    return c, shown, diags
+
+
+def _eds(path):
+    """(EdsInfo, Device, warnings) of ``--eds``, or Nones."""
+    if path is None:
+        return None, None, []
+    path = os.fspath(path)
+    with open(path, "rb") as f:
+        data = f.read()
+    info, dev, errors = _dump.load_eds(path, data)
+    if not errors:
+        return info, dev, []
+    return info, dev, [Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
+                                  f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); "
+                                  "types and names are taken where they could be read", path)]
+
+
+def _warn(diags: list[Diagnostic]) -> None:
+    for d in diags:
+        warnings.warn(DiagnosticWarning(d), stacklevel=3)
+
+
+def _names(value: str | Iterable[str] | None) -> list[str] | None:
+    if value is None:
+        return None
+    return [value] if isinstance(value, str) else list(value)

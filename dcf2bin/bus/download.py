@@ -1,0 +1,252 @@
+"""Write a container's index segment to a node by SDO, in container order.
+
+A *plan* is the list of SDO writes a container makes, each with the place it comes
+from (the DCF line of the entry's value, or the entry's byte offset in a container, or
+its line in the JSON form), so an abort can be traced to the line that caused it. The
+index segment is written as the target would see it (SPEC §3.2): the CiA 301 PDO
+sequences of D-8 reach the device entry by entry, repeated writes included.
+
+    plan = plan_from_result(compile_path(...), "io.dcf")
+    net = link.open_network(link.BusConfig("virtual", "bench"))
+    run = execute(plan, sdo_client(net, 3, timeout=0.5, retries=2))
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from dcf2bin.bus.link import abort_text
+
+# D-9 attribute bits of the extended info segment
+ATTR_BOOLEAN, ATTR_NUMERIC, ATTR_READ = 0x01, 0x10, 0x20
+
+CONCISE_DCF_INDEX = 0x1F22      # CiA 302: concise DCF, one DOMAIN per node-ID
+STORE_INDEX, STORE_SUB = 0x1010, 1
+STORE_SIGNATURE = b"save"       # CiA 301: "save" written to 0x1010 stores all parameters
+
+NO_DATA = 0x08000024            # CiA 301 abort: no data available
+_DRY_HEX = 32                   # bytes shown in a dry-run line before it is cut short
+
+
+@dataclass
+class Write:
+    number: int          # 1-based position in the index segment
+    index: int
+    sub: int
+    data: bytes
+    attr: int | None     # the entry's attribute byte; None without an extended info segment
+    where: str           # "file:line" or "file:0xOFFSET" (a container's entry)
+
+    @property
+    def label(self) -> str:
+        return f"0x{self.index:04X}sub{self.sub:X}"
+
+    @property
+    def readable(self) -> bool:
+        return self.attr is None or bool(self.attr & ATTR_READ)
+
+    @property
+    def fixed_size(self) -> bool:
+        return self.attr is not None and bool(self.attr & (ATTR_NUMERIC | ATTR_BOOLEAN))
+
+
+@dataclass
+class Plan:
+    source: str
+    writes: list[Write]
+    index_segment: bytes    # the CiA 302 concise DCF, as the container holds it
+
+    def concise(self, node_id: int) -> Plan:
+        """One DOMAIN write: the whole index segment into 0x1F22 sub node_id."""
+        w = Write(1, CONCISE_DCF_INDEX, node_id, self.index_segment, None, self.source)
+        return Plan(self.source, [w], self.index_segment)
+
+
+# -- plans --------------------------------------------------------------------------------
+
+def plan_from_result(res, name: str) -> Plan:
+    """From a compile ``Result``: each entry's place is the line of its value in the DCF
+    (ParameterValue, DownloadFile or DefaultValue), else its section."""
+    c, dev = res.container, res.device
+    attrs = c.attributes or b""
+    writes = []
+    for k, (index, sub, data) in enumerate(c.entries):
+        obj = dev.objects.get(index)
+        entry = obj.entries.get(sub) if obj is not None else None
+        where = str(entry.value_where) if entry is not None else name
+        writes.append(Write(k + 1, index, sub, data, attrs[k] if k < len(attrs) else None,
+                            where))
+    return Plan(name, writes, c.index_bytes())
+
+
+def plan_from_container(c, name: str, json_text: str | None = None) -> Plan:
+    """From a container (or its JSON form, when ``json_text`` is given): each entry's
+    place is its byte offset in the container, or its line in the JSON text."""
+    from dcf2bin.dump import entry_offsets, locate
+    attrs = c.attributes
+    offsets = entry_offsets(c)
+    writes = []
+    for k, (index, sub, data) in enumerate(c.entries):
+        if json_text is not None:
+            pos = locate(json_text, ("entries", k))
+            where = f"{name}:{json_text.count(chr(10), 0, pos) + 1}" if pos is not None else name
+        else:
+            where = f"{name}:0x{offsets[k]:X}"
+        attr = attrs[k] if attrs is not None and k < len(attrs) else None
+        writes.append(Write(k + 1, index, sub, data, attr, where))
+    return Plan(name, writes, c.index_bytes())
+
+
+# -- dry run ------------------------------------------------------------------------------
+
+def render(plan: Plan, node_id: int) -> list[str]:
+    """The writes as a table: entry number, index/sub, size, bytes, source line."""
+    n = len(plan.writes)
+    lines = [(f"{plan.source}: {n} SDO write{'s' if n != 1 else ''} to node {node_id} "
+              "(dry run, nothing sent)"),
+             "   #  entry        size  data  source"]
+    for w in plan.writes:
+        shown = w.data[:_DRY_HEX].hex(" ").upper()
+        if len(w.data) > _DRY_HEX:
+            shown += f" ... ({len(w.data)} bytes)"
+        lines.append(f"{w.number:>4}  {w.label:<11} {len(w.data):>5}  {shown}  {w.where}")
+    return lines
+
+
+# -- on the bus ---------------------------------------------------------------------------
+
+@dataclass
+class Abort:
+    write: Write
+    code: int
+    written_before: int      # entries written successfully before this one
+
+    @property
+    def text(self) -> str:
+        return f"SDO abort 0x{self.code:08X}: {abort_text(self.code)}"
+
+
+@dataclass
+class RunResult:
+    total: int
+    written: list[Write] = field(default_factory=list)
+    aborts: list[Abort] = field(default_factory=list)
+
+
+class NoAnswer(Exception):
+    """The node did not answer an SDO request, retries included."""
+
+    def __init__(self, write: Write, written_before: int, tries: int, timeout: float):
+        super().__init__(f"{write.label}: node did not answer")
+        self.write, self.written_before, self.tries, self.timeout = (
+            write, written_before, tries, timeout)
+
+
+def sdo_client(net, node_id: int, *, timeout: float, retries: int):
+    """canopen's SDO client for ``node_id`` on ``net`` (a RemoteNode with an empty object
+    dictionary: every write and read is raw bytes, nothing is converted)."""
+    import canopen
+    node = canopen.RemoteNode(node_id, canopen.ObjectDictionary())
+    net.add_node(node)
+    node.sdo.RESPONSE_TIMEOUT = timeout
+    node.sdo.MAX_RETRIES = retries + 1      # canopen counts the first try
+    return node.sdo
+
+
+def _tries(sdo) -> int:
+    return sdo.MAX_RETRIES
+
+
+def execute(plan: Plan, sdo, *, keep_going: bool = False,
+            progress: Callable[[Write], None] | None = None) -> RunResult:
+    """Write every entry in order. An abort stops the run (``keep_going``: is recorded and
+    the run goes on); a node that does not answer raises ``NoAnswer`` either way."""
+    from canopen import SdoAbortedError, SdoCommunicationError
+    result = RunResult(len(plan.writes))
+    for w in plan.writes:
+        try:
+            sdo.download(w.index, w.sub, w.data)
+        except SdoAbortedError as exc:
+            result.aborts.append(Abort(w, exc.code, len(result.written)))
+            if not keep_going:
+                return result
+        except SdoCommunicationError:
+            raise NoAnswer(w, len(result.written), _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
+        else:
+            result.written.append(w)
+        if progress is not None:
+            progress(w)
+    return result
+
+
+@dataclass
+class Difference:
+    write: Write             # the last write of that entry
+    read: bytes | None       # what the node holds; None when the read was aborted
+    code: int | None = None  # the abort code of a failed read
+
+    @property
+    def text(self) -> str:
+        if self.read is None:
+            return (f"{self.write.label}: cannot read back: SDO abort 0x{self.code:08X}: "
+                    f"{abort_text(self.code)}")
+        return (f"{self.write.label}: wrote {_hex(self.write.data)}, "
+                f"the node holds {_hex(self.read)}")
+
+
+def _hex(data: bytes) -> str:
+    return data.hex(" ").upper() if data else "(0 bytes)"
+
+
+def final_writes(writes: list[Write]) -> list[Write]:
+    """The last write of each entry, in the order those last writes were made."""
+    last: dict[tuple[int, int], Write] = {}
+    for w in writes:
+        last.pop((w.index, w.sub), None)
+        last[(w.index, w.sub)] = w
+    return list(last.values())
+
+
+def verify(writes: list[Write], sdo) -> list[Difference]:
+    """Read back the final value of every readable entry written; return each difference.
+    A fixed-size entry read back longer than written is compared on its own size (some
+    devices answer a 32-bit value for a smaller type, as canopen allows)."""
+    from canopen import SdoAbortedError, SdoCommunicationError
+    diffs = []
+    for w in final_writes(writes):
+        if not w.readable:
+            continue
+        try:
+            read = sdo.upload(w.index, w.sub)
+        except SdoAbortedError as exc:
+            if not w.data and exc.code == NO_DATA:
+                continue        # an empty value: "no data available" is what it holds
+            diffs.append(Difference(w, None, exc.code))
+            continue
+        except SdoCommunicationError:
+            raise NoAnswer(w, 0, _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
+        if w.fixed_size and len(read) > len(w.data):
+            read = read[:len(w.data)]
+        if read != w.data:
+            diffs.append(Difference(w, read))
+    return diffs
+
+
+# -- NMT and storing ----------------------------------------------------------------------
+
+def nmt(net, node_id: int, state: str) -> None:
+    """Send one NMT command ('PRE-OPERATIONAL', 'RESET COMMUNICATION', …) to a node."""
+    net[node_id].nmt.state = state
+
+
+def store(sdo, where: str) -> Abort | None:
+    """Write "save" to 0x1010 sub 1 (store all parameters); the abort, if any."""
+    from canopen import SdoAbortedError, SdoCommunicationError
+    w = Write(0, STORE_INDEX, STORE_SUB, STORE_SIGNATURE, None, where)
+    try:
+        sdo.download(STORE_INDEX, STORE_SUB, STORE_SIGNATURE)
+    except SdoAbortedError as exc:
+        return Abort(w, exc.code, 0)
+    except SdoCommunicationError:
+        raise NoAnswer(w, 0, _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
+    return None

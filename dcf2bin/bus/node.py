@@ -1,0 +1,457 @@
+"""A software CANopen node on a python-can bus: ``canopen.LocalNode`` plus what a
+bench needs from a slave — NMT (boot-up, resets), heartbeat, and PDOs as its mapping
+says, re-read whenever a PDO object is written by SDO.
+
+The SDO server, the NMT slave, the heartbeat producer and the PDO maps (bit packing
+included) are canopen's; this module connects them:
+
+* RPDOs are applied in OPERATIONAL only, as soon as they arrive (whatever their
+  transmission type), by a local write of each mapped entry.
+* TPDOs: transmission types 1–240 go out every n-th SYNC (COB-ID 0x080), type 0 on
+  the SYNC after a mapped value changed, types 254/255 when a mapped value changes and
+  every event-timer period (comm sub 5, ms) when it is not 0. Inhibit times are not
+  enforced.
+* NMT reset application restores every entry, reset communication the entries
+  0x1000–0x1FFF, to the values stored by "save" in 0x1010 sub 1 (else the file's);
+  then the node sends its boot-up message and enters PRE-OPERATIONAL.
+
+With a process image (an emulated SYS TEC target), the network variables live in one
+``bytearray`` at their PI addresses: SDO, RPDOs and TPDOs all read and write there.
+"""
+from __future__ import annotations
+
+import copy
+import struct
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import canopen
+import canopen.objectdictionary as od_mod
+from canopen.sdo import SdoAbortedError
+
+from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
+
+SYNC_COB_ID = 0x080
+NMT_COB_ID = 0x000
+OPERATIONAL, PRE_OPERATIONAL, INITIALISING = 5, 127, 0
+RESET_NODE, RESET_COMM = 0x81, 0x82
+_TPDO_COMM, _RPDO_COMM = 0x1800, 0x1400
+# CiA 301 dummy entries (mappable data-type objects): index -> canopen data type code
+_DUMMIES = {1: 0x1, 2: 0x2, 3: 0x3, 4: 0x4, 5: 0x5, 6: 0x6, 7: 0x7}
+
+
+class NodeError(Exception):
+    """The node cannot be built from what it was given (one line for the user)."""
+
+
+@dataclass
+class ProcessImage:
+    """The target's PI memory and where each network variable sits in it."""
+    data: bytearray
+    places: dict[tuple[int, int], tuple[int, int]] = field(default_factory=dict)  # -> (addr, size)
+
+    def get(self, index: int, sub: int) -> bytes | None:
+        place = self.places.get((index, sub))
+        if place is None:
+            return None
+        addr, size = place
+        return bytes(self.data[addr:addr + size])
+
+    def put(self, index: int, sub: int, value: bytes) -> bool:
+        place = self.places.get((index, sub))
+        if place is None:
+            return False
+        addr, size = place
+        self.data[addr:addr + size] = value[:size].ljust(size, b"\0")
+        return True
+
+    def lines(self, width: int = 16) -> list[str]:
+        """The image as hex, ``width`` bytes a line, each line led by its address."""
+        return [f"0x{a:04X}  {self.data[a:a + width].hex(' ').upper()}"
+                for a in range(0, len(self.data), width)] or ["(empty process image)"]
+
+
+def add_dummies(od) -> None:
+    """CiA 301 dummy entries 0x0001–0x0007, so a mapping that names one keeps its length."""
+    for index, code in _DUMMIES.items():
+        if index not in od:
+            var = od_mod.ODVariable(f"Dummy{index:04X}", index, 0)
+            var.data_type, var.access_type, var.default = code, "rw", 0
+            od.add_object(var)
+
+
+class BenchNode(canopen.LocalNode):
+    """LocalNode with NMT resets, PDOs (``Pdos``) and an optional process image."""
+
+    def __init__(self, node_id: int, od, image: ProcessImage | None = None):
+        add_dummies(od)
+        try:
+            super().__init__(node_id, od)
+        except KeyError as exc:
+            raise NodeError(f"a PDO object lacks its partner: {exc}") from None
+        self.image = image
+        self.on_image_change: Callable[[ProcessImage], None] | None = None
+        self.on_event: Callable[[str], None] | None = None
+        self.nmt_state = INITIALISING
+        self.pdos = Pdos(self)
+        self._saved: dict[int, dict[int, bytes]] = {}
+        self._saved_image = bytes(image.data) if image is not None else b""
+
+    # -- data -------------------------------------------------------------------------------
+    def get_data(self, index: int, subindex: int, check_readable: bool = False) -> bytes:
+        if self.image is not None:
+            obj = self._find_object(index, subindex)
+            value = self.image.get(index, subindex)
+            if value is not None:
+                if check_readable and not obj.readable:
+                    raise SdoAbortedError(0x06010001)
+                return value
+        return super().get_data(index, subindex, check_readable)
+
+    def set_data(self, index: int, subindex: int, data: bytes,
+                 check_writable: bool = False) -> None:
+        super().set_data(index, subindex, data, check_writable)
+        if self.image is not None and self.image.put(index, subindex, bytes(data)):
+            self.data_store[index].pop(subindex, None)
+        if index == 0x1010 and subindex == 1 and bytes(data) == b"save":
+            self._saved = copy.deepcopy(self.data_store)
+            self._saved_image = bytes(self.image.data) if self.image is not None else b""
+        if is_pdo_comm(index) or is_pdo_mapping(index):
+            self.pdos.reread(index)
+        else:
+            self.pdos.value_changed(index, subindex)
+
+    # -- NMT --------------------------------------------------------------------------------
+    def boot(self) -> None:
+        """Send the boot-up message and enter PRE-OPERATIONAL (heartbeat from 0x1017)."""
+        self.nmt._state = INITIALISING
+        self.network.send_message(0x700 + self.id, [0])
+        self.nmt._state = PRE_OPERATIONAL
+        self.nmt_state = PRE_OPERATIONAL
+        self.pdos.read_all()
+        self.nmt.start_heartbeat(self._heartbeat_ms())
+
+    def _heartbeat_ms(self) -> int:
+        try:
+            return struct.unpack("<H", self.get_data(0x1017, 0)[:2])[0]
+        except (SdoAbortedError, struct.error):
+            return 0
+
+    def go_operational(self) -> None:
+        self.nmt._state = OPERATIONAL
+        self.nmt.update_heartbeat()
+        self._state_changed()
+
+    def on_nmt(self, can_id, data, timestamp) -> None:
+        """Runs after canopen's NmtSlave has taken the command."""
+        if len(data) < 2 or data[1] not in (0, self.id):
+            return
+        if data[0] in (RESET_NODE, RESET_COMM):
+            self._reset(data[0])
+        else:
+            self._state_changed()
+
+    def _reset(self, command: int) -> None:
+        self.pdos.stop()
+        if command == RESET_NODE:
+            self.data_store = copy.deepcopy(self._saved)
+            if self.image is not None:
+                self.image.data[:] = self._saved_image
+        else:
+            for index in [i for i in self.data_store if 0x1000 <= i <= 0x1FFF]:
+                del self.data_store[index]
+            for index, subs in self._saved.items():
+                if 0x1000 <= index <= 0x1FFF:
+                    self.data_store[index] = dict(subs)
+        self.event("reset " + ("application" if command == RESET_NODE else "communication"))
+        self.boot()
+
+    def _state_changed(self) -> None:
+        new = self.nmt._state
+        if new == self.nmt_state:
+            return
+        self.nmt_state = new
+        self.event(f"NMT state {self.nmt.state}")
+        if new == OPERATIONAL:
+            self.pdos.start()
+        else:
+            self.pdos.stop()
+
+    def event(self, text: str) -> None:
+        if self.on_event is not None:
+            self.on_event(text)
+
+    # -- life -------------------------------------------------------------------------------
+    def attach(self, network, *, operational: bool = False) -> None:
+        network.add_node(self)
+        network.subscribe(NMT_COB_ID, self.on_nmt)
+        network.subscribe(SYNC_COB_ID, self.pdos.on_sync)
+        self.boot()
+        if operational:
+            self.go_operational()
+
+    def detach(self) -> None:
+        """Stop the heartbeat and the PDO timers (waiting for their threads), leave the bus."""
+        tasks = self.pdos.tasks() + [self.nmt._send_task]
+        self.pdos.stop()
+        self.nmt.stop_heartbeat()
+        for task in tasks:
+            _join(task)
+        if not self.has_network():
+            return
+        net = self.network
+        self.pdos.unsubscribe()
+        _unsubscribe(net, NMT_COB_ID, self.on_nmt)
+        _unsubscribe(net, SYNC_COB_ID, self.pdos.on_sync)
+        del net[self.id]
+
+
+class Pdos:
+    """The node's PDOs as canopen's PdoMaps, read from the node's current data (through its
+    own SDO server) and driven by SYNC, value changes, event timers and received frames."""
+
+    def __init__(self, node: BenchNode):
+        self.node = node
+        self._sync_count: dict[int, int] = {}
+        self._changed: set[int] = set()          # TPDOs with a changed value (type 0)
+        self._subscribed: dict[int, tuple[int, Callable]] = {}   # id(map) -> (cob, callback)
+        self._refreshing = False
+        for pdo_map in node.rpdo.map.values():
+            pdo_map.add_callback(self.on_rpdo)
+
+    @property
+    def tx(self):
+        return list(self.node.tpdo.map.values())
+
+    def _map_of(self, index: int):
+        comm = index - 0x200 if is_pdo_mapping(index) else index
+        if comm >= _TPDO_COMM:
+            return self.node.tpdo.map.get(comm - _TPDO_COMM + 1)
+        return self.node.rpdo.map.get(comm - _RPDO_COMM + 1)
+
+    def read_all(self) -> None:
+        for pdo_map in list(self.node.rpdo.map.values()) + self.tx:
+            self._read(pdo_map)
+
+    def reread(self, index: int) -> None:
+        """A comm or mapping object was written: that PDO as its objects now say."""
+        pdo_map = self._map_of(index)
+        if pdo_map is not None:
+            self._read(pdo_map)
+            if self.node.nmt_state == OPERATIONAL and pdo_map in self.tx:
+                self._start(pdo_map)
+
+    def _read(self, pdo_map) -> None:
+        """The map as the node's current data says; one that cannot be read is off."""
+        net = self.node.network
+        pdo_map.stop()
+        old = self._subscribed.pop(id(pdo_map), None)
+        if old is not None:
+            _unsubscribe(net, *old)
+        try:
+            pdo_map.read(from_od=False)      # subscribes an enabled map to its COB-ID
+        except (KeyError, SdoAbortedError, ValueError, TypeError,
+                od_mod.ObjectDictionaryError) as exc:
+            pdo_map.enabled = False
+            pdo_map.clear()
+            self.node.event(f"PDO 0x{pdo_map.com_record.od.index:04X} off: {exc}")
+        is_tpdo = pdo_map in self.tx
+        if pdo_map.enabled and is_tpdo:      # a TPDO does not listen to its own COB-ID
+            _unsubscribe(net, pdo_map.cob_id, pdo_map.on_message)
+        elif pdo_map.enabled:
+            self._subscribed[id(pdo_map)] = (pdo_map.cob_id, pdo_map.on_message)
+        if is_tpdo:
+            self._refresh(pdo_map)
+
+    def _refresh(self, pdo_map) -> None:
+        """Copy the mapped entries' values into the TPDO's data."""
+        self._refreshing = True
+        try:
+            for var in pdo_map.map:
+                if var.index < 0x1000 or not var.length:
+                    continue
+                try:
+                    raw = self.node.get_data(var.index, var.subindex)
+                except SdoAbortedError:
+                    continue
+                if var.offset % 8 == 0 and var.length % 8 == 0:
+                    raw = raw[:var.length // 8].ljust(var.length // 8, b"\0")
+                try:
+                    var.set_data(raw)
+                except (struct.error, ValueError, KeyError):
+                    continue
+        finally:
+            self._refreshing = False
+
+    def value_changed(self, index: int, sub: int) -> None:
+        if self._refreshing:
+            return
+        for pdo_map in self.tx:
+            if not pdo_map.enabled or not any(
+                    v.index == index and v.subindex == sub for v in pdo_map.map):
+                continue
+            self._refresh(pdo_map)
+            if self.node.nmt_state != OPERATIONAL:
+                continue
+            if pdo_map.trans_type in (254, 255):
+                pdo_map.transmit()
+            elif pdo_map.trans_type == 0:
+                self._changed.add(id(pdo_map))
+
+    def on_sync(self, can_id, data, timestamp) -> None:
+        if self.node.nmt_state != OPERATIONAL:
+            return
+        for pdo_map in self.tx:
+            t = pdo_map.trans_type
+            if not pdo_map.enabled or t is None or t > 240:
+                continue
+            if t == 0:
+                if id(pdo_map) in self._changed:
+                    self._changed.discard(id(pdo_map))
+                    pdo_map.transmit()
+                continue
+            n = self._sync_count.get(id(pdo_map), 0) + 1
+            if n >= t:
+                n = 0
+                self._refresh(pdo_map)
+                pdo_map.transmit()
+            self._sync_count[id(pdo_map)] = n
+
+    def _start(self, pdo_map) -> None:
+        pdo_map.stop()
+        if pdo_map.enabled and pdo_map.trans_type in (254, 255) and pdo_map.event_timer:
+            self._refresh(pdo_map)
+            pdo_map.start(pdo_map.event_timer / 1000.0)
+
+    def start(self) -> None:
+        for pdo_map in self.tx:
+            self._start(pdo_map)
+
+    def stop(self) -> None:
+        for pdo_map in self.tx:
+            pdo_map.stop()
+
+    def tasks(self) -> list:
+        return [m._task for m in self.tx if m._task is not None]
+
+    def unsubscribe(self) -> None:
+        for cob, callback in self._subscribed.values():
+            _unsubscribe(self.node.network, cob, callback)
+        self._subscribed.clear()
+
+    def on_rpdo(self, pdo_map) -> None:
+        node = self.node
+        if node.nmt_state != OPERATIONAL:
+            return
+        before = bytes(node.image.data) if node.image is not None else None
+        for var in pdo_map.map:
+            if var.index < 0x1000 or not var.length:
+                continue
+            if (var.offset + var.length + 7) // 8 > len(pdo_map.data):
+                continue     # a frame shorter than its mapping: nothing to take
+            try:
+                node.set_data(var.index, var.subindex, var.get_data())
+            except (SdoAbortedError, struct.error, ValueError, KeyError):
+                continue
+        if before is not None and bytes(node.image.data) != before \
+                and node.on_image_change is not None:
+            node.on_image_change(node.image)
+
+
+def _join(task, longest: float = 1.0) -> None:
+    """Wait for a stopped periodic task's thread (it ends after its current period)."""
+    thread = getattr(getattr(task, "_task", None), "thread", None)
+    if thread is not None:
+        thread.join(min(task.period, longest) + 0.05)
+
+
+def _unsubscribe(net, cob_id: int, callback) -> None:
+    if callback in net.subscribers.get(cob_id, ()):
+        net.unsubscribe(cob_id, callback)
+
+
+def bench_node(node_id: int, od, image: ProcessImage | None = None) -> BenchNode:
+    """A ``canopen.LocalNode`` (subclass) for ``od``; attach it with ``node.attach(net)``."""
+    return BenchNode(node_id, od, image)
+
+
+def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
+    """A node from an EDS/DCF: canopen's object dictionary built from the dcf2bin model
+    (values exactly as compile encodes them). Returns (node, model errors)."""
+    from dcf2bin import model
+    from dcf2bin.diagnostics import Severity
+    dev = model.load(path, node_id=node_id, data=data)
+    nid = node_id if node_id is not None else dev.node_id
+    if nid is None:
+        raise NodeError("no node-ID: give --node-id N or set NodeID in [DeviceComissioning]")
+    errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR]
+    return bench_node(nid, dev.to_canopen()), errors
+
+
+# -- an emulated SYS TEC target -----------------------------------------------------------
+
+_KIND_CODES = {"bool": 0x01, "vstring": 0x09, "domain": 0x0F}
+_UNSIGNED_BY_SIZE = {1: 0x05, 2: 0x06, 3: 0x16, 4: 0x07, 5: 0x18, 6: 0x19, 7: 0x1A, 8: 0x1B}
+
+
+def _type_code(entry) -> int:
+    """canopen data type of an emulated entry: its own type (static OD, network-variable
+    range), else what DynBuildOd created it as (a NUMERIC of n bytes: UNSIGNEDn)."""
+    if entry.dtype is not None:
+        return entry.dtype.code
+    if entry.kind == "numeric":
+        return _UNSIGNED_BY_SIZE.get(len(entry.data), 0x0F)
+    return _KIND_CODES.get(entry.kind, 0x0F)
+
+
+def _access(entry) -> str:
+    if entry.readable and entry.writable:
+        return "rw"
+    return "ro" if entry.readable else "wo"
+
+
+def image_of(outcome, memory: int | None = None) -> ProcessImage:
+    """The PI memory after DynBuildOd: ``memory`` bytes (default: the complete size the
+    parameter segment gives), each placed network variable's data at its address."""
+    out = outcome.descriptor.out if outcome.descriptor is not None else None
+    size = memory if memory is not None else (out[0] if out else 0)
+    image = ProcessImage(bytearray(size))
+    for index, subs in outcome.od.items():
+        for sub, e in subs.items():
+            if e.pi_address is not None:
+                image.places[(index, sub)] = (e.pi_address, len(e.data))
+                end = e.pi_address + len(e.data)
+                if end > len(image.data):
+                    image.data.extend(bytes(end - len(image.data)))
+                image.data[e.pi_address:end] = e.data
+    return image
+
+
+def from_outcome(outcome, node_id: int, memory: int | None = None):
+    """A node whose object dictionary is the one DynBuildOd left (SPEC §8): static,
+    created and written entries, values as the container wrote them; network variables
+    live in the process image at their PI addresses."""
+    od = od_mod.ObjectDictionary()
+    od.node_id = node_id
+    for index in sorted(outcome.od):
+        subs = outcome.od[index]
+        if index < 0x1000:
+            continue
+        made = []
+        for sub in sorted(subs):
+            e = subs[sub]
+            var = od_mod.ODVariable(f"0x{index:04X}sub{sub:X}", index, sub)
+            var.data_type = _type_code(e)
+            var.access_type = _access(e)
+            var.pdo_mappable = e.mappable
+            var.value = bytes(e.data)
+            made.append(var)
+        if list(subs) == [0] and not (0xA000 <= index <= 0xAFFF):
+            od.add_object(made[0])
+            continue
+        cls = od_mod.ODArray if 0xA000 <= index <= 0xAFFF else od_mod.ODRecord
+        group = cls(f"0x{index:04X}", index)
+        for var in made:
+            group.add_member(var)
+        od.add_object(group)
+    return bench_node(node_id, od, image_of(outcome, memory))

@@ -1,0 +1,192 @@
+"""dcf2bin download: write a configuration to a node by SDO (canopen over python-can)."""
+from __future__ import annotations
+
+import sys
+
+import click
+
+from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+
+NODE_ID = click.IntRange(1, 127)
+
+
+def bus_options(fn):
+    """--interface/--channel/--bitrate, shared by download and node."""
+    fn = click.option("--bitrate", type=click.IntRange(1), metavar="BPS",
+                      help="Bit rate in bit/s (default: python-can's configuration).")(fn)
+    fn = click.option("--channel", metavar="CHANNEL",
+                      help="Channel of the interface, e.g. can0, PCAN_USBBUS1, 0, a "
+                      "virtual bus name (default: python-can's configuration).")(fn)
+    fn = click.option("-i", "--interface", metavar="NAME",
+                      help="python-can interface: socketcan, pcan, kvaser, ixxat, vector, "
+                      "slcan, virtual, ... (default: python-can's configuration).")(fn)
+    return fn
+
+
+def _error(message: str, where: str = "dcf2bin") -> None:
+    emit([Diagnostic(Severity.ERROR, message, where)])
+
+
+def _count(n: int, word: str, plural: str | None = None) -> str:
+    return f"{n} {word if n == 1 else plural or word + 's'}"
+
+
+@click.command("download", context_settings=CONTEXT)
+@click.argument("input", metavar="FILE", type=click.Path(allow_dash=True))
+@click.option("-n", "--node", "node_id", type=NODE_ID, required=True, metavar="N",
+              help="Node-ID to configure (also the node-ID of $NODEID values).")
+@bus_options
+@click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
+              metavar="SECONDS",
+              help="Seconds to wait for each SDO response.")
+@click.option("--retries", type=click.IntRange(0), default=2, show_default=True, metavar="N",
+              help="Times an unanswered SDO request is sent again.")
+@click.option("--from", "from_", type=click.Choice(["dcf", "json", "bin"]),
+              help="Input format (default: by extension; .bin = container, .json = "
+              "lossless dump, else DCF/EDS).")
+@click.option("--dry-run", is_flag=True, help="Print the SDO writes; touch no bus.")
+@click.option("--verify", is_flag=True,
+              help="Read back every readable entry written and report each difference.")
+@click.option("--keep-going", is_flag=True,
+              help="Go on after an SDO abort and report every abort at the end.")
+@click.option("--preop", is_flag=True,
+              help="Send NMT 'enter pre-operational' to the node before writing.")
+@click.option("--save", is_flag=True,
+              help="Afterwards write \"save\" to 0x1010 sub 1 (store all parameters).")
+@click.option("--reset-comm", is_flag=True,
+              help="Afterwards send NMT 'reset communication' to the node.")
+@click.option("--concise-dcf-to", "manager", type=NODE_ID, metavar="M",
+              help="Write the whole index segment as one DOMAIN into node M's 0x1F22 sub N "
+              "(the concise DCF a configuration manager applies) instead of the entries.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary; errors only.")
+@guarded
+def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, from_,
+                 dry_run, verify, keep_going, preop, save, reset_comm, manager, quiet):
+    """Write the entries of a DCF/EDS, a container or its JSON form to a node by SDO.
+
+    The entries are written in container order, exactly as the target would execute
+    them (PDO reconfiguration sequences included); each error names the DCF line (or
+    the entry's byte offset in a container) it comes from.
+    """
+    from dcf2bin.bus import download as dl
+    plan = _plan(input, from_, node_id, quiet)
+    target = node_id
+    if manager is not None:
+        plan, target = plan.concise(node_id), manager
+    if dry_run:
+        write_output("\n".join(dl.render(plan, target)) + "\n", "-", [], binary=False)
+        return
+    from dcf2bin.bus import link
+    link.quiet_libraries()
+    try:
+        net = link.open_network(link.BusConfig(interface, channel, bitrate))
+    except link.BusError as exc:
+        fail(str(exc), code=ExitCode.UNREADABLE)
+    try:
+        _run(net, plan, target, timeout=timeout, retries=retries, verify=verify,
+             keep_going=keep_going, preop=preop, save=save, reset_comm=reset_comm,
+             quiet=quiet)
+    finally:
+        link.close_network(net)
+
+
+def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
+    from dcf2bin.bus import download as dl
+    data = read_input(input)
+    name = "<stdin>" if input == "-" else input
+    low = input.lower()
+    fmt = from_ or ("bin" if low.endswith(".bin") else "json" if low.endswith(".json")
+                    else "dcf")
+    if fmt == "dcf":
+        from dcf2bin.compiler import CompileOptions, compile_path
+        res = compile_path(name, CompileOptions(node_id=node_id), data=data)
+        emit(res.diagnostics, quiet)
+        if not res.ok:
+            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+            click.echo(f"{name}: {_count(n, 'error')}, nothing sent", err=True)
+            raise Failure(ExitCode.FINDINGS)
+        return dl.plan_from_result(res, name)
+    from dcf2bin.dump import from_json_bytes, read_bytes
+    text = None
+    if fmt == "json":
+        text = data.decode("utf-8-sig", errors="replace")   # for the line of each entry
+        data, diags = from_json_bytes(data, name)
+        emit(diags, quiet)
+        if data is None:
+            raise Failure(ExitCode.FINDINGS)
+    c, diags = read_bytes(data, name)
+    emit(diags, quiet)
+    if c is None:
+        raise Failure(ExitCode.FINDINGS)
+    return dl.plan_from_container(c, name, text)
+
+
+def _run(net, plan, node_id: int, *, timeout, retries, verify, keep_going, preop, save,
+         reset_comm, quiet) -> None:
+    from dcf2bin.bus import download as dl
+    sdo = dl.sdo_client(net, node_id, timeout=timeout, retries=retries)
+    total = len(plan.writes)
+
+    def no_answer(exc: dl.NoAnswer, done: str) -> None:
+        _error(f"{exc.write.label}: node {node_id} did not answer (no SDO response within "
+               f"{exc.timeout:g} s, {_count(exc.tries, 'try', 'tries')}){done}", exc.write.where)
+        raise Failure(ExitCode.FINDINGS)
+
+    if preop:
+        dl.nmt(net, node_id, "PRE-OPERATIONAL")
+    show_bar = not quiet and sys.stderr.isatty()
+    try:
+        if show_bar:
+            with click.progressbar(length=total, label=f"node {node_id}",
+                                   file=sys.stderr) as bar:
+                result = dl.execute(plan, sdo, keep_going=keep_going,
+                                    progress=lambda w: bar.update(1))
+        else:
+            result = dl.execute(plan, sdo, keep_going=keep_going)
+    except dl.NoAnswer as exc:
+        no_answer(exc, f"; {exc.written_before} of {total} entries written before it")
+    if result.aborts and not keep_going:
+        a = result.aborts[0]
+        _error(f"{a.write.label}: {a.text}; {a.written_before} of {total} entries written "
+               "before it", a.write.where)
+        raise Failure(ExitCode.FINDINGS)
+    for a in result.aborts:
+        _error(f"{a.write.label}: {a.text}", a.write.where)
+    diffs = []
+    if verify:
+        try:
+            diffs = dl.verify(result.written, sdo)
+        except dl.NoAnswer as exc:
+            no_answer(exc, " while reading back")
+        for d in diffs:
+            _error(d.text, d.write.where)
+    failed = bool(result.aborts or diffs)
+    if failed:
+        parts = [f"{len(result.written)} of {total} entries written"]
+        if result.aborts:
+            parts.append(_count(len(result.aborts), "SDO abort"))
+        if diffs:
+            parts.append(_count(len(diffs), "difference") + " on reading back")
+        click.echo(f"{plan.source}: " + ", ".join(parts)
+                   + ("; not saved, not reset" if save or reset_comm else ""), err=True)
+        raise Failure(ExitCode.FINDINGS)
+    if save:
+        try:
+            abort = dl.store(sdo, plan.source)
+        except dl.NoAnswer as exc:
+            no_answer(exc, "")
+        if abort is not None:
+            _error(f"{abort.write.label}: storing the parameters: {abort.text}", plan.source)
+            raise Failure(ExitCode.FINDINGS)
+    if reset_comm:
+        dl.nmt(net, node_id, "RESET COMMUNICATION")
+    if not quiet:
+        done = [f"{plan.source}: {_count(total, 'entry', 'entries')} written to node {node_id}"]
+        if verify:
+            done.append("read back equal")
+        if save:
+            done.append("saved")
+        if reset_comm:
+            done.append("communication reset")
+        write_output(", ".join(done) + "\n", "-", [], binary=False)

@@ -1,0 +1,129 @@
+"""dcf2bin map: the variable map of the process image (text, CSV, JSON, IEC 61131-3, C
+header, SVG, HTML) from a DCF/EDS, a binary container or its lossless JSON form."""
+from __future__ import annotations
+
+import gc
+import os
+
+import click
+
+from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_eds, read_input,
+                                write_output)
+from dcf2bin.diagnostics import ExitCode, Severity
+
+FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
+
+
+def _kind(path: str, data: bytes, from_: str | None) -> str:
+    if from_:
+        return from_
+    low = path.lower()
+    if low.endswith(".json"):
+        return "json"
+    if low.endswith(".bin") or (len(data) >= 40 and int.from_bytes(data[:4], "little")
+                                == len(data)):
+        return "bin"
+    return "dcf"
+
+
+@click.command("map", context_settings=CONTEXT)
+@click.argument("input", metavar="FILE", type=click.Path(dir_okay=False, allow_dash=True))
+@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), default="text",
+              show_default=True, help="Output form of the map.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
+              help="Output file ('-' for stdout, the default).")
+@click.option("--from", "from_", type=click.Choice(["dcf", "bin", "json"]),
+              help="Input kind (default: .json = lossless dump, .bin or a container's "
+              "bytes = container, else DCF/EDS).")
+@click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+              help="Container input: the device's EDS/DCF for names, exact types and "
+              "[DynamicChannels].")
+@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+              show_default=True, help="Container input: how its PI addresses were written "
+              "(compile --address-base).")
+@click.option("--node-id", type=click.IntRange(1, 127),
+              help="DCF input: node-ID for $NODEID values.")
+@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+              show_default=True, help="DCF input: alignment of the output area's start.")
+@click.option("--iec-addressing", type=click.Choice(["byte", "element"]), default="byte",
+              show_default=True, help="iec: %I/%Q numbers count bytes, or units of the size "
+              "prefix (W 2, D 4, L 8 bytes, as CODESYS counts).")
+@click.option("--prefix", default="DCF_", show_default=True,
+              help="c: prefix of every macro name.")
+@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@guarded
+def map_cmd(input, fmt, output, from_, eds, address_base, node_id, pi_align, iec_addressing,
+            prefix, quiet):
+    """Show where every network variable lies in the process image.
+
+    One row per network variable in image-address order: name (Denotation, else
+    ParameterName), entry, data type, direction, offset in its area, image address,
+    size; plus the complete PI size and the offset and size of both areas.
+    """
+    from dcf2bin.plc import varmap
+    from dcf2bin.plc.cheader import prefix_problem
+    if fmt == "c" and (problem := prefix_problem(prefix)):
+        fail(f"--prefix: {problem}", code=ExitCode.USAGE)
+    data = read_input(input)
+    name = "<stdin>" if input == "-" else input
+    kind = _kind(input, data, from_)
+    inputs = [input] + ([eds] if eds else [])
+    if kind == "dcf":
+        if eds:
+            fail("--eds is for a container input; a DCF names its own variables",
+                 code=ExitCode.USAGE)
+        from dcf2bin.compiler import CompileOptions, compile_path
+        res = compile_path(name, CompileOptions(node_id=node_id, pi_align=int(pi_align)),
+                           data=data)
+        emit(res.diagnostics, quiet)
+        if not res.ok:
+            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+            click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, no map", err=True)
+            raise Failure(ExitCode.FINDINGS)
+        gc.disable()      # 60,000 rows and no cycles: as compile_path does
+        try:
+            vm = varmap.from_result(res, os.path.basename(name))
+        finally:
+            gc.enable()
+    else:
+        from dcf2bin.dump import from_json_bytes, read_bytes
+        if kind == "json":
+            data, diags = from_json_bytes(data, name)
+            emit(diags, quiet)
+            if data is None:
+                raise Failure(ExitCode.FINDINGS)
+        c, diags = read_bytes(data, name)
+        emit(diags, quiet)
+        if c is None:
+            raise Failure(ExitCode.FINDINGS)
+        info, dev = read_eds(eds, quiet)
+        vm, diags = varmap.from_container(c, name, eds=info, eds_device=dev,
+                                          address_base=address_base)
+        emit(diags, quiet)
+        if vm is None:
+            raise Failure(ExitCode.FINDINGS)
+        vm.source = os.path.basename(name)
+    gc.disable()
+    try:
+        text = render(vm, fmt, iec_addressing, prefix)
+    finally:
+        gc.enable()
+    write_output(text, output, inputs, binary=False)
+
+
+def render(vm, fmt: str, iec_addressing: str, prefix: str) -> str:
+    if fmt in ("text", "csv", "json"):
+        from dcf2bin.plc import tables
+        return {"text": tables.to_text, "csv": tables.to_csv, "json": tables.to_json}[fmt](vm)
+    if fmt == "iec":
+        from dcf2bin.plc import iec
+        text, diags = iec.render(vm, iec_addressing)
+        emit(diags)
+        if text is None:
+            raise Failure(ExitCode.FINDINGS)
+        return text
+    if fmt == "c":
+        from dcf2bin.plc import cheader
+        return cheader.render(vm, prefix)
+    from dcf2bin.plc import picture
+    return picture.to_svg(vm) if fmt == "svg" else picture.to_html(vm)

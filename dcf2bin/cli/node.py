@@ -1,0 +1,154 @@
+"""dcf2bin node: a software CANopen node on a python-can bus (canopen.LocalNode),
+built from an EDS/DCF, or an emulated SYS TEC target built from a container."""
+from __future__ import annotations
+
+import time
+
+import click
+
+from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input
+from dcf2bin.cli.download import NODE_ID, bus_options
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+
+
+@click.command("node", context_settings=CONTEXT)
+@click.argument("input", metavar="[FILE]", required=False,
+                type=click.Path(allow_dash=True))
+@click.option("-n", "--node-id", type=NODE_ID, metavar="N",
+              help="Node-ID (default: NodeID in [DeviceComissioning] of FILE).")
+@bus_options
+@click.option("--container", type=click.Path(allow_dash=True),
+              metavar="FILE.bin", help="Be an emulated SYS TEC target: build the object "
+              "dictionary and process image the way DynBuildOd builds them from this "
+              "container.")
+@click.option("--static-od", type=click.Path(), metavar="EDS",
+              help="With --container: the objects the target's firmware already has.")
+@click.option("--pi-size", type=click.IntRange(0), metavar="N",
+              help="With --container: PI memory of the target in bytes (default: the "
+              "complete size the container gives).")
+@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+              help="With --container: PDO entries of the TX COB table (default: unlimited).")
+@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+              help="With --container: PDO entries of the RX COB table (default: unlimited).")
+@click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+              show_default=True, help="With --container: the stack's PDO granularity in bits.")
+@click.option("--no-bit-mapping", is_flag=True,
+              help="With --container: the stack maps no single bits (BOOLEAN takes 8 bits).")
+@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+              show_default=True, help="With --container: PI addresses count from the image "
+              "start or from their area.")
+@click.option("--show-pi", is_flag=True,
+              help="With --container: print the process image whenever an RPDO changes it.")
+@click.option("--operational", is_flag=True,
+              help="Enter OPERATIONAL at once instead of waiting for an NMT start.")
+@click.option("--duration", type=click.FloatRange(0), metavar="SECONDS",
+              help="Stop after this many seconds (default: run until Ctrl-C).")
+@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@click.option("-v", "--verbose", is_flag=True,
+              help="Print NMT state changes and PDOs that cannot be used.")
+@guarded
+def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, pi_size,
+             tx_cobs, rx_cobs, granularity, no_bit_mapping, address_base, show_pi,
+             operational, duration, quiet, verbose):
+    """Run a CANopen node on the bus until Ctrl-C: SDO server, NMT, heartbeat and PDOs.
+
+    From an EDS/DCF FILE the node has that file's objects and values. With --container
+    it is an emulated SYS TEC target: the container is applied as DynBuildOd applies it
+    (the node does not start when that fails), the network variables live in a process
+    image at their PI addresses, and PDOs move them on and off the bus.
+    """
+    from dcf2bin.bus import link
+    if (input is None) == (container is None):
+        fail("give an EDS/DCF FILE or --container FILE.bin (one of them)",
+             code=ExitCode.USAGE)
+    target_only = {"--static-od": static_od, "--pi-size": pi_size, "--tx-cobs": tx_cobs,
+                   "--rx-cobs": rx_cobs, "--show-pi": show_pi or None,
+                   "--no-bit-mapping": no_bit_mapping or None}
+    for opt, value in target_only.items():
+        if value is not None and container is None:
+            fail(f"{opt} needs --container", code=ExitCode.USAGE)
+    if container is not None:
+        if node_id is None:
+            fail("--container needs --node-id N (a container has no node-ID)",
+                 code=ExitCode.USAGE)
+        node, name = _target(container, node_id, static_od, pi_size, tx_cobs, rx_cobs,
+                             int(granularity), not no_bit_mapping, address_base, quiet)
+    else:
+        node, name = _from_file(input, node_id, quiet)
+    if show_pi:
+        node.on_image_change = lambda image: click.echo(
+            "\n".join([f"node {node.id}: process image ({len(image.data)} bytes)"]
+                      + image.lines()))
+    if verbose:
+        node.on_event = lambda text: click.echo(f"node {node.id}: {text}", err=True)
+    link.quiet_libraries()
+    try:
+        net = link.open_network(link.BusConfig(interface, channel, bitrate))
+    except link.BusError as exc:
+        fail(str(exc), code=ExitCode.UNREADABLE)
+    try:
+        node.attach(net, operational=operational)
+        if not quiet:
+            click.echo(f"{name}: node {node.id} on the bus "
+                       f"({link.BusConfig(interface, channel, bitrate).describe()}); "
+                       "Ctrl-C stops it", err=True)
+        _wait(duration)
+    except KeyboardInterrupt:
+        pass          # Ctrl-C is how a node is meant to stop: exit 0
+    finally:
+        node.detach()
+        link.close_network(net)
+    if not quiet:
+        click.echo(f"{name}: node {node.id} stopped", err=True)
+
+
+def _wait(duration: float | None) -> None:
+    end = None if duration is None else time.monotonic() + duration
+    while end is None or time.monotonic() < end:
+        time.sleep(0.1 if end is None else max(0.0, min(0.1, end - time.monotonic())))
+
+
+def _from_file(path: str, node_id: int | None, quiet: bool):
+    from dcf2bin.bus import node as nodemod
+    data = read_input(path)
+    name = "<stdin>" if path == "-" else path
+    try:
+        node, errors = nodemod.from_file(name, node_id, data=data)
+    except nodemod.NodeError as exc:
+        fail(str(exc), name)
+    if errors:
+        emit([Diagnostic(Severity.WARNING, f"the file has {len(errors)} error"
+                         f"{'s' if len(errors) != 1 else ''} (see 'dcf2bin validate'); the "
+                         "node has the objects that could be read", name)], quiet)
+    return node, name
+
+
+def _target(path, node_id, static_od, pi_size, tx_cobs, rx_cobs, granularity,
+            bit_mapping, address_base, quiet):
+    from dcf2bin.bus import node as nodemod
+    from dcf2bin.cli.common import read_container
+    from dcf2bin.target import StaticOD, TargetOptions, emulate
+    c, name = read_container(path, quiet)
+    static = None
+    if static_od is not None:
+        static = StaticOD.from_eds(static_od, read_input(static_od))
+        errors = sum(1 for p in static.dev.problems if p.diagnostic.severity is Severity.ERROR)
+        if errors:
+            emit([Diagnostic(Severity.WARNING, f"the static OD has {errors} error"
+                             f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); the "
+                             "objects that could be read are used", static_od)], quiet)
+    opts = TargetOptions(pi_size=pi_size, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
+                         granularity=granularity, bit_mapping=bit_mapping,
+                         address_base=address_base)
+    outcome = emulate(c, opts, static=static)
+    if not outcome.ok:
+        where = name if outcome.offset is None else f"{name}:0x{outcome.offset:X}"
+        entry = f"{outcome.label}: " if outcome.label else ""
+        emit([Diagnostic(Severity.ERROR, f"{entry}DynBuildOd returns 0x{outcome.code:02X} "
+                         f"{outcome.name}: {outcome.reason}; the node does not start",
+                         where)])
+        raise Failure(ExitCode.FINDINGS)
+    try:
+        return nodemod.from_outcome(outcome, node_id, pi_size), name
+    except nodemod.NodeError as exc:
+        fail(str(exc), name)

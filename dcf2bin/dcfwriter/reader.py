@@ -1,0 +1,291 @@
+"""Reading a container into the objects its DCF will hold (bin2dcf, SPEC §4).
+
+Writes are grouped per (index, subindex) in container order, so ``ParameterValue``
+is the last value written and the earlier writes stay for the comments. Network
+variables are typed from their range, placed by the PI addresses, and where they
+do not sit where the CiA 405 table puts them a ``[DynamicChannels]`` section is
+reconstructed (SPEC §2.3). ARRAY/RECORD objects without a written sub 0 get the
+one the model would imply; values become ParameterValue texts in the file's
+encoding (UTF-8, or Latin-1 when a string needs it; SPEC §1).
+"""
+from __future__ import annotations
+
+from dcf2bin import datatypes as dt
+from dcf2bin.container import BinContainer
+from dcf2bin.dcfwriter.entries import EntryTyper
+from dcf2bin.dcfwriter.spec import (R_HEADER, R_PI, R_SELECT, R_VALUE, ChannelSpec, DcfSpec,
+                                    Issues, ObjSpec, SubSpec, Write, by_size, holds, short,
+                                    table_type, value_text)
+from dcf2bin.dump import EdsInfo, entry_offsets, header_of
+from dcf2bin.layout import INPUT, OUTPUT, OUTPUT_FIRST, PER_INDEX, TABLE_END
+from dcf2bin.model import NV_FIRST, NV_LAST
+from dcf2bin.model import is_network_variable_index as is_nv
+
+
+def read_spec(c: BinContainer, name: str, eds: EdsInfo | None = None) -> DcfSpec:
+    """The DCF objects of container ``c``; warnings collect in the result's ``issues``."""
+    return _Reader(c, name, eds).run()
+
+
+class _Reader:
+    def __init__(self, c: BinContainer, name: str, eds: EdsInfo | None):
+        header = header_of(c)
+        self.c = c
+        self.spec = DcfSpec(c, name, header, entry_offsets(c, header), Issues(name))
+        self.issues = self.spec.issues
+        self.eds = eds
+        self.typer = EntryTyper(eds, self.issues)
+        self.objects = self.spec.objects
+
+    def run(self) -> DcfSpec:
+        c = self.c
+        attrs = c.attributes or b""
+        n = len(c.entries)
+        self._header_issues(n, attrs)
+        groups: dict[tuple[int, int], list[Write]] = {}
+        offsets = self.spec.offsets
+        n_attrs = len(attrs)
+        nv_order = self.nv_order = []      # network variables, first occurrence (SPEC §3.4)
+        for i, (index, sub, data) in enumerate(c.entries):
+            w = Write(i, offsets[i], data, attrs[i] if i < n_attrs else None)
+            g = groups.get((index, sub))
+            if g is None:
+                groups[(index, sub)] = [w]
+                if sub and NV_FIRST <= index <= NV_LAST:
+                    nv_order.append((index, sub))
+            else:
+                g.append(w)
+        nv_vars = []
+        subs_of: dict[int, list[int]] = {}
+        for index, sub in groups:
+            subs_of.setdefault(index, []).append(sub)
+        objects = self.objects
+        typer = self.typer
+        for key in sorted(groups):
+            index, sub = key
+            obj = objects.get(index)
+            if obj is None:
+                obj = objects[index] = ObjSpec(index, typer.object_type(index, subs_of[index]),
+                                               typer.object_name(index))
+            if sub and NV_FIRST <= index <= NV_LAST:
+                nv_vars.append((index, sub, groups[key]))
+                continue
+            obj.subs[sub] = typer.entry(index, sub, groups[key])
+        self._network_variables(nv_vars)
+        for obj in objects.values():
+            obj.subs = dict(sorted(obj.subs.items()))
+        self._implied_sub0()
+        self._choose_encoding()
+        self._values()
+        return self.spec
+
+    def _header_issues(self, n: int, attrs: bytes) -> None:
+        c = self.c
+        if c.header is not None:
+            self.issues.add(R_HEADER, 0, "the header or segment layout is not the canonical one "
+                            "(D-6/D-7); compile writes the canonical layout")
+        if c.raw_piparam is not None:
+            self.issues.add(R_HEADER, self.spec.header["piparam_offset"],
+                            f"the PI parameter segment has {len(c.raw_piparam)} bytes, not 20")
+        if c.attributes is None and n:
+            self.issues.add(R_HEADER, 0x18, f"no extended info segment: the {n} entries have "
+                            "no attribute; written as DOMAIN rw")
+        elif len(attrs) != n:
+            self.issues.add(R_HEADER, 0x1C, f"the extended info segment has {len(attrs)} bytes "
+                            f"for {n} entries")
+
+    # -- network variables and [DynamicChannels] (SPEC §2.1-2.3) ------------------------------
+    def _network_variables(self, nv_vars) -> None:
+        c = self.c
+        addr_of = {}
+        if c.addresses is not None:
+            addr_of = dict(zip(self.nv_order, c.addresses))
+        vars_ = []
+        range_type: dict[int, dt.DataType | None] = {}
+        eds = self.eds
+        for index, sub, writes in nv_vars:
+            last = writes[-1]
+            if len(writes) > 1 or last.attr != 0xF0 or sub > PER_INDEX:
+                self.typer.nv_checks(index, sub, writes)
+            dtype = None
+            if eds is None:  # fast path: the range's type fits
+                tt = range_type.get(index, 0)
+                if tt == 0:
+                    t = table_type(index)
+                    tt = range_type[index] = t[0] if t is not None else None
+                if holds(tt, last.data):
+                    dtype = tt
+            if dtype is None:
+                dtype = self.typer.nv_type(index, sub, last)
+            vars_.append((index, sub, dtype, writes, addr_of.get((index, sub))))
+        self._plan_channels(vars_)
+        direction_of = {}
+        objects = self.objects
+        for index, sub, dtype, writes, _ in vars_:
+            direction = direction_of.get(index)
+            if direction is None:
+                direction = direction_of[index] = self._direction_of(index)
+            objects[index].subs[sub] = SubSpec(index, sub, dtype,
+                                               "ro" if direction == INPUT else "rw", True,
+                                               writes, f"Variable {sub}" if self.eds is None
+                                               else self.typer.sub_name(index, sub))
+
+    def _direction_of(self, index: int) -> str:
+        for ch in self.spec.channels:
+            if ch.first <= index <= ch.last:
+                return ch.direction
+        return INPUT if index < OUTPUT_FIRST else OUTPUT
+
+    def _plan_channels(self, vars_) -> None:
+        """Reconstruct [DynamicChannels] segments from the addresses (SPEC §2.3)."""
+        c = self.c
+        pi = c.pi
+        by_index: dict[int, list] = {}
+        for index, sub, dtype, writes, addr in vars_:
+            if dtype.size is None:
+                continue      # reported: no segment can hold it, compile rejects it
+            direction, off = self._area(index, addr, pi, writes[0].offset)
+            by_index.setdefault(index, []).append((sub, dtype, direction, off, writes[0].offset))
+        nv_objects = sorted(i for i in self.objects if is_nv(i))
+        regions = [(NV_FIRST + k * 0x40, NV_FIRST + k * 0x40 + 0x3F) for k in range(36)]
+        regions.append((TABLE_END, NV_LAST))
+        channels: list[ChannelSpec] = []
+        for first, last in regions:
+            idxs = [i for i in nv_objects if first <= i <= last]
+            if not idxs:
+                continue
+            tt = table_type(first)
+            region: list[ChannelSpec] = []
+            for index in idxs:
+                vs = by_index.get(index)
+                if not vs:
+                    continue
+                _, dtype, direction, _, where = vs[0]
+                if any(v[1] is not dtype or v[2] != direction for v in vs[1:]):
+                    self.issues.add(R_PI, where, f"0x{index:04X}: its variables differ in type "
+                                    "or area; one [DynamicChannels] segment cannot hold them")
+                cur = region[-1] if region else None
+                if cur is not None and cur.dtype is dtype and cur.direction == direction:
+                    p = _pp(vs, index, cur.first, dtype)
+                    if p is None:
+                        continue                 # no address: any placement will do
+                    if p != "mixed" and p >= 0 and (cur.pp is None or p == cur.pp):
+                        cur.pp = p
+                        continue
+                start = first if not region else index
+                p = _pp(vs, index, start, dtype)
+                if start != index and (p == "mixed" or (p is not None and p < 0)):
+                    start = index
+                    p = _pp(vs, index, start, dtype)
+                if p == "mixed" or (p is not None and p < 0):
+                    self.issues.add(R_PI, where, f"0x{index:04X}: the addresses of its "
+                                    "variables do not follow the layout of SPEC §2.2 "
+                                    "(start + element * size)")
+                    p0 = _pp(vs[:1], index, start, dtype)
+                    p = p0 if isinstance(p0, int) and p0 >= 0 else 0
+                region.append(ChannelSpec(dtype, direction, start, pp=p))
+            for a, b in zip(region, region[1:]):
+                a.last = b.first - 1
+            if region:
+                region[-1].last = last
+            if tt is not None and region:
+                r0 = region[0]
+                if r0.first == first and r0.dtype is tt[0] and r0.direction == tt[1] and \
+                        not r0.pp:
+                    region = region[1:]
+            elif tt is None and idxs:
+                lowest = idxs[0]
+                if not region:
+                    region = [ChannelSpec(dt.UNSIGNED8, OUTPUT, lowest, last, 0)]
+                elif lowest < region[0].first:
+                    region.insert(0, ChannelSpec(dt.UNSIGNED8, OUTPUT, lowest,
+                                                 region[0].first - 1, 0))
+            for ch in region:
+                if ch.pp is None:
+                    ch.pp = 0
+            channels.extend(region)
+        self.spec.channels = channels
+
+    def _area(self, index: int, addr: int | None, pi, offset: int):
+        table_dir = INPUT if index < OUTPUT_FIRST else (OUTPUT if index < TABLE_END else None)
+        if addr is None or pi is None:
+            return table_dir or OUTPUT, None
+        _, in_off, in_size, out_off, out_size = pi
+        in_in = in_off <= addr < in_off + in_size
+        in_out = out_off <= addr < out_off + out_size
+        if table_dir == INPUT and in_in:
+            return INPUT, addr - in_off
+        if table_dir == OUTPUT and in_out:
+            return OUTPUT, addr - out_off
+        if in_in:
+            return INPUT, addr - in_off
+        if in_out:
+            return OUTPUT, addr - out_off
+        self.issues.add(R_PI, offset, f"0x{index:04X}: address 0x{addr:04X} lies outside both "
+                        "areas of the PI parameter segment")
+        return table_dir or OUTPUT, None
+
+    def _implied_sub0(self) -> None:
+        """ARRAY/RECORD objects without a written sub 0 get the one the model would imply."""
+        for obj in self.objects.values():
+            if obj.object_type == dt.OT_VAR or 0 in obj.subs:
+                continue
+            highest = max(obj.subs)
+            spec = SubSpec(obj.index, 0, dt.UNSIGNED8, "ro", False, [],
+                           self.typer.sub_name(obj.index, 0), default=str(highest))
+            obj.subs[0] = spec
+            obj.subs = dict(sorted(obj.subs.items()))
+            if is_nv(obj.index):
+                self.issues.add(R_SELECT, None, f"0x{obj.index:04X}sub0 is not in the "
+                                "container; compile writes sub 0 of every network-variable "
+                                "object")
+
+    # -- values -----------------------------------------------------------------------------------
+    def _choose_encoding(self) -> None:
+        """UTF-8, unless a VISIBLE_STRING holds bytes that are not: then Latin-1 (SPEC §1)."""
+        for obj in self.objects.values():
+            for s in obj.subs.values():
+                if s.writes and s.dtype.kind == dt.VSTRING:
+                    try:
+                        s.data.decode("utf-8")
+                    except UnicodeDecodeError:
+                        self.spec.encoding = "latin-1"
+                        return
+
+    def _values(self) -> None:
+        enc = self.spec.encoding
+        for obj in self.objects.values():
+            for s in obj.subs.values():
+                if not s.writes:
+                    continue
+                text = value_text(s.dtype, s.data, enc)
+                if text is None:
+                    # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
+                    # encoding: keep the bytes exact, lose the type (and its attribute bit)
+                    old = s.dtype
+                    s.dtype = dt.OCTET_STRING if old.size is None else by_size(len(s.data))
+                    text = value_text(s.dtype, s.data, enc)
+                    self.issues.add(R_VALUE, s.writes[-1].offset,
+                                    f"0x{s.index:04X}sub{s.sub:X}: {short(s.data)} cannot be "
+                                    f"written as a {old.name} value in a DCF; written as "
+                                    f"{s.dtype.name}")
+                s.value = text
+
+
+def _pp(vs, index: int, start: int, dtype: dt.DataType):
+    """The segment start (PPOffset) that places all of ``vs`` in index ``index``."""
+    pps = set()
+    for sub, _, _, off, _ in vs:
+        if off is None:
+            continue
+        pps.add(off - ((index - start) * PER_INDEX + sub - 1) * dtype.size)
+    if not pps:
+        return None
+    if len(pps) > 1:
+        return "mixed"
+    return pps.pop()
+
+
+
+
+__all__ = ["read_spec"]

@@ -1,0 +1,159 @@
+"""Writing a ``DcfSpec`` as DCF text (bin2dcf, SPEC §4).
+
+One object section per index, in ascending order, with ``ParameterValue`` the last
+value written; earlier writes are comments above it. ``[DeviceInfo]`` and
+``[DummyUsage]`` come from the EDS (``--eds``) where one is given, and
+``[DynamicChannels]`` from the reconstructed segments. Nothing depends on the clock.
+"""
+from __future__ import annotations
+
+from dcf2bin import datatypes as dt
+from dcf2bin.dcfwriter.spec import DcfSpec, ObjSpec, SubSpec, value_text
+from dcf2bin.layout import INPUT
+from dcf2bin.model import is_pdo_mapping as is_mapping
+
+
+def render(spec: DcfSpec, dcf_name: str, eds_device=None) -> str:
+    """The DCF text; ``dcf_name`` goes into ``[FileInfo] FileName``."""
+    return _Renderer(spec, dcf_name, eds_device).render()
+
+
+class _Renderer:
+    def __init__(self, spec: DcfSpec, dcf_name: str, eds_device):
+        self.spec = spec
+        self.dcf_name = dcf_name
+        self.eds_device = eds_device
+        self.objects = spec.objects
+        self.channels = spec.channels
+
+    def render(self) -> str:
+        c = self.spec.container
+        out: list[str] = []
+        w = out.append
+        n = len(c.entries)
+        w(f"; DCF written by dcf2bin bin2dcf from {self.spec.name} "
+          f"({self.spec.header['total_size']} bytes, {n} entr{'y' if n == 1 else 'ies'}).")
+        w("; ParameterValue is the last value written to each entry; comments list earlier "
+          "writes.")
+        w("")
+        w("[FileInfo]")
+        w(f"FileName={self.dcf_name}")
+        w("FileVersion=1")
+        w("FileRevision=0")
+        w("EDSVersion=4.0")
+        w(f"Description=Converted from the binary DCF segment container {self.spec.name}")
+        w("CreatedBy=dcf2bin bin2dcf")
+        w("")
+        self._device_info(w)
+        self._dummy_usage(w)
+        if self.channels:
+            w("[DynamicChannels]")
+            w(f"NrOfSeg={len(self.channels)}")
+            for k, ch in enumerate(self.channels, 1):
+                w(f"Type{k}=0x{ch.dtype.code:04X}")
+                w(f"Dir{k}={'ro' if ch.direction == INPUT else 'rw'}")
+                w(f"Range{k}=0x{ch.first:04X}-0x{ch.last:04X}")
+                w(f"PPOffset{k}={ch.pp}")
+            w("")
+        idxs = sorted(i for i in self.objects if i >= 0x1000)
+        mandatory = [i for i in idxs if i in (0x1000, 0x1001, 0x1018)]
+        manufacturer = [i for i in idxs if 0x2000 <= i <= 0x5FFF]
+        optional = [i for i in idxs if i not in mandatory and i not in manufacturer]
+        for title, lst in (("MandatoryObjects", mandatory), ("OptionalObjects", optional),
+                           ("ManufacturerObjects", manufacturer)):
+            w(f"[{title}]")
+            w(f"SupportedObjects={len(lst)}")
+            for k, i in enumerate(lst, 1):
+                w(f"{k}=0x{i:04X}")
+            w("")
+        for index in sorted(self.objects):
+            self._object(w, self.objects[index])
+        return "\n".join(out).rstrip("\n") + "\n"
+
+    def _device_info(self, w) -> None:
+        sec = None
+        if self.eds_device is not None and self.eds_device.ini is not None:
+            sec = self.eds_device.ini.section("deviceinfo")
+        rx = sum(1 for i in self.objects if 0x1400 <= i <= 0x15FF)
+        tx = sum(1 for i in self.objects if 0x1800 <= i <= 0x19FF)
+        w("[DeviceInfo]")
+        if sec is not None:
+            for key, k in sec.keys.items():
+                if key in ("compactpdo", "nrofrxpdo", "nroftxpdo") or not k.value:
+                    continue       # CompactPDO would create objects the container lacks
+                w(f"{k.name}={_clean(k.value)}")
+        w(f"NrOfRXPDO={rx}")
+        w(f"NrOfTXPDO={tx}")
+        if self.channels:
+            if sec is None or "dynamicchannelssupported" not in sec.keys:
+                w(f"DynamicChannelsSupported={len(self.channels)}")
+        w("")
+
+    def _dummy_usage(self, w) -> None:
+        dummies = set()
+        for obj in self.objects.values():
+            if not is_mapping(obj.index):
+                continue
+            for s in obj.subs.values():
+                if s.sub and s.writes and len(s.data) == 4:
+                    v = int.from_bytes(s.data, "little")
+                    if 1 <= v >> 16 <= 7 and (v >> 8) & 0xFF == 0:
+                        dummies.add(v >> 16)
+        if self.eds_device is not None:
+            dummies |= set(self.eds_device.dummy_usage)
+        if dummies:
+            w("[DummyUsage]")
+            for code in sorted(dummies):
+                w(f"Dummy{code:04X}=1")
+            w("")
+
+    def _object(self, w, obj: ObjSpec) -> None:
+        if obj.object_type == dt.OT_VAR:
+            s = obj.subs[0]
+            w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name or s.name)}\nObjectType=0x7")
+            w(self._keys(s))
+            return
+        w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name)}\n"
+          f"ObjectType=0x{obj.object_type:X}\nSubNumber={len(obj.subs)}\n")
+        index = obj.index
+        keys = self._keys
+        for sub, s in obj.subs.items():
+            w(f"[{index:04X}sub{sub:X}]\nParameterName={_clean(s.name)}\nObjectType=0x7")
+            w(keys(s))
+
+    def _keys(self, s: SubSpec) -> str:
+        if len(s.writes) == 1:
+            return (f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
+                    f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
+        lines = self._earlier(s)
+        if not s.writes:
+            lines.append("; not in the container: the sub 0 that compile implies")
+        lines.append(f"DataType=0x{s.dtype.code:04X}")
+        lines.append(f"AccessType={s.access}")
+        if s.default:
+            lines.append(f"DefaultValue={s.default}")
+        lines.append(f"PDOMapping={1 if s.pdo else 0}")
+        if s.writes:
+            lines.append(f"ParameterValue={s.value}")
+        return "\n".join(lines) + "\n"
+
+    def _earlier(self, s: SubSpec) -> list[str]:
+        """Comments for the writes before the last one (PDO reconfiguration sequences)."""
+        out = []
+        for w in s.writes[:-1]:
+            text = value_text(s.dtype, w.data, self.spec.encoding)
+            if text is None or "\n" in text or "\r" in text:
+                text = w.data.hex().upper() or '""'
+            out.append(f"; entry {w.pos + 1} (offset 0x{w.offset:X}) wrote {text}")
+        if len(s.writes) > 1:
+            out.append(f"; entry {s.writes[-1].pos + 1} (offset 0x{s.writes[-1].offset:X}) "
+                       "wrote the ParameterValue below")
+        return out
+
+
+def _clean(text: str) -> str:
+    return text.replace("\r", " ").replace("\n", " ").strip() or '""'
+
+
+
+__all__ = ["render"]

@@ -1,0 +1,61 @@
+"""The variable map as text, CSV and JSON (SPEC.md §9.1)."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+
+from dcf2bin.plc.varmap import VarMap
+
+CSV_HEADER = ("name", "index", "subindex", "type", "direction", "offset", "address", "size")
+
+
+def to_text(vm: VarMap) -> str:
+    """A readable table; the PI parameter numbers above it."""
+    total, in_off, in_size, out_off, out_size = vm.pi
+    out = [f"{vm.source}: {len(vm.rows)} network variable{'s' if len(vm.rows) != 1 else ''}, "
+           f"process image {total} bytes",
+           f"  input area   offset {in_off:<6} size {in_size}",
+           f"  output area  offset {out_off:<6} size {out_size}",
+           ""]
+    rows = vm.rows
+    labels = [r.label for r in rows]
+    w_off = max([len("offset")] + [len(str(r.offset)) for r in rows])
+    w_entry = max([len("entry")] + [len(x) for x in labels])
+    w_type = max([len("type")] + [len(t) for t in {r.dtype.name for r in rows}])
+    w_size = len("size")          # sizes are 1..8
+    out.append(f"address  area    {'offset':>{w_off}}  {'entry':<{w_entry}}  "
+               f"{'size':>{w_size}}  {'type':<{w_type}}  name")
+    out += [f"0x{r.address:04X}   {r.direction:<6}  {r.offset:>{w_off}}  {lab:<{w_entry}}  "
+            f"{r.dtype.size:>{w_size}}  {r.dtype.name:<{w_type}}  {r.name}".rstrip()
+            for r, lab in zip(rows, labels)]
+    return "\n".join(out) + "\n"
+
+
+def to_csv(vm: VarMap) -> str:
+    """One row per variable under a header row; numbers in decimal, the index in hex.
+    (The PI parameter numbers are in every other format; CSV has no place for them.)"""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_HEADER)
+    w.writerows((r.name, f"0x{r.index:04X}", r.sub, r.dtype.name, r.direction, r.offset,
+                 r.address, r.size) for r in vm.rows)
+    return buf.getvalue()
+
+
+def to_json(vm: VarMap) -> str:
+    """``{"variables": [...], "areas": {...}}``, numbers as JSON integers, one variable a
+    line (diff-friendly)."""
+    d = json.dumps
+    lines = ["{", '  "variables": [']
+    last = len(vm.rows) - 1
+    for i, r in enumerate(vm.rows):
+        lines.append(
+            f'    {{"name": {d(r.name, ensure_ascii=False)}, "index": {r.index}, '
+            f'"subindex": {r.sub}, "type": "{r.dtype.name}", "direction": "{r.direction}", '
+            f'"offset": {r.offset}, "address": {r.address}, "size": {r.size}}}'
+            + ("," if i < last else ""))
+    lines.append("  ],")
+    lines.append(f'  "areas": {d(vm.areas)}')
+    lines.append("}")
+    return "\n".join(lines) + "\n"
