@@ -4,7 +4,7 @@ from __future__ import annotations
 import re
 
 from dcf2bin import values
-from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
+from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
