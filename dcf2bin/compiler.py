@@ -86,7 +86,8 @@ def static_od_indexes(path: str) -> tuple[set[int], list[Diagnostic]]:
         return set(), [Diagnostic(Severity.ERROR, f"cannot read the static OD: {exc.strerror}",
                                   path)]
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR
-              and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010")
+              and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010",
+                                         "DCF008", "DCF056")
               and (p.diagnostic.rule != "DCF010" or p.sub is None)]
     return set(dev.objects), [
         Diagnostic(d.severity, f"static OD: {d.message}", d.file, d.line, d.column, d.offset,
@@ -129,6 +130,8 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     if any(d.severity is Severity.ERROR for d in diags):
         return Result(None, diags, dev, None, lay)
     c = container_of(dev, sel, lay, opts, extra)
+    if not c.entries:
+        diags.append(_nothing_to_write(dev, opts))
     segs = c.segments()
     data = c.to_bytes(segs)
     _self_check(data, c, segs)
@@ -181,6 +184,17 @@ def target_check(dev: model.Device, sel, c: BinContainer, opts: CompileOptions,
     out = check.run(dev, sel, c, target_options(opts), list(extra))
     severity = Severity.ERROR if opts.target_check == "error" else Severity.WARNING
     return check.diagnostics(out, dev.path, severity)
+
+
+def _nothing_to_write(dev: model.Device, opts: CompileOptions) -> Diagnostic:
+    """The warning for a container without entries (an EDS, say, compiled as it is)."""
+    if opts.select == select_mod.AUTO:
+        return Diagnostic(Severity.WARNING, "nothing is configured (no ParameterValue or "
+                          "DownloadFile, no network variable): the container holds no entries",
+                          dev.path, rule="DCF009", hint="--select all also writes every "
+                          "DefaultValue (the device's defaults)")
+    return Diagnostic(Severity.WARNING, "no entry has a value: the container holds no entries",
+                      dev.path, rule="DCF009", hint="give the entries a ParameterValue")
 
 
 def _self_check(data: bytes, c: BinContainer, segs: dict[str, bytes]) -> None:

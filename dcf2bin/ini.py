@@ -127,6 +127,7 @@ class IniFile:
     duplicates: list[Duplicate]
     diagnostics: Diagnostics
     line_count: int = 0
+    rejected: bool = False     # not CiA 306 text at all (see ``not_text``): nothing was read
 
     def section(self, name: str) -> Section | None:
         return self.sections.get(name)
@@ -145,9 +146,53 @@ def decode_bytes(data: bytes) -> tuple[str, str]:
         return data.decode("latin-1"), "latin-1"
 
 
+# Bytes that never stand in a text file: C0 controls but tab, LF, VT, FF, CR and the
+# DOS end-of-file mark ^Z (old EDS files end with one).
+_CONTROLS = bytes(b for b in range(32) if b not in b"\t\n\v\f\r\x1a")
+_CONTROL_RE = re.compile(b"[" + re.escape(_CONTROLS) + b"]")
+_SNIFF = 8192      # how much of the file the UTF-16/binary check looks at
+_REJECT_HINT = ("an EDS/DCF is text in UTF-8 or Latin-1; a binary DCF segment container "
+                "is read by 'dcf2bin dump'")
+
+
+def not_text(data: bytes) -> tuple[str, int, str] | None:
+    """(message, line, hint) when ``data`` is not CiA 306 text at all -- UTF-16 text, a
+    binary file -- else None. Such a file is reported once instead of as thousands of
+    malformed lines. Only the first 8 KiB are looked at."""
+    head = data[:_SNIFF]
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        return ("the file looks like UTF-16 text (it starts with a UTF-16 byte order mark); "
+                "an EDS/DCF is UTF-8 or Latin-1", 1, "save it as UTF-8 and try again")
+    half = len(head) // 2
+    if half >= 2:
+        even, odd = head[0::2].count(0), head[1::2].count(0)
+        if max(even, odd) * 4 >= half * 3 and min(even, odd) * 10 <= half:
+            return ("the file looks like UTF-16 text (every other byte is 0); an EDS/DCF is "
+                    "UTF-8 or Latin-1", 1, "save it as UTF-8 and try again")
+    controls = len(head) - len(head.translate(None, _CONTROLS))
+    if controls and (head.count(0) >= 8 or controls * 10 > len(head)):
+        m = _CONTROL_RE.search(head)
+        at = m.start() if m else 0
+        return (f"the file looks binary, not like EDS/DCF text ({controls} control bytes "
+                f"in its first {len(head)}, the first at byte 0x{at:X})",
+                data.count(b"\n", 0, at) + 1, _REJECT_HINT)
+    return None
+
+
 def parse_bytes(data: bytes, path: str) -> IniFile:
+    problem = not_text(data)
+    if problem is not None:
+        message, line, hint = problem
+        return _rejected(path, message, line, hint)
     text, encoding = decode_bytes(data)
     return parse_text(text, path, encoding)
+
+
+def _rejected(path: str, message: str, line: int, hint: str,
+              encoding: str = "utf-8") -> IniFile:
+    diags = Diagnostics()
+    diags.error(message, Where(path, line), rule="DCF008", hint=hint)
+    return IniFile(path, encoding, {}, [], diags, 0, rejected=True)
 
 
 def read(path: str) -> IniFile:
@@ -161,8 +206,23 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     reader, which reports every problem with its line."""
     fast = _parse_fast(text, path, encoding)
     if fast is not None:
-        return fast
-    return _parse_exact(text, path, encoding)
+        parsed = fast
+    else:
+        if "\r" in text:
+            # SPEC §1: only LF and CRLF end lines. A file whose lines end in a lone CR
+            # (classic Mac OS) would be one huge line: say so once instead.
+            lone = text.count("\r") - text.count("\r\n")
+            if lone > text.count("\n"):
+                return _rejected(path, "the lines end in CR alone (classic Mac OS); only LF "
+                                 "and CRLF end lines in an EDS/DCF", 1,
+                                 "convert the line ends to LF or CRLF", encoding)
+        parsed = _parse_exact(text, path, encoding)
+    if not parsed.sections:
+        what = "is empty" if not text.strip() else "has no sections"
+        parsed.diagnostics.error(f"the file {what}", Where(path, None), rule="DCF056",
+                                 hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object "
+                                      "sections")
+    return parsed
 
 
 def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:

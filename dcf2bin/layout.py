@@ -63,14 +63,69 @@ def table_channel(index: int) -> Channel | None:
 
 
 def channel_for(dev, index: int) -> Channel | None:
-    """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3)."""
-    for ch in dev.channels:
+    """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3);
+    of overlapping segments (an error) the lowest-numbered."""
+    channels = dev.channels
+    if len(channels) > 8:       # a file may hold thousands: one lookup table, not a scan each
+        cached = dev.__dict__.get("_channel_owner")
+        if cached is None or cached[0] is not channels:
+            cached = dev.__dict__["_channel_owner"] = (channels, _owners(channels))
+        ch = cached[1].get(index)
+        return ch if ch is not None else table_channel(index)
+    for ch in channels:
         if ch.first <= index <= ch.last:
             return ch
     return table_channel(index)
 
 
-_RANGE_RE = re.compile(r"\s*(\S+?)\s*-\s*(\S+)\s*")
+def _owners(channels: list[Channel]) -> dict[int, Channel]:
+    """index -> the first channel (in list order) that covers it, each index painted once
+    (a skip list over the 0x1000 indexes of 0xA000-0xAFFF), so overlapping ranges cost
+    no more than disjoint ones."""
+    owner: dict[int, Channel] = {}
+    skip: dict[int, int] = {}                 # a painted index -> the next one to try
+
+    def free(i: int) -> int:
+        path = []
+        while i in skip:
+            path.append(i)
+            i = skip[i]
+        for p in path:
+            skip[p] = i
+        return i
+
+    for ch in channels:
+        i = free(ch.first)
+        while i <= ch.last:
+            owner[i] = ch
+            skip[i] = i + 1
+            i = free(i + 1)
+    return owner
+
+
+def _split_range(text: str) -> tuple[str, str] | None:
+    """'0xSSSS-0xEEEE' (blanks around '-' allowed) -> the two texts, or None. The '-' is
+    the first one after the first character that leaves two blank-free texts, as the
+    pattern \\s*(\\S+?)\\s*-\\s*(\\S+)\\s* would split it -- a pattern that backtracks
+    quadratically on a long value full of '-', so it is done by hand."""
+    words = text.split()
+    if len(words) == 1:
+        w = words[0]
+        i = w.find("-", 1)
+        return (w[:i], w[i + 1:]) if 0 < i < len(w) - 1 else None
+    if len(words) == 2:
+        a, b = words
+        if len(a) > 1 and a[-1] == "-":
+            return a[:-1], b
+        if len(b) > 1 and b[0] == "-":
+            return a, b[1:]
+        return None
+    if len(words) == 3 and words[1] == "-":
+        return words[0], words[2]
+    return None
+
+
+_NUMBERED = re.compile(r"(?:type|dir|range|ppoffset|pioffset|maxcnt)([0-9]+)")
 _DIRS = {"ro": INPUT, "rww": OUTPUT, "rwr": OUTPUT, "rw": OUTPUT}
 
 
@@ -97,7 +152,19 @@ def parse_channels(dev) -> list[Channel]:
                         "(use the numbered form, e.g. PIOffset1)", w(key), rule="DCF311")
     n = num("nrofseg") or 0
     channels: list[Channel] = []
-    for k in range(1, n + 1):
+    segments = range(1, n + 1)
+    if n > len(sec.values):
+        # A segment takes three keys: a count above the number of keys cannot be met, and
+        # it must not drive a loop of its own length. Report it once and look only at the
+        # segments that the section does describe.
+        described = sorted({int(m.group(1)) for m in map(_NUMBERED.fullmatch, sec.values)
+                            if m is not None and len(m.group(1)) < 10})
+        segments = [k for k in described if 1 <= k <= n]
+        dev.error(f"[DynamicChannels] NrOfSeg={n} but the section describes "
+                  f"{len(segments)} segment{'s' if len(segments) != 1 else ''}",
+                  w("nrofseg"), rule="DCF312",
+                  hint="NrOfSeg counts the segments Type<k>/Dir<k>/Range<k>, k = 1..NrOfSeg")
+    for k in segments:
         missing = [name for name in ("Type", "Dir", "Range") if f"{name.lower()}{k}" not in sec.keys]
         if missing:
             dev.error(f"[DynamicChannels] segment {k} lacks {', '.join(m + str(k) for m in missing)}",
@@ -116,11 +183,11 @@ def parse_channels(dev) -> list[Channel]:
             dev.error(f"[DynamicChannels] Dir{k}='{dtext}' must be ro, rw, rwr or rww",
                       w(f"dir{k}"), rule="DCF313")
             continue
-        m = _RANGE_RE.fullmatch(sec.get(f"range{k}") or "")
+        m = _split_range(sec.get(f"range{k}") or "")
         try:
             if not m:
                 raise values.ValueProblem("expected 0xSSSS-0xEEEE")
-            first, last = values.parse_int(m.group(1)), values.parse_int(m.group(2))
+            first, last = values.parse_int(m[0]), values.parse_int(m[1])
             if not 0xA000 <= first <= last <= 0xAFFF:
                 raise values.ValueProblem(f"0x{first:04X}-0x{last:04X} is not an ascending range "
                                           "inside 0xA000-0xAFFF")
@@ -156,11 +223,20 @@ def parse_channels(dev) -> list[Channel]:
         max_count = num(f"maxcnt{k}")
         channels.append(Channel(k, dtype, direction, first, last, offset, max_count,
                                 w(f"range{k}")))
-    for i, a in enumerate(channels):
-        for b in channels[i + 1:]:
-            if a.first <= b.last and b.first <= a.last:
-                dev.error(f"[DynamicChannels] Range{b.number} overlaps Range{a.number} "
-                          f"(line {a.where.line})", b.where, rule="DCF315")
+    # Overlaps in one sweep by first index: each segment that overlaps one before it is
+    # named once, with the segment reaching furthest so far (not every pair: a file of
+    # 2,000 equal ranges would otherwise make two million errors).
+    pairs = []
+    reach = None
+    for ch in sorted(channels, key=lambda c: (c.first, c.number)):
+        if reach is not None and ch.first <= reach.last:
+            pairs.append((max(ch.number, reach.number), min(ch.number, reach.number)))
+        if reach is None or ch.last > reach.last:
+            reach = ch
+    by_number = {ch.number: ch for ch in channels}
+    for b, a in sorted(pairs):
+        dev.error(f"[DynamicChannels] Range{b} overlaps Range{a} "
+                  f"(line {by_number[a].where.line})", by_number[b].where, rule="DCF315")
     return channels
 
 

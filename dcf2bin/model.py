@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
@@ -26,6 +27,8 @@ from dcf2bin.indexes import (NV_FIRST, NV_LAST, RPDO_COMM, TPDO_COMM,  # noqa: E
 _SECTION_RE = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")   # an object or sub-object
 _SUB_HEX = {f"{i:x}": i for i in range(256)}   # canonical subindex texts
 _AUX_RE = re.compile(r"([0-9a-f]{4})(name|value|denotation|objectlinks)")
+# The largest DownloadFile read (bytes); the file's own size, not its name, decides.
+MAX_DOWNLOAD_FILE = 16 << 20
 
 
 @dataclass(slots=True)
@@ -207,22 +210,47 @@ class Device:
         return data
 
     def _download(self, entry: Entry) -> bytes:
+        """The bytes of a DownloadFile (SPEC §1). Symlinks are resolved before the check
+        that the file stays in the DCF's folder; only a regular file of at most
+        MAX_DOWNLOAD_FILE bytes is read (a FIFO, a device or a directory never is), and
+        it is opened without blocking, so a FIFO cannot hang the read."""
         where = entry.key_where("downloadfile")
         name = entry.download_file or ""
-        base = os.path.dirname(os.path.abspath(self.path))
+        shown = _clip(name, 80)
+        if "\0" in name:
+            raise DcfError(f"DownloadFile '{shown}' contains a NUL byte", where, rule="DCF202")
+        base = os.path.realpath(os.path.dirname(os.path.abspath(self.path)))
         if os.path.isabs(name) and not self.allow_external_files:
-            raise DcfError(f"DownloadFile '{name}' is an absolute path", where, rule="DCF202",
+            raise DcfError(f"DownloadFile '{shown}' is an absolute path", where, rule="DCF202",
                            hint="use a path relative to the DCF, or --allow-external-files")
-        full = os.path.normpath(os.path.join(base, name))
+        full = os.path.realpath(os.path.join(base, name))
         if not self.allow_external_files and os.path.commonpath([base, full]) != base:
-            raise DcfError(f"DownloadFile '{name}' leaves the DCF's folder", where,
+            leaves = "leaves" if os.path.commonpath([base, os.path.normpath(
+                os.path.join(base, name))]) != base else "leads through a symbolic link out of"
+            raise DcfError(f"DownloadFile '{shown}' {leaves} the DCF's folder", where,
                            rule="DCF202", hint="use --allow-external-files to permit it")
         try:
-            with open(full, "rb") as f:
-                return f.read()
+            fd = os.open(full, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
+                         | getattr(os, "O_BINARY", 0))
         except OSError as exc:
-            raise DcfError(f"cannot read DownloadFile '{name}': {exc.strerror}", where,
+            raise DcfError(f"cannot read DownloadFile '{shown}': {exc.strerror}", where,
                            rule="DCF202") from None
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            os.close(fd)
+            raise DcfError(f"DownloadFile '{shown}' is not a regular file", where,
+                           rule="DCF202", hint="name a regular file, not a device, pipe "
+                           "or directory")
+        with os.fdopen(fd, "rb") as f:
+            try:
+                data = f.read(MAX_DOWNLOAD_FILE + 1)
+            except OSError as exc:
+                raise DcfError(f"cannot read DownloadFile '{shown}': {exc.strerror}", where,
+                               rule="DCF202") from None
+        if len(data) > MAX_DOWNLOAD_FILE:
+            raise DcfError(f"DownloadFile '{shown}' is larger than {MAX_DOWNLOAD_FILE >> 20} MiB",
+                           where, rule="DCF202", hint="a DOMAIN value this large cannot be "
+                           "meant for a container")
+        return data
 
     def effective_int(self, entry: Entry) -> int:
         """The effective value of an integer entry as a Python int (raises DcfError)."""

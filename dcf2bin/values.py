@@ -51,28 +51,43 @@ _INT_RE = re.compile(r"([+-]?)(?:0[xX]([0-9A-Fa-f]+)|(0[0-7]*)|([1-9][0-9]*))")
 _HEX, _OCT, _DEC = "hex", "octal", "decimal"
 
 
+# No CANopen type is wider than 64 bits (20 decimal, 16 hex, 22 octal digits). A literal
+# with more digits than this is refused before it becomes a Python int, so no message
+# ever has to print a number of thousands of digits (Python refuses to turn an int of
+# more than 4300 decimal digits into text) and no check works on a huge one.
+MAX_DIGITS = 64
+
+
+def _q(text: str, n: int = 60) -> str:
+    """A value text quoted in a message: a long one is cut in the middle, so that a
+    message stays one readable line whatever the file holds."""
+    return text if len(text) <= n else f"{text[:40]}...{text[-12:]} ({len(text)} characters)"
+
+
 def _literal(text: str) -> tuple[int, str, str]:
     """Parse one integer literal (already trimmed) -> (value, form, sign)."""
+    if len(text) > MAX_DIGITS:
+        body = text[1:] if text[:1] in ("+", "-") else text
+        digits = body[2:] if body[:2] in ("0x", "0X") else body
+        if len(digits) > MAX_DIGITS and not digits.strip("0123456789abcdefABCDEF"):
+            raise ValueProblem(f"integer literal too long ({len(digits)} digits)")
     m = _INT_RE.fullmatch(text)
     if m is None:
         body = text[1:] if text[:1] in ("+", "-") else text
         if not text:
             raise ValueProblem("missing integer value")
         if body[:2] in ("0x", "0X"):
-            raise ValueProblem(f"invalid hex literal '{text}'")
+            raise ValueProblem(f"invalid hex literal '{_q(text)}'")
         if body[:1] == "0" and body.isascii() and body.isdigit():
-            raise ValueProblem(f"invalid octal literal '{text}'")  # 08, 09, 0128 ...
-        raise ValueProblem(f"invalid integer '{text}'")
+            raise ValueProblem(f"invalid octal literal '{_q(text)}'")  # 08, 09, 0128 ...
+        raise ValueProblem(f"invalid integer '{_q(text)}'")
     sign, hexd, octd, decd = m.groups()
     if hexd is not None:
         value, form = int(hexd, 16), _HEX
     elif octd is not None:
         value, form = int(octd, 8), _OCT
     else:
-        try:
-            value, form = int(decd), _DEC
-        except ValueError:  # beyond sys.get_int_max_str_digits(); no type is that wide
-            raise ValueProblem(f"integer literal too long ({len(decd)} digits)") from None
+        value, form = int(decd), _DEC
     return (-value if sign == "-" else value), form, sign
 
 
@@ -85,7 +100,7 @@ def parse_int(text: str) -> int:
     """Parse a SPEC §1 integer literal (no ``$NODEID``); blanks around it are ignored."""
     t = text.strip(_BLANKS)
     if uses_nodeid(t):
-        raise ValueProblem(f"$NODEID is not allowed here: '{t}'")
+        raise ValueProblem(f"$NODEID is not allowed here: '{_q(t)}'")
     return _literal(t)[0]
 
 
@@ -98,17 +113,17 @@ _NODEID_RE = re.compile(r"\$NODEID(?:[ \t]*\+[ \t]*([^ \t+]+))?|([^ \t+]+)[ \t]*
 def _nodeid_formula(t: str, node_id: int | None) -> int:
     m = _NODEID_RE.fullmatch(t)
     if m is None:
-        raise ValueProblem(f"invalid $NODEID formula '{t}' (expected $NODEID, $NODEID+N or N+$NODEID)")
+        raise ValueProblem(f"invalid $NODEID formula '{_q(t)}' (expected $NODEID, $NODEID+N or N+$NODEID)")
     offset_text = m.group(1) if m.group(1) is not None else m.group(2)
     offset = 0
     if offset_text is not None:
         if uses_nodeid(offset_text):
-            raise ValueProblem(f"invalid $NODEID formula '{t}' (expected $NODEID, $NODEID+N or N+$NODEID)")
+            raise ValueProblem(f"invalid $NODEID formula '{_q(t)}' (expected $NODEID, $NODEID+N or N+$NODEID)")
         offset, _, sign = _literal(offset_text)
         if sign:
-            raise ValueProblem(f"invalid $NODEID formula '{t}' (no sign allowed on '{offset_text}')")
+            raise ValueProblem(f"invalid $NODEID formula '{_q(t)}' (no sign allowed on '{_q(offset_text)}')")
     if node_id is None:
-        raise NeedsNodeId(f"'{t}' uses $NODEID but no node-ID is known "
+        raise NeedsNodeId(f"'{_q(t)}' uses $NODEID but no node-ID is known "
                           "(give --node-id or [DeviceComissioning] NodeID)")
     return node_id + offset
 
@@ -132,7 +147,9 @@ def eval_int(text: str, node_id: int | None) -> tuple[int, bool]:
 # ---------------------------------------------------------------------------------------
 # Numeric comments (SPEC §1): "only in numeric fields may a number be followed by blanks
 # and a ';' or '#' comment". Without a blank before it, ';'/'#' stays part of the value.
-_COMMENT_RE = re.compile(r"[ \t]+([;#].*)", re.DOTALL)
+# A blank then the marker; the comment's blanks are found from there. (The obvious
+# r"[ \t]+([;#].*)" is quadratic in the length of a run of blanks without a marker.)
+_MARK_RE = re.compile(r"[ \t][;#]")
 
 
 def split_numeric_comment(text: str) -> tuple[str, str | None]:
@@ -143,10 +160,13 @@ def split_numeric_comment(text: str) -> tuple[str, str | None]:
     """
     if ";" not in text and "#" not in text:
         return text, None
-    m = _COMMENT_RE.search(text)
-    if m is None or m.start() == 0:
+    m = _MARK_RE.search(text)
+    if m is None:
         return text, None
-    return text[:m.start()], m.group(1).rstrip(_BLANKS)
+    number = text[:m.start()].rstrip(_BLANKS)
+    if not number:
+        return text, None
+    return number, text[m.start() + 1:].rstrip(_BLANKS)
 
 
 # ---------------------------------------------------------------------------------------
@@ -162,7 +182,7 @@ _REAL_INFO = {t.code: (t.size, "<f" if t.size == 4 else "<d", t.name)
 
 
 def _out_of_range(t: str, value: int, name: str, lo: int, hi: int) -> ValueProblem:
-    shown = t if t == str(value) else f"{t} (= {value})"
+    shown = _q(t) if t == str(value) else f"{_q(t)} (= {value})"
     return ValueProblem(f"value {shown} out of range for {name} ({lo}..{hi})")
 
 
@@ -181,14 +201,14 @@ def _encode_int(dtype: DataType, text: str, node_id: int | None) -> bytes:
         except NeedsNodeId:
             raise
         except ValueProblem:
-            raise ValueProblem(f"invalid BOOLEAN value '{t}' (expected 0, 1, TRUE or FALSE)") from None
+            raise ValueProblem(f"invalid BOOLEAN value '{_q(t)}' (expected 0, 1, TRUE or FALSE)") from None
     else:
         value, pattern = eval_int(t, node_id)
         if pattern and signed and value > hi:
             # SPEC §1: for a signed type an unsigned hex literal is a bit pattern of the
             # type's width (INTEGER8 0xFF = -1); wider than the type is an error.
             if value > mask:
-                raise ValueProblem(f"hex literal {t} is wider than {name} ({size * 8} bits)")
+                raise ValueProblem(f"hex literal {_q(t)} is wider than {name} ({size * 8} bits)")
             return value.to_bytes(size, "little")
     if value < lo or value > hi:
         raise _out_of_range(t, value, name, lo, hi)
@@ -199,33 +219,34 @@ def _encode_real(dtype: DataType, text: str) -> bytes:
     size, fmt, name = _REAL_INFO[dtype.code]
     t = text.strip(_BLANKS)
     if uses_nodeid(t):
-        raise ValueProblem(f"$NODEID is not allowed in a {name} value: '{t}'")  # SPEC §1
+        raise ValueProblem(f"$NODEID is not allowed in a {name} value: '{_q(t)}'")  # SPEC §1
     sign = t[:1] if t[:1] in ("+", "-") else ""
     body = t[len(sign):]
     if body[:2] in ("0x", "0X"):
         # SPEC §1: 0x... is the raw IEEE bit pattern, below 2^32 / 2^64; negative is an error.
         if sign == "-":
-            raise ValueProblem(f"negative hex literal {t} is not a {name} bit pattern")
+            raise ValueProblem(f"negative hex literal {_q(t)} is not a {name} bit pattern")
         value, _, _ = _literal(t)
         if value >> (size * 8):
-            raise ValueProblem(f"hex literal {t} is wider than {name} ({size * 8} bits)")
+            raise ValueProblem(f"hex literal {_q(t)} is wider than {name} ({size * 8} bits)")
         return value.to_bytes(size, "little")
     if body.lower() in ("inf", "infinity", "nan"):
-        raise ValueProblem(f"{name} value must be finite: '{t}'")
+        raise ValueProblem(f"{name} value must be finite: '{_q(t)}'")
     if _FLOAT_RE.fullmatch(t) is None:
-        raise ValueProblem(f"invalid {name} value '{t}'")
+        raise ValueProblem(f"invalid {name} value '{_q(t)}'")
     # SPEC §1: decimal only (010 == 10.0, never octal), converted as struct.pack does:
     # nearest double, then nearest single; overflow is an error.
     f = float(t)
     if math.isinf(f):
-        raise ValueProblem(f"{name} overflow: {t}")
+        raise ValueProblem(f"{name} overflow: {_q(t)}")
     try:
         return struct.pack(fmt, f)
     except OverflowError:
-        raise ValueProblem(f"{name} overflow: {t}") from None
+        raise ValueProblem(f"{name} overflow: {_q(t)}") from None
 
 
-_FLOAT_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+# (not [0-9]+\.?[0-9]*, which backtracks quadratically on a long run of digits)
+_FLOAT_RE = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 
 
 def _unquote(text: str) -> str:
@@ -248,13 +269,13 @@ def _encode_hex(dtype: DataType, text: str) -> bytes:
         pass
     name = dtype.name
     if t[:2] in ("0x", "0X"):
-        raise ValueProblem(f"{name} value must be hex byte pairs without 0x: '{t}'")
+        raise ValueProblem(f"{name} value must be hex byte pairs without 0x: '{_q(t)}'")
     for ch in t:
         if ch not in _BLANKS and ch not in "0123456789abcdefABCDEF":
-            raise ValueProblem(f"invalid character '{ch}' in {name} value '{t}'")
+            raise ValueProblem(f"invalid character '{ch}' in {name} value '{_q(t)}'")
     if sum(ch not in _BLANKS for ch in t) % 2:
-        raise ValueProblem(f"odd number of hex digits in {name} value '{t}'")
-    raise ValueProblem(f"a blank splits a hex byte pair in {name} value '{t}'")
+        raise ValueProblem(f"odd number of hex digits in {name} value '{_q(t)}'")
+    raise ValueProblem(f"a blank splits a hex byte pair in {name} value '{_q(t)}'")
 
 
 def encode(dtype: DataType, text: str, *, node_id: int | None = None,

@@ -151,7 +151,9 @@ def test_compile_file_delivers_warnings(tmp_path):
     assert data == BinContainer().to_bytes()
     assert [str(w.message) for w in got] == [
         f"{src}:5: warning: key 'DefaultValue' repeated in [2000] (first at line 4) "
-        "(not written by compile) [DCF010]"]
+        "(not written by compile) [DCF010]",
+        f"{src}: warning: nothing is configured (no ParameterValue or DownloadFile, no "
+        "network variable): the container holds no entries [DCF009]"]
     w = got[0]
     assert w.category is dcf2bin.DiagnosticWarning and w.filename == __file__
     assert w.message.diagnostic == dcf2bin.Diagnostic(

@@ -43,6 +43,13 @@ def lines(r):
     return r.stderr.splitlines()
 
 
+def nothing(src):
+    """compile's warning for a container without entries (these files configure nothing)."""
+    return [f"{src}: warning: nothing is configured (no ParameterValue or DownloadFile, no "
+            "network variable): the container holds no entries [DCF009]",
+            "    hint: --select all also writes every DefaultValue (the device's defaults)"]
+
+
 def findings(r):   # validate prints its findings on standard output
     return r.stdout.splitlines()
 
@@ -125,7 +132,8 @@ def test_compact_sub_obj_reports_its_one_line_once(tmp_path):
     r = run("compile", str(src), "-o", str(tmp_path / "c.bin"))
     assert r.exit_code == 0
     assert lines(r) == [f"{src}:10: warning: 0x2100sub1 DefaultValue: value 0x100 (= 256) out "
-                        "of range for UNSIGNED8 (0..255) (not written by compile) [DCF200]"]
+                        "of range for UNSIGNED8 (0..255) (not written by compile) [DCF200]"
+                        ] + nothing(src)
 
 
 def test_download_file_of_an_unwritten_entry(tmp_path):
@@ -136,7 +144,7 @@ def test_download_file_of_an_unwritten_entry(tmp_path):
     assert r.exit_code == 0
     assert lines(r) == [
         f"{src}:8: warning: cannot read DownloadFile 'missing.bin': No such file or directory "
-        "(not written by compile) [DCF202]"]
+        "(not written by compile) [DCF202]"] + nothing(src)
 
 
 # -- DCF419: a PDO mapping that does not say how many objects it maps ---------------------
@@ -183,7 +191,8 @@ def test_unstated_mapping_count_of_an_unwritten_pdo_is_a_warning(tmp_path):
     src = write(tmp_path, ELMO.format(cob=""))
     r = run("compile", str(src), "-o", str(tmp_path / "e.bin"))
     assert r.exit_code == 0
-    assert lines(r) == [f"{src}:16: warning: {MSG} (not written by compile) [DCF419]"]
+    assert lines(r) == [f"{src}:16: warning: {MSG} (not written by compile) [DCF419]"
+                        ] + nothing(src)
     assert f"{src}:16: warning: {MSG} [DCF419]" in findings(run("validate", str(src)))
 
 

@@ -57,8 +57,10 @@ def test_syntax_errors():
 
 
 def test_empty_file():
+    # an empty file is an error for compile and validate alike (the reader reports it)
     f = parse(b"")
-    assert f.sections == {} and list(f.diagnostics) == []
+    assert f.sections == {} and [d.format() for d in f.diagnostics] == [
+        "t.dcf: error: the file is empty [DCF056]"]
 
 
 # -- the fast path and the exact reader agree ------------------------------------------------

@@ -113,7 +113,9 @@ def test_duplicate_touching_written_entry_is_error_else_warning():
     assert res.ok
     assert messages(res, "warning") == [
         "test.dcf:5: warning: key 'DefaultValue' repeated in [2000] (first at line 4) "
-        "(not written by compile) [DCF010]"]
+        "(not written by compile) [DCF010]",
+        "test.dcf: warning: nothing is configured (no ParameterValue or DownloadFile, no "
+        "network variable): the container holds no entries [DCF009]"]
 
 
 def test_numeric_comment_is_ignored():

@@ -53,6 +53,8 @@ class DcfContext:
     # -- raw text ----------------------------------------------------------------------------
     @cached_property
     def text(self) -> str:
+        if self.ini.rejected:
+            return ""   # not text (DCF008): no rule looks at its "lines"
         return ini_mod.decode_bytes(self.data)[0]
 
     @cached_property

@@ -21,6 +21,16 @@ core("DCF003", "malformed-section-header", ERROR,
 core("DCF004", "comment-after-section-header", WARNING,
      "A comment follows a section header on the same line; it is ignored.",
      hint="put the comment on its own line")
+core("DCF008", "not-text", ERROR,
+     "The file is not EDS/DCF text at all: UTF-16, binary, or lines that end in CR alone; "
+     "it is reported once and not read further.",
+     hint="an EDS/DCF is text in UTF-8 or Latin-1 with LF or CRLF line ends")
+core("DCF009", "nothing-configured", WARNING,
+     "compile only: nothing in the file is configured, so the container holds no entries.",
+     hint="--select all also writes every DefaultValue (the device's defaults)")
+core("DCF056", "no-sections", ERROR,
+     "The file has no section at all (empty, or not an EDS/DCF); compile refuses it too.",
+     hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
 
 # -- structure: dcf2bin/model.py -------------------------------------------------------------
 core("DCF005", "subindex-too-large", ERROR,

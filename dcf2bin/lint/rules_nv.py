@@ -70,7 +70,7 @@ def dynch_beyond(ctx):
         return  # DCF310
     for key in sorted(ctx.key_names(sec), key=sec.line_of):
         m = _NUMBERED.fullmatch(key)
-        if m and not 1 <= int(m.group(2)) <= n:
+        if m and (len(m.group(2)) > 18 or not 1 <= int(m.group(2)) <= n):
             line = sec.line_of(key)
             yield Finding(f"[DynamicChannels] {sec.keys[key].name} is ignored: NrOfSeg={n}",
                           line, 1)

@@ -37,7 +37,7 @@ class _Lists:
                 continue
             self.sections[canon] = sec
             numbered = sorted((int(k), k) for k in ctx.key_names(sec)
-                              if k.isdigit() and k.isascii())
+                              if k.isdigit() and k.isascii() and len(k) < 20)
             for number, key in numbered:
                 line = sec.line_of(key)
                 idx = _int(sec.get(key))

@@ -4,7 +4,7 @@ from __future__ import annotations
 import re
 
 from dcf2bin import values
-from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
+from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
@@ -247,16 +247,12 @@ def bad_number(ctx):
                               ctx.value_column(line))
 
 
-@rule("DCF056", "no-sections", ERROR,
-      "The file has no section at all (empty, or not an EDS/DCF).",
-      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
-def no_sections(ctx):
-    if not ctx.ini.sections:
-        what = "is empty" if not ctx.data.strip() else "has no sections"
-        yield Finding(f"the file {what}", None)
+# DCF056 (no sections) is the reader's: compile reports it too (core_rules.py).
 
 
-_COMMENT_RE = re.compile(r"=[^\n]*?[ \t][;#]")
+# a line with '=' and later a blank and ';'/'#' (searched from the last '=' before them:
+# r"=[^\n]*?[ \t][;#]" costs time quadratic in the length of a line full of '=').
+_COMMENT_RE = re.compile(r"=[^=\n]*?[ \t][;#]")
 _STRUCT_NUMERIC = ("objecttype", "datatype", "subnumber", "compactsubobj", "objflags",
                    "pdomapping")
 
@@ -336,7 +332,8 @@ def flag_not_boolean(ctx):
 def comments_count(ctx):
     for canon, sec in ctx.of_kind("comments", "modulecomments"):
         numbers = sorted(int(k[4:]) for k in ctx.key_names(sec)
-                         if k.startswith("line") and k[4:].isdigit() and k[4:].isascii())
+                         if k.startswith("line") and k[4:].isdigit() and k[4:].isascii()
+                         and len(k) < 24)   # a longer one never matches a count of lines
         text = sec.get("lines")
         try:
             n = values.parse_int(values.split_numeric_comment(text)[0]) if text else None
@@ -346,7 +343,8 @@ def comments_count(ctx):
             if numbers:
                 yield Finding(f"[{sec.name}] has Line<k> keys but no Lines=", sec.line)
             continue
-        if numbers != list(range(1, n + 1)):
+        # compared by length first: the count must not build a list of its own size
+        if n != len(numbers) or numbers != list(range(1, n + 1)):
             yield Finding(f"[{sec.name}] Lines={n} but the Line<k> keys are "
                           f"{_ranges(numbers) or 'none'}", sec.line_of("lines"),
                           ctx.value_column(sec.line_of("lines")))

@@ -10,7 +10,7 @@ from dcf2bin.diagnostics import DcfError
 from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
 from dcf2bin.model import is_network_variable_index
 
-_COMMENT_RE = re.compile(r"=[^\n]*?[ \t][;#]")
+_COMMENT_RE = re.compile(r"=[^=\n]*?[ \t][;#]")   # see rules_syntax
 _NO_LIMITS = (dt.VSTRING, dt.OSTRING, dt.USTRING, dt.DOMAIN)
 
 
@@ -113,7 +113,7 @@ def download_file(ctx):
             ctx.dev.encode(e)
         except DcfError as exc:
             d = exc.diagnostic
-            yield Finding(d.message, d.line, ctx.value_column(d.line))
+            yield Finding(d.message, d.line, ctx.value_column(d.line), hint=d.hint)
 
 
 def _number(ctx, e, text: str):

@@ -72,7 +72,8 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
         for root, dirs, files in os.walk(p, onerror=errors.append):
             dirs[:] = sorted(d for d in dirs if not d.startswith("."))
             for name in sorted(files):
-                if not name.startswith(".") and name.lower().endswith(SUFFIXES):
+                if not name.startswith(".") and name.lower().endswith(SUFFIXES) \
+                        and os.path.isfile(os.path.join(root, name)):  # a FIFO would block
                     found.append(os.path.join(root, name))
         out.extend((f, None) for f in sorted(found, key=lambda f: f.split(os.sep)))
         for exc in errors:

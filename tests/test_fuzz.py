@@ -1,0 +1,84 @@
+"""A short deterministic run of benchmarks/fuzz.py: mutated DCFs and containers through
+compile, validate, export, dump and bin2dcf end without an internal error or a hang.
+
+The long run and its figures are in README.md ("Hostile input"); rerun it with
+``python benchmarks/fuzz.py --seed 7 --iterations 20000``.
+"""
+from __future__ import annotations
+
+import importlib.util
+import random
+import re
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+
+@pytest.fixture(scope="module")
+def fuzz():
+    spec = importlib.util.spec_from_file_location("dcf2bin_fuzz", ROOT / "benchmarks" / "fuzz.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules["dcf2bin_fuzz"] = mod      # its dataclasses look themselves up there
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_short_run_finds_no_crash(fuzz):
+    # samples and fixtures only (no corpus), so the run is the same on every checkout
+    report = fuzz.fuzz(seed=1, iterations=300, kind="both", corpus=None, timeout=60)
+    assert report.variants == 300 and report.by_kind == {"dcf": 150, "container": 150}
+    assert [(c.key, c.variant, c.command) for c in report.crashes] == []
+    assert set(report.exit_codes) <= {0, 1, 3}
+    assert report.exit_codes.get(1, 0) > 0 and report.exit_codes.get(0, 0) > 0
+    assert report.slowest[1] is not None and report.peak_rss_mib > 0
+
+
+def test_a_variant_is_the_same_bytes_every_time(fuzz):
+    files = fuzz.seed_files("dcf", None)
+    blobs = [p.read_bytes() for p in files]
+
+    def variant(i):
+        rng = random.Random(f"5:{i}")
+        j = rng.randrange(len(files))
+        return fuzz.mutate(rng, blobs[j], rng.choice(blobs), "dcf")
+
+    assert [variant(i) for i in range(20)] == [variant(i) for i in range(20)]
+
+
+def test_a_crash_is_reported_with_where_it_happened(fuzz, monkeypatch):
+    from dcf2bin import compiler
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("planted")
+
+    monkeypatch.setattr(compiler, "compile_path", broken)
+    report = fuzz.fuzz(seed=1, iterations=2, kind="dcf", corpus=None)
+    keys = {c.key for c in report.crashes}
+    # the innermost frame inside the dcf2bin package: the command that called it
+    assert len(keys) == 1 and re.fullmatch(r"RuntimeError at compile\.py:\d+ in compile_cmd",
+                                           keys.pop())
+    assert all(c.command[0] == "compile" for c in report.crashes)
+    assert "planted" in report.crashes[0].detail
+
+
+def test_command_line_exit_status(fuzz, capsys):
+    assert fuzz.main(["--seed", "3", "--iterations", "4", "--no-corpus"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("seed 3: 4 variants (container 2, dcf 2), ")
+    assert "crashes: 0 (0 distinct)\n" in out
+
+
+@pytest.mark.skipif(not hasattr(__import__("signal"), "setitimer"), reason="needs SIGALRM")
+def test_a_hang_is_reported_with_its_command(fuzz, monkeypatch):
+    import time
+
+    from dcf2bin import compiler
+
+    def stuck(*args, **kwargs):
+        time.sleep(30)
+
+    monkeypatch.setattr(compiler, "compile_path", stuck)
+    report = fuzz.fuzz(seed=1, iterations=1, kind="dcf", corpus=None, timeout=0.5)
+    assert [(c.key, c.command[0]) for c in report.crashes] == [("Hang", "compile")]
