@@ -13,6 +13,8 @@ with N CiA 405 network variables), then three tools read that file:
                 container compiled from that file (compiled once, not timed), as
                 ``dcf2bin simulate FILE.bin`` does; the report gives simulate/dcf2bin,
                 which should stay within 2x
+  validate      dcf2bin.lint.lint_bytes(name, data): every validate rule on the file
+                (what ``dcf2bin validate FILE`` does); the report gives validate/dcf2bin
   map-F         the same compile, then the variable map in format F (text, csv,
                 json, iec, c, svg, html): what ``dcf2bin map FILE --format F``
                 does but for writing the file; its child also times compile_file,
@@ -51,7 +53,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
-TOOLS = ("dcf2bin", "canopen", "configparser", "simulate")
+TOOLS = ("dcf2bin", "canopen", "configparser", "simulate", "validate")
 # dcf2bin map FILE --format F, in process: compile + the variable map in that format
 MAP_FORMATS = ("text", "csv", "json", "iec", "c", "svg", "html")
 MAP_TOOLS = tuple(f"map-{f}" for f in MAP_FORMATS)
@@ -109,6 +111,21 @@ def load_tool(tool: str):
         def describe(out) -> str:
             return f"0x{out.code:02X} {out.name}, {len(out.pdos)} PDOs"
         call.prepare = prepare
+        return call, describe
+
+    if tool == "validate":
+        sys.path.insert(0, str(REPO))
+        try:
+            from dcf2bin.lint import lint_bytes
+        except ImportError as e:
+            raise Unavailable(f"dcf2bin.lint not available ({e})") from None
+
+        def call(path: Path):
+            return lint_bytes(path.name, path.read_bytes())
+
+        def describe(res) -> str:
+            errors = sum(1 for d in res.diagnostics if d.severity.value == "error")
+            return f"{len(res.diagnostics)} findings, {errors} errors"
         return call, describe
 
     if tool in MAP_TOOLS:
@@ -317,7 +334,8 @@ def report(sizes: list[int], file_sizes: dict[int, int],
         tables.append(("peak", "Peak traced memory of one call (tracemalloc)", "MiB"))
     for key, title, unit in tables:
         headers = ["N", "file MiB", *(f"{t} {unit}" for t in TOOLS),
-                   "canopen/dcf2bin", "configparser/dcf2bin", "simulate/dcf2bin"]
+                   "canopen/dcf2bin", "configparser/dcf2bin", "simulate/dcf2bin",
+                   "validate/dcf2bin"]
         rows = []
         for n in sizes:
             v = {t: value(n, t, key) for t in TOOLS}
@@ -327,7 +345,8 @@ def report(sizes: list[int], file_sizes: dict[int, int],
                            for t in TOOLS),
                          _ratio(v["canopen"], v["dcf2bin"]),
                          _ratio(v["configparser"], v["dcf2bin"]),
-                         _ratio(v["simulate"], v["dcf2bin"])])
+                         _ratio(v["simulate"], v["dcf2bin"]),
+                         _ratio(v["validate"], v["dcf2bin"])])
         out += [title, _table(headers, rows), ""]
 
     # Linearity: how time grows from the smallest to the largest size,
