@@ -411,3 +411,18 @@ def read_eds(path: str | None, quiet: bool):
                          f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); types and "
                          "names are taken where they could be read", path)], quiet)
     return info, dev
+
+
+def target_stack_options(fn):
+    """--tx-cobs/--rx-cobs/--granularity/--no-bit-mapping: what the target's stack was
+    built with, shared by compile, validate and simulate (node words them for --container)."""
+    fn = click.option("--no-bit-mapping", is_flag=True,
+                      help="The target cannot map a BOOLEAN as 1 bit.")(fn)
+    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+                      show_default=True, help="The target's PDO mapping granularity in bits "
+                      "(8: whole bytes only).")(fn)
+    fn = click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+                      help="RPDO entries of the target's COB table (default: unlimited).")(fn)
+    fn = click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+                      help="TPDO entries of the target's COB table (default: unlimited).")(fn)
+    return fn

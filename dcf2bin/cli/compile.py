@@ -10,7 +10,7 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guarded, read_input,
-                                write_output)
+                                target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 # -- compile ------------------------------------------------------------------------------------
@@ -57,14 +57,7 @@ def _profile_choice():
 @click.option("--no-target-check", is_flag=True,
               help="Report what the target's DynBuildOd() would refuse as a warning and "
               "write the container anyway.")
-@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-              help="TPDO entries of the target's COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-              help="RPDO entries of the target's COB table (default: unlimited).")
-@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
-              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
-@click.option("--no-bit-mapping", is_flag=True,
-              help="The target cannot map a BOOLEAN as 1 bit.")
+@target_stack_options
 @click.option("--from", "from_", type=click.Choice(["dcf", "json"]),
               help="Input format (default: by extension; .json = lossless dump).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
