@@ -390,26 +390,34 @@ def _write_atomic(data: bytes, target: str, output: str, st) -> None:
 
 def read_container(path: str, quiet: bool):
     """Read and decode a container; a bad one ends with one line naming the byte offset."""
-    from dcf2bin.dump import read_bytes
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
+    return decode_container(data, name, quiet), name
+
+
+def decode_container(data: bytes, name: str, quiet: bool, *, json_input: bool = False):
+    """Decode a container (``json_input``: a ``dump --format json`` document first);
+    its diagnostics are printed, and one that cannot be read ends the command (exit 1)."""
+    from dcf2bin.dump import from_json_bytes, read_bytes
+    if json_input:
+        data, diags = from_json_bytes(data, name)
+        emit(diags, quiet)
+        if data is None:
+            raise Failure(ExitCode.FINDINGS)
     c, diags = read_bytes(data, name)
     emit(diags, quiet)
     if c is None:
         raise Failure(ExitCode.FINDINGS)
-    return c, name
+    return c
 
 
 def read_eds(path: str | None, quiet: bool):
     if path is None:
         return None, None
-    from dcf2bin.dump import load_eds
+    from dcf2bin.dump import eds_warnings, load_eds
     data = read_input(path)
     info, dev, errors = load_eds(path, data)
-    if errors:
-        emit([Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
-                         f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); types and "
-                         "names are taken where they could be read", path)], quiet)
+    emit(eds_warnings(path, errors), quiet)
     return info, dev
 
 

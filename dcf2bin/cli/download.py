@@ -5,7 +5,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded,
+                                read_input, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 NODE_ID = click.IntRange(1, 127)
@@ -107,18 +108,10 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
             click.echo(f"{name}: {_count(n, 'error')}, nothing sent", err=True)
             raise Failure(ExitCode.FINDINGS)
         return dl.plan_from_result(res, name)
-    from dcf2bin.dump import from_json_bytes, read_bytes
     text = None
     if fmt == "json":
         text = data.decode("utf-8-sig", errors="replace")   # for the line of each entry
-        data, diags = from_json_bytes(data, name)
-        emit(diags, quiet)
-        if data is None:
-            raise Failure(ExitCode.FINDINGS)
-    c, diags = read_bytes(data, name)
-    emit(diags, quiet)
-    if c is None:
-        raise Failure(ExitCode.FINDINGS)
+    c = decode_container(data, name, quiet, json_input=fmt == "json")
     return dl.plan_from_container(c, name, text)
 
 

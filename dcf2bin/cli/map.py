@@ -7,8 +7,8 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_eds, read_input,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded,
+                                read_eds, read_input, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
@@ -86,16 +86,7 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, pi_align, iec
         finally:
             gc.enable()
     else:
-        from dcf2bin.dump import from_json_bytes, read_bytes
-        if kind == "json":
-            data, diags = from_json_bytes(data, name)
-            emit(diags, quiet)
-            if data is None:
-                raise Failure(ExitCode.FINDINGS)
-        c, diags = read_bytes(data, name)
-        emit(diags, quiet)
-        if c is None:
-            raise Failure(ExitCode.FINDINGS)
+        c = decode_container(data, name, quiet, json_input=kind == "json")
         info, dev = read_eds(eds, quiet)
         vm, diags = varmap.from_container(c, name, eds=info, eds_device=dev,
                                           address_base=address_base)
