@@ -25,6 +25,17 @@ def bus_options(fn):
     return fn
 
 
+def open_bus(interface, channel, bitrate):
+    """The network on the bus of --interface/--channel/--bitrate, with the libraries'
+    own logging quiet; a bus that cannot be opened is one line and exit 3."""
+    from dcf2bin.bus import link
+    link.quiet_libraries()
+    try:
+        return link.open_network(link.BusConfig(interface, channel, bitrate))
+    except link.BusError as exc:
+        fail(str(exc), code=ExitCode.UNREADABLE)
+
+
 def _error(message: str, where: str = "dcf2bin") -> None:
     emit([Diagnostic(Severity.ERROR, message, where)])
 
@@ -79,11 +90,7 @@ def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, 
         write_output("\n".join(dl.render(plan, target)) + "\n", "-", [], binary=False)
         return
     from dcf2bin.bus import link
-    link.quiet_libraries()
-    try:
-        net = link.open_network(link.BusConfig(interface, channel, bitrate))
-    except link.BusError as exc:
-        fail(str(exc), code=ExitCode.UNREADABLE)
+    net = open_bus(interface, channel, bitrate)
     try:
         _run(net, plan, target, timeout=timeout, retries=retries, verify=verify,
              keep_going=keep_going, preop=preop, save=save, reset_comm=reset_comm,
