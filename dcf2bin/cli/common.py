@@ -138,6 +138,16 @@ def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
     raise Failure(code)
 
 
+def stop_on_errors(res, name: str, outcome: str) -> None:
+    """After ``res``'s diagnostics are printed: when it failed, one line counts its errors
+    and says what the command does not do (``outcome``), and the command ends (exit 1)."""
+    if res.ok:
+        return
+    n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+    click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, {outcome}", err=True)
+    raise Failure(ExitCode.FINDINGS)
+
+
 def _earned() -> int:
     return int(ExitCode.FINDINGS if _State.errors_emitted else ExitCode.OK)
 

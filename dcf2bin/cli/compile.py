@@ -10,8 +10,8 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guarded, read_input,
-                                target_stack_options, write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+                                stop_on_errors, target_stack_options, write_output)
+from dcf2bin.diagnostics import ExitCode
 
 # -- compile ------------------------------------------------------------------------------------
 
@@ -105,10 +105,7 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
         check_input(path)  # missing, a directory, unreadable: exit 3 like any input
     res = compile_path(name, opts, data=data_in)
     emit(res.diagnostics, quiet)
-    if not res.ok:
-        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-        click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
-        raise Failure(ExitCode.FINDINGS)
+    stop_on_errors(res, name, "nothing written")
     write(res.data, output, [input])
     if verbose:
         c = res.container

@@ -5,8 +5,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded,
-                                read_input, write_output)
+from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded, read_input,
+                                stop_on_errors, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 NODE_ID = click.IntRange(1, 127)
@@ -110,10 +110,7 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
         from dcf2bin.compiler import CompileOptions, compile_path
         res = compile_path(name, CompileOptions(node_id=node_id), data=data)
         emit(res.diagnostics, quiet)
-        if not res.ok:
-            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-            click.echo(f"{name}: {_count(n, 'error')}, nothing sent", err=True)
-            raise Failure(ExitCode.FINDINGS)
+        stop_on_errors(res, name, "nothing sent")
         return dl.plan_from_result(res, name)
     text = None
     if fmt == "json":

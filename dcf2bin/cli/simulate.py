@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, guarded, read_input,
+from dcf2bin.cli.common import (CONTEXT, Failure, emit, guarded, read_input, stop_on_errors,
                                 target_stack_options, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
@@ -101,11 +101,7 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
                               append=tuple(append), target_check="off")
         res = compile_path(name, opts, data=data)
         emit(res.diagnostics, quiet)
-        if not res.ok:
-            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-            click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, no container to simulate",
-                       err=True)
-            raise Failure(ExitCode.FINDINGS)
+        stop_on_errors(res, name, "no container to simulate")
         out = check.run(res.device, res.selection, res.container, topts, res.extra)
         names = _names(res.device)
     else:
