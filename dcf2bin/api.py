@@ -203,11 +203,7 @@ def _eds(path):
     with open(path, "rb") as f:
         data = f.read()
     info, dev, errors = _dump.load_eds(path, data)
-    if not errors:
-        return info, dev, []
-    return info, dev, [Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
-                                  f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); "
-                                  "types and names are taken where they could be read", path)]
+    return info, dev, _dump.eds_warnings(path, errors)
 
 
 def _warn(diags: list[Diagnostic]) -> None:

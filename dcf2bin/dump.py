@@ -591,6 +591,15 @@ def load_eds(path: str, data: bytes | None = None) -> tuple[EdsInfo, object, int
     return EdsInfo(entries, dev.objects), dev, errors
 
 
+def eds_warnings(path: str, errors: int) -> list[Diagnostic]:
+    """The warning for an ``--eds`` with ``errors`` errors in it (none for none)."""
+    if not errors:
+        return []
+    return [Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
+                       f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); types and "
+                       "names are taken where they could be read", path)]
+
+
 _FLAGS = [dt.attr_flags(a) for a in range(256)]
 
 

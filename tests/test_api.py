@@ -286,7 +286,8 @@ def test_to_dcf_keeps_the_container_warnings():
     assert [d.format() for d in res.diagnostics] == [
         "odd.bin:0x6: warning: header counts 9 segments, 4 are present [CNT006]",
         "odd.bin:0x0: warning: the header or segment layout is not the canonical one "
-        "(D-6/D-7); compile writes the canonical layout [B2D001]",
+        "(segments back to back after the header in table order, an empty one at offset 0 "
+        "and not counted); compile writes the canonical layout [B2D001]",
         "odd.bin: warning: the DCF will not compile back to the same container (header "
         "layout); for a lossless copy use 'dcf2bin dump --format json' [B2D010]"]
 

@@ -313,7 +313,7 @@ def test_read_only_entries_and_undefined_bits():
                      attributes=b"\x30\x76")
     assert _warnings(c) == [
         "x.bin:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); compile does not "
-        "write ro entries in the configuration group (D-8) [B2D004]",
+        "write ro entries outside the PDO objects [B2D004]",
         "x.bin:0x37: warning: 0x2000sub0 has undefined attribute bits 0x06 (0x76); no DCF "
         "entry produces them [B2D002]",
         "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
@@ -337,7 +337,7 @@ def test_select_all_is_suggested_when_it_reproduces_the_container():
                      attributes=b"\x30\x70")
     assert _warnings(c) == [
         "x.bin:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); compile does not "
-        "write ro entries in the configuration group (D-8) [B2D004]",
+        "write ro entries outside the PDO objects [B2D004]",
         "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
         "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub0 = 05 (attribute "
         "0x70); compile gives the same bytes only with --select all [B2D010]",
@@ -354,7 +354,7 @@ def test_select_all_suggestion_on_the_command_line(tmp_path):
     r = run("bin2dcf", tmp_path / "ro.bin", "-o", tmp_path / "ro.dcf")
     assert (r.exit_code, r.stderr) == (0, (
         f"{tmp_path / 'ro.bin'}:0x2C: warning: 0x1000sub0 is read-only (attribute 0x30); "
-        "compile does not write ro entries in the configuration group (D-8) [B2D004]\n"
+        "compile does not write ro entries outside the PDO objects [B2D004]\n"
         f"{tmp_path / 'ro.bin'}:0x2C: warning: the DCF will not compile back to the same "
         "container: entry 1 is 0x1000sub0 = 95010000 (attribute 0x30), compile writes "
         "nothing; compile gives the same bytes only with --select all [B2D010]\n"))

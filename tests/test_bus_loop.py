@@ -5,8 +5,8 @@ value must appear in the target's process image at the variable's PI address, an
 target's TPDO must carry an output variable's bytes back: the DCF, the offsets (SPEC
 §2), the container (§3), the DynBuildOd emulation (§8) and the bus agree.
 
-The expected addresses come from the container's PI address segment (`dcf2bin dump
---format json`), which is what `dcf2bin map` reports for a container.
+The expected addresses are the ones `dcf2bin map --format json` gives for the same DCF
+(issue 12: "at the address `map` gives for that network variable").
 """
 from __future__ import annotations
 
@@ -47,21 +47,18 @@ class Frames:
         raise AssertionError(f"no {n} frames on 0x{cob:X} within {timeout} s: {self.got}")
 
 
-def pi_addresses(bin_path: str) -> dict[tuple[int, int], int]:
-    """Network variable -> PI address, from the container's address segment."""
-    doc = json.loads(run("dump", "--format", "json", bin_path).stdout)
-    seen: list[tuple[int, int]] = []
-    for e in doc["entries"]:
-        key = (int(e["index"], 16), e["subindex"])
-        if 0xA000 <= key[0] <= 0xAFFF and key[1] >= 1 and key not in seen:
-            seen.append(key)
-    return dict(zip(seen, doc["addresses"]))
+def map_addresses(dcf_path: str) -> dict[tuple[int, int], int]:
+    """Network variable -> PI address, as `dcf2bin map --format json` gives it."""
+    r = run("map", dcf_path, "--format", "json")
+    assert r.exit_code == 0, r.output
+    return {(v["index"], v["subindex"]): v["address"]
+            for v in json.loads(r.stdout)["variables"]}
 
 
 def test_download_slave_and_see_its_tpdo_in_the_targets_process_image(channel, tmp_path):
     plc_bin = str(tmp_path / "bench_plc.bin")
     assert run("compile", "samples/bench_plc.dcf", "-o", plc_bin).exit_code == 0
-    addr = pi_addresses(plc_bin)
+    addr = map_addresses("samples/bench_plc.dcf")
     assert addr == {STATUS: 0, POSITION: 3, DIGOUT: 8, WORD: 10}
 
     bench = Bench(channel)

@@ -1,7 +1,9 @@
 """The command line: exit codes, outputs, atomic writes, lazy imports."""
 from __future__ import annotations
 
+import ast
 import os
+import pathlib
 import subprocess
 import sys
 
@@ -112,11 +114,46 @@ def test_version():
 def test_help_and_version_do_not_import_heavy_modules(args):
     code = ("import sys; from dcf2bin.cli import main\n"
             "try:\n    main(%r)\nexcept SystemExit:\n    pass\n"
-            "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('construct', 'canopen'))\n"
+            "bad = sorted(m for m in sys.modules\n"
+            "             if m.split('.')[0] in ('construct', 'canopen', 'can'))\n"
             "print(bad)" % (args,))
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={**os.environ, "NO_COLOR": "1"})
     assert out.stdout.strip().splitlines()[-1] == "[]"
+
+
+def _imports(path: pathlib.Path) -> list[tuple[int, str]]:
+    """(line, absolute module name) of every import in a module, at any depth."""
+    package = ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    if path.name != "__init__.py":
+        package = package.rpartition(".")[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[:len(package.split(".")) - node.level + 1] if node.level \
+                else []
+            found.append((node.lineno, ".".join(base + [node.module or ""]).strip(".")))
+    return found
+
+
+PACKAGE = pathlib.Path(__file__).resolve().parent.parent / "dcf2bin"
+
+
+def test_click_stays_in_the_cli_package_and_the_libraries_never_import_it():
+    """click only under dcf2bin/cli/; target, plc and bus are libraries the CLI uses,
+    never the other way round (no import cycle through dcf2bin.cli)."""
+    bad = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        part = path.relative_to(PACKAGE).parts[0]
+        for line, name in _imports(path):
+            top = name.split(".")
+            if top[0] == "click" and part != "cli":
+                bad.append(f"{path.name}:{line}: {name}")
+            if top[:2] == ["dcf2bin", "cli"] and part in ("target", "plc", "bus"):
+                bad.append(f"{part}/{path.name}:{line}: {name}")
+    assert bad == []
 
 
 def test_python_m_entry_point():

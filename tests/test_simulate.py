@@ -91,6 +91,18 @@ def test_simulate_the_edited_dcf(tmp_path, line, text, error):
     assert (doc["code"], doc["where"], doc["rule"]) == (code, f"{src}:{line}", f"TGT{code:03X}")
 
 
+def test_a_dcf_that_does_not_compile_has_nothing_to_simulate(tmp_path):
+    lines = PLC.split("\n")
+    line = next(n for n, text in enumerate(lines, 1) if text.startswith("DefaultValue=")
+                and n > lines.index("[A040sub1]"))
+    src = edited(tmp_path, line, "DefaultValue=0x1FF")
+    r = run("simulate", src)
+    assert r.exit_code == 1 and r.stdout == ""
+    assert r.stderr == (f"{src}:{line}: error: 0xA040sub1: value 0x1FF (= 511) out of range "
+                        "for UNSIGNED8 (0..255) [DCF200]\n"
+                        f"{src}: 1 error, no container to simulate\n")
+
+
 @pytest.mark.parametrize("name", ["plc", "device", "bild8", "dis2"])
 def test_samples_still_compile_byte_identically(tmp_path, name):
     r = run("compile", SAMPLES / f"{name}.dcf", "-o", tmp_path / "x.bin")

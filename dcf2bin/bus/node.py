@@ -29,6 +29,7 @@ import canopen
 import canopen.objectdictionary as od_mod
 from canopen.sdo import SdoAbortedError
 
+from dcf2bin import datatypes as dt
 from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 
 SYNC_COB_ID = 0x080
@@ -391,7 +392,6 @@ def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
 # -- an emulated SYS TEC target -----------------------------------------------------------
 
 _KIND_CODES = {"bool": 0x01, "vstring": 0x09, "domain": 0x0F}
-_UNSIGNED_BY_SIZE = {1: 0x05, 2: 0x06, 3: 0x16, 4: 0x07, 5: 0x18, 6: 0x19, 7: 0x1A, 8: 0x1B}
 
 
 def _type_code(entry) -> int:
@@ -400,7 +400,8 @@ def _type_code(entry) -> int:
     if entry.dtype is not None:
         return entry.dtype.code
     if entry.kind == "numeric":
-        return _UNSIGNED_BY_SIZE.get(len(entry.data), 0x0F)
+        t = dt.UNSIGNED_BY_SIZE.get(len(entry.data))
+        return t.code if t is not None else 0x0F
     return _KIND_CODES.get(entry.kind, 0x0F)
 
 

@@ -138,6 +138,16 @@ def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
     raise Failure(code)
 
 
+def stop_on_errors(res, name: str, outcome: str) -> None:
+    """After ``res``'s diagnostics are printed: when it failed, one line counts its errors
+    and says what the command does not do (``outcome``), and the command ends (exit 1)."""
+    if res.ok:
+        return
+    n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+    click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, {outcome}", err=True)
+    raise Failure(ExitCode.FINDINGS)
+
+
 def _earned() -> int:
     return int(ExitCode.FINDINGS if _State.errors_emitted else ExitCode.OK)
 
@@ -390,24 +400,47 @@ def _write_atomic(data: bytes, target: str, output: str, st) -> None:
 
 def read_container(path: str, quiet: bool):
     """Read and decode a container; a bad one ends with one line naming the byte offset."""
-    from dcf2bin.dump import read_bytes
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
+    return decode_container(data, name, quiet), name
+
+
+def decode_container(data: bytes, name: str, quiet: bool, *, json_input: bool = False):
+    """Decode a container (``json_input``: a ``dump --format json`` document first);
+    its diagnostics are printed, and one that cannot be read ends the command (exit 1)."""
+    from dcf2bin.dump import from_json_bytes, read_bytes
+    if json_input:
+        data, diags = from_json_bytes(data, name)
+        emit(diags, quiet)
+        if data is None:
+            raise Failure(ExitCode.FINDINGS)
     c, diags = read_bytes(data, name)
     emit(diags, quiet)
     if c is None:
         raise Failure(ExitCode.FINDINGS)
-    return c, name
+    return c
 
 
 def read_eds(path: str | None, quiet: bool):
     if path is None:
         return None, None
-    from dcf2bin.dump import load_eds
+    from dcf2bin.dump import eds_warnings, load_eds
     data = read_input(path)
     info, dev, errors = load_eds(path, data)
-    if errors:
-        emit([Diagnostic(Severity.WARNING, f"the EDS has {errors} error"
-                         f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); types and "
-                         "names are taken where they could be read", path)], quiet)
+    emit(eds_warnings(path, errors), quiet)
     return info, dev
+
+
+def target_stack_options(fn):
+    """--tx-cobs/--rx-cobs/--granularity/--no-bit-mapping: what the target's stack was
+    built with, shared by compile, validate and simulate (node words them for --container)."""
+    fn = click.option("--no-bit-mapping", is_flag=True,
+                      help="The target cannot map a BOOLEAN as 1 bit.")(fn)
+    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+                      show_default=True, help="The target's PDO mapping granularity in bits "
+                      "(8: whole bytes only).")(fn)
+    fn = click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+                      help="RPDO entries of the target's COB table (default: unlimited).")(fn)
+    fn = click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+                      help="TPDO entries of the target's COB table (default: unlimited).")(fn)
+    return fn

@@ -10,8 +10,8 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guarded, read_input,
-                                write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+                                stop_on_errors, target_stack_options, write_output)
+from dcf2bin.diagnostics import ExitCode
 
 # -- compile ------------------------------------------------------------------------------------
 
@@ -57,14 +57,7 @@ def _profile_choice():
 @click.option("--no-target-check", is_flag=True,
               help="Report what the target's DynBuildOd() would refuse as a warning and "
               "write the container anyway.")
-@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-              help="TPDO entries of the target's COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-              help="RPDO entries of the target's COB table (default: unlimited).")
-@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
-              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
-@click.option("--no-bit-mapping", is_flag=True,
-              help="The target cannot map a BOOLEAN as 1 bit.")
+@target_stack_options
 @click.option("--from", "from_", type=click.Choice(["dcf", "json"]),
               help="Input format (default: by extension; .json = lossless dump).")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
@@ -112,10 +105,7 @@ def compile_cmd(input, output, node_id, select_, pdo_sequence, static_od, no_pro
         check_input(path)  # missing, a directory, unreadable: exit 3 like any input
     res = compile_path(name, opts, data=data_in)
     emit(res.diagnostics, quiet)
-    if not res.ok:
-        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-        click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
-        raise Failure(ExitCode.FINDINGS)
+    stop_on_errors(res, name, "nothing written")
     write(res.data, output, [input])
     if verbose:
         c = res.container

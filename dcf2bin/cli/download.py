@@ -5,7 +5,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded, read_input,
+                                stop_on_errors, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 NODE_ID = click.IntRange(1, 127)
@@ -22,6 +23,17 @@ def bus_options(fn):
                       help="python-can interface: socketcan, pcan, kvaser, ixxat, vector, "
                       "slcan, virtual, ... (default: python-can's configuration).")(fn)
     return fn
+
+
+def open_bus(interface, channel, bitrate):
+    """The network on the bus of --interface/--channel/--bitrate, with the libraries'
+    own logging quiet; a bus that cannot be opened is one line and exit 3."""
+    from dcf2bin.bus import link
+    link.quiet_libraries()
+    try:
+        return link.open_network(link.BusConfig(interface, channel, bitrate))
+    except link.BusError as exc:
+        fail(str(exc), code=ExitCode.UNREADABLE)
 
 
 def _error(message: str, where: str = "dcf2bin") -> None:
@@ -78,11 +90,7 @@ def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, 
         write_output("\n".join(dl.render(plan, target)) + "\n", "-", [], binary=False)
         return
     from dcf2bin.bus import link
-    link.quiet_libraries()
-    try:
-        net = link.open_network(link.BusConfig(interface, channel, bitrate))
-    except link.BusError as exc:
-        fail(str(exc), code=ExitCode.UNREADABLE)
+    net = open_bus(interface, channel, bitrate)
     try:
         _run(net, plan, target, timeout=timeout, retries=retries, verify=verify,
              keep_going=keep_going, preop=preop, save=save, reset_comm=reset_comm,
@@ -102,23 +110,12 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
         from dcf2bin.compiler import CompileOptions, compile_path
         res = compile_path(name, CompileOptions(node_id=node_id), data=data)
         emit(res.diagnostics, quiet)
-        if not res.ok:
-            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-            click.echo(f"{name}: {_count(n, 'error')}, nothing sent", err=True)
-            raise Failure(ExitCode.FINDINGS)
+        stop_on_errors(res, name, "nothing sent")
         return dl.plan_from_result(res, name)
-    from dcf2bin.dump import from_json_bytes, read_bytes
     text = None
     if fmt == "json":
         text = data.decode("utf-8-sig", errors="replace")   # for the line of each entry
-        data, diags = from_json_bytes(data, name)
-        emit(diags, quiet)
-        if data is None:
-            raise Failure(ExitCode.FINDINGS)
-    c, diags = read_bytes(data, name)
-    emit(diags, quiet)
-    if c is None:
-        raise Failure(ExitCode.FINDINGS)
+    c = decode_container(data, name, quiet, json_input=fmt == "json")
     return dl.plan_from_container(c, name, text)
 
 

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input, write_output
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.cli.common import (CONTEXT, emit, fail, guarded, read_input, stop_on_errors,
+                                write_output)
+from dcf2bin.diagnostics import ExitCode
 
 # Kept literally here (module-level imports stay light); tests check it equals
 # dcf2bin.export.FORMATS.
@@ -92,8 +93,5 @@ def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with
               includes=list(includes) if includes else None, symbol=symbol, prefix=prefix,
               max_object_size=max_object_size)
     emit(res.diagnostics, quiet)
-    if not res.ok:
-        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-        click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, nothing written", err=True)
-        raise Failure(ExitCode.FINDINGS)
+    stop_on_errors(res, name, "nothing written")
     write_output(res.output, output, [input], binary=(fmt == "lenze-bin"))

@@ -7,9 +7,9 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_eds, read_input,
-                                write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded, read_eds,
+                                read_input, stop_on_errors, write_output)
+from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
 
@@ -76,26 +76,14 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, pi_align, iec
         res = compile_path(name, CompileOptions(node_id=node_id, pi_align=int(pi_align)),
                            data=data)
         emit(res.diagnostics, quiet)
-        if not res.ok:
-            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-            click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, no map", err=True)
-            raise Failure(ExitCode.FINDINGS)
+        stop_on_errors(res, name, "no map")
         gc.disable()      # 60,000 rows and no cycles: as compile_path does
         try:
             vm = varmap.from_result(res, os.path.basename(name))
         finally:
             gc.enable()
     else:
-        from dcf2bin.dump import from_json_bytes, read_bytes
-        if kind == "json":
-            data, diags = from_json_bytes(data, name)
-            emit(diags, quiet)
-            if data is None:
-                raise Failure(ExitCode.FINDINGS)
-        c, diags = read_bytes(data, name)
-        emit(diags, quiet)
-        if c is None:
-            raise Failure(ExitCode.FINDINGS)
+        c = decode_container(data, name, quiet, json_input=kind == "json")
         info, dev = read_eds(eds, quiet)
         vm, diags = varmap.from_container(c, name, eds=info, eds_device=dev,
                                           address_base=address_base)

@@ -7,7 +7,7 @@ import time
 import click
 
 from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input
-from dcf2bin.cli.download import NODE_ID, bus_options
+from dcf2bin.cli.download import NODE_ID, bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
@@ -81,11 +81,7 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
                       + image.lines()))
     if verbose:
         node.on_event = lambda text: click.echo(f"node {node.id}: {text}", err=True)
-    link.quiet_libraries()
-    try:
-        net = link.open_network(link.BusConfig(interface, channel, bitrate))
-    except link.BusError as exc:
-        fail(str(exc), code=ExitCode.UNREADABLE)
+    net = open_bus(interface, channel, bitrate)
     try:
         node.attach(net, operational=operational)
         if not quiet:

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, read_input, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, emit, guarded, read_input, stop_on_errors,
+                                target_stack_options, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 _DCF_SUFFIXES = (".dcf", ".eds", ".ini")
@@ -40,14 +41,7 @@ def _kind(path: str, data: bytes, forced: str | None) -> str:
               "container never writes is not checked (a warning says so).")
 @click.option("--pi-size", type=click.IntRange(0), metavar="N",
               help="PI memory the target gives, in bytes (default: unlimited).")
-@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-              help="TPDO entries of the target's COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-              help="RPDO entries of the target's COB table (default: unlimited).")
-@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
-              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
-@click.option("--no-bit-mapping", is_flag=True,
-              help="The target cannot map a BOOLEAN as 1 bit.")
+@target_stack_options
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
               show_default=True, help="PI addresses count from the image start or their area.")
 @click.option("-f", "--format", "fmt", type=click.Choice(["text", "json"]), default="text",
@@ -107,11 +101,7 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
                               append=tuple(append), target_check="off")
         res = compile_path(name, opts, data=data)
         emit(res.diagnostics, quiet)
-        if not res.ok:
-            n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-            click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, no container to simulate",
-                       err=True)
-            raise Failure(ExitCode.FINDINGS)
+        stop_on_errors(res, name, "no container to simulate")
         out = check.run(res.device, res.selection, res.container, topts, res.extra)
         names = _names(res.device)
     else:

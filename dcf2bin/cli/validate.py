@@ -10,7 +10,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, guarded, read_input, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, guarded, read_input,
+                                target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -44,14 +45,7 @@ FORMATS = ("text", "json", "sarif", "github")
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
 @click.option("--no-target-check", is_flag=True,
               help="Do not run the model of the target's DynBuildOd() (the TGT rules).")
-@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-              help="TPDO entries of the target's COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-              help="RPDO entries of the target's COB table (default: unlimited).")
-@click.option("--granularity", type=click.Choice(["8", "64"]), default="64", show_default=True,
-              help="The target's PDO mapping granularity in bits (8: whole bytes only).")
-@click.option("--no-bit-mapping", is_flag=True,
-              help="The target cannot map a BOOLEAN as 1 bit.")
+@target_stack_options
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")

@@ -110,7 +110,7 @@ class EntryTyper:
             dtype = dt.UNSIGNED8 if len(data) == 1 else by_size(len(data))
             if attr is not None and attr != 0x30:
                 self.issues.add(R_ATTR, off, f"{label} has attribute 0x{attr:02X}; compile "
-                                "gives sub 0 of a network-variable object 0x30 (D-9)")
+                                "gives sub 0 of a network-variable object 0x30")
             return SubSpec(index, sub, dtype, "ro", False, writes, self.sub_name(index, sub))
         dtype, access, pdo = self.infer(label, off, attr, data)
         eds_e = self.eds.entries.get((index, sub)) if self.eds is not None else None
@@ -129,8 +129,8 @@ class EntryTyper:
                 dtype, access, pdo = et, eds_e.access, eds_e.pdo_mapping
         if access in ("ro", "const") and not (is_comm(index) or is_mapping(index)):
             self.issues.add(R_SELECT, off, f"{label} is read-only (attribute "
-                            f"0x{attr:02X}); compile does not write ro entries in the "
-                            "configuration group (D-8)")
+                            f"0x{attr:02X}); compile does not write ro entries outside "
+                            "the PDO objects")
         return SubSpec(index, sub, dtype, access, pdo, writes, self.sub_name(index, sub))
 
     def infer(self, label: str, off: int, attr: int | None, data: bytes):
@@ -177,7 +177,7 @@ class EntryTyper:
             bad = next(w for w in writes if w.attr != 0xF0)
             shown = f"0x{bad.attr:02X}" if bad.attr is not None else "none"
             self.issues.add(R_ATTR, bad.offset, f"{label} has attribute {shown}; compile "
-                            "gives every network variable 0xF0 (D-9)")
+                            "gives every network variable 0xF0")
         if len(writes) > 1:
             self.issues.add(R_REPEAT, writes[0].offset, f"{label} is written "
                             f"{len(writes)} times; compile writes a network variable once")

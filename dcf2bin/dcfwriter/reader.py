@@ -83,7 +83,9 @@ class _Reader:
         c = self.c
         if c.header is not None:
             self.issues.add(R_HEADER, 0, "the header or segment layout is not the canonical one "
-                            "(D-6/D-7); compile writes the canonical layout")
+                            "(segments back to back after the header in table order, an "
+                            "empty one at offset 0 and not counted); compile writes the "
+                            "canonical layout")
         if c.raw_piparam is not None:
             self.issues.add(R_HEADER, self.spec.header["piparam_offset"],
                             f"the PI parameter segment has {len(c.raw_piparam)} bytes, not 20")
@@ -179,8 +181,8 @@ class _Reader:
                     p = _pp(vs, index, start, dtype)
                 if p == "mixed" or (p is not None and p < 0):
                     self.issues.add(R_PI, where, f"0x{index:04X}: the addresses of its "
-                                    "variables do not follow the layout of SPEC §2.2 "
-                                    "(start + element * size)")
+                                    "variables do not follow the layout start + element * "
+                                    "size (254 variables an index)")
                     p0 = _pp(vs[:1], index, start, dtype)
                     p = p0 if isinstance(p0, int) and p0 >= 0 else 0
                 region.append(ChannelSpec(dtype, direction, start, pp=p))

@@ -145,10 +145,8 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
         highest = max(subs)
         sec = obj.section
         if sec is not None and sec.has("subnumber"):
-            try:
-                n = int(sec.values["subnumber"], 0) + len(ps)
-            except ValueError:
-                n = len(subs)
+            # SubNumber as the DCF reader parsed it (any literal form, a trailing comment)
+            n = obj.sub_number + len(ps) if obj.sub_number is not None else len(subs)
             k = sec.line_of("subnumber") - 1
             replace[k] = _set_value(lines[k], str(n), encoding)
         e0 = obj.entries.get(0)
