@@ -546,9 +546,14 @@ def _max_rss_mib() -> float:
     return rss / (1 << 20) if sys.platform == "darwin" else rss / 1024
 
 
+# compiled up front: after a MemoryError in a command there may be no memory left to
+# compile a pattern (a 15,000-variant run died there instead of reporting the crash)
+_FRAME = re.compile(r'File "([^"]*dcf2bin[/\\][^"]*)", line (\d+), in (\S+)')
+
+
 def _crash_key(exc_text: str) -> str:
     """Exception type and the innermost frame inside dcf2bin, from a traceback text."""
-    frames = re.findall(r'File "([^"]*dcf2bin[/\\][^"]*)", line (\d+), in (\S+)', exc_text)
+    frames = _FRAME.findall(exc_text)
     last = exc_text.strip().splitlines()[-1] if exc_text.strip() else "?"
     where = ""
     if frames:
