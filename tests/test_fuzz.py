@@ -4,7 +4,7 @@ allocate CSVs through allocate (alone and --into samples/plc.dcf), end without a
 error or a hang.
 
 The long run and its figures are in README.md ("Hostile input"); rerun it with
-``python benchmarks/fuzz.py --seed 7 --iterations 15000``.
+``python benchmarks/fuzz.py --seed 7 --iterations 12000``.
 """
 from __future__ import annotations
 
