@@ -14,10 +14,20 @@ truncation, random sections and keys, very long lines, UTF-16, bad UTF-8, splice
 files, hostile DownloadFile names (a FIFO, a device, a symlink out of the folder, NUL).
 Container mutations: byte flips, header fields set to edge values, huge counts and sizes,
 truncation, appended, inserted and duplicated bytes, splices.
+CSV mutations (allocate's ``name,type,direction`` lists, seeded from ``*.csv`` under samples/
+and tests/ and CSV_SEEDS): random rows (names duplicated, empty, non-ASCII, 300 characters;
+types by name or 0x code, invalid ones too; directions), many rows (up to 100,000, bounded
+so a variant stays below 1 MB), mangled headers, broken quoting, other delimiters, hostile
+cells, NULs, and the line and encoding mutations of the DCFs.
 
 Each DCF variant goes through ``compile`` (random options), ``validate`` and, when compile
-wrote a container, ``dump`` (text and JSON); each container through ``dump`` (text, JSON,
-and ``compile`` of that JSON), ``bin2dcf`` and ``validate`` -- the real commands, run
+wrote a container, ``dump`` (text and JSON), sometimes ``compile --format c``, then
+``simulate`` (sometimes ``--format json``, ``--emit-od``, target limits) and ``map`` in two
+formats drawn from the seed; each container through ``dump`` (text, JSON, and ``compile`` of
+that JSON), ``bin2dcf``, ``validate``, ``simulate`` and ``map`` (one format); each CSV through
+``allocate`` and ``allocate --into samples/plc.dcf`` (and sometimes ``map`` of what
+allocate wrote). ``--kind all`` (the default) takes dcf, container, csv in turn; ``both``
+dcf and container only. These are the real commands, run
 in-process through click, with ``--debug`` so that an internal error surfaces as the
 exception it is. A *crash* is exit status 70 or any exception; the expected outcomes
 are exit 0 (ok), 1 (diagnostics) and 3 (unreadable input). A variant that runs longer
@@ -57,15 +67,21 @@ except ImportError:  # Windows
 CORPUS = ROOT.parent / "shared" / "corpus" / "files"
 MAX_SEED_SIZE = 64 * 1024      # larger seed files make each variant slow, not more varied
 MAX_GROWTH = 4 << 20           # what one duplication may add (bytes)
+PLC_DCF = ROOT / "samples" / "plc.dcf"     # the base of allocate --into
+MAP_FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
+KINDS = {"both": ["dcf", "container"], "all": ["dcf", "container", "csv"]}
 
 # -- seeds ------------------------------------------------------------------------------------
 
 
 def seed_files(kind: str, corpus: Path | None, max_size: int = MAX_SEED_SIZE) -> list[Path]:
-    """The seed files of ``kind`` ('dcf' or 'container'), sorted, so a seed is a seed."""
-    suffixes = (".dcf", ".eds") if kind == "dcf" else (".bin",)
+    """The seed files of ``kind`` ('dcf', 'container' or 'csv'), sorted, so a seed is a seed.
+    csv: the variable lists of samples/ and tests/ (no corpus) plus CSV_SEEDS."""
+    suffixes = {"dcf": (".dcf", ".eds"), "container": (".bin",), "csv": (".csv",)}[kind]
     folders = [ROOT / "samples", ROOT / "tests" / "fixtures"]
-    if corpus is not None and corpus.is_dir():
+    if kind == "csv":
+        folders = [ROOT / "samples", ROOT / "tests"]
+    elif corpus is not None and corpus.is_dir():
         folders.append(corpus)
     files = []
     for folder in folders:
@@ -327,12 +343,119 @@ BIN_MUTATIONS = [c_flip, c_field, c_field, c_dword, c_dword, c_truncate, c_appen
                  c_dup, c_splice, c_fix_total]
 
 
+# allocate input: a CSV name,type,direction (dcf2bin allocate)
+CSV_SEEDS = [b"name,type,direction\n",
+             b"name,type,direction\nA,UNSIGNED8,input\nB,INTEGER16,output\nC,REAL32,input\n"
+             b"D,BOOLEAN,output\nE,UNSIGNED64,input\nF,0x0007,output\n",
+             b"name,type,direction\r\nx,0x0005,in\r\ny,0x0008,out\r\n"]
+CSV_NAMES = ["A", "B", "IN0_IN7", "", " ", "Motor #1", "\u00e9t\u00e9", "\u6e29\u5ea6", "a,b",
+             '"q"', "x" * 300, "1abc", "a b", "a;b", "\t", "\U0001F600", "NaN", "name",
+             "_", "A" * 64, "\u0000x", "a\"b", "..", "%IX0.0"]
+CSV_TYPES = ["BOOLEAN", "INTEGER8", "INTEGER16", "INTEGER32", "INTEGER64", "UNSIGNED8",
+             "UNSIGNED16", "UNSIGNED32", "UNSIGNED64", "REAL32", "REAL64", "INTEGER24",
+             "UNSIGNED24", "VISIBLE_STRING", "OCTET_STRING", "DOMAIN", "unsigned8", " UNSIGNED8 ",
+             "0x0001", "0x0002", "0x0005", "0x0007", "0x0008", "0x0011", "0x001B", "0x7", "7",
+             "0x0000", "0xFFFF", "0x10000", "0x" + "F" * 40, "0x", "0xZZ", "-1", "", "BYTE",
+             "WORD", "UINT", "INT", "uint8_t", "0x0009", "0x000F", "0x0010", "0x0015"]
+CSV_DIRS = ["input", "output", "input", "output", "in", "out", "INPUT", "Output", "", " input",
+            "both", "tx", "rx", "inout", "\u00fcber", "input ", "0", "1"]
+CSV_HEADERS = [b"name,type,direction", b"direction,type,name", b"name,type", b"name",
+               b"name,type,direction,extra", b"Name,Type,Direction", b"name;type;direction",
+               b"\xef\xbb\xbfname,type,direction", b"", b"name,,direction", b"name,name,name",
+               b'"name","type","direction"', b"name,type,direction,", b" name , type , direction"]
+MAX_CSV = 1 << 20             # a csv variant stays below 1 MB
+
+
+def _csv_row(rng, names=None) -> bytes:
+    if names and rng.random() < 0.3:
+        name = rng.choice(names)                      # a duplicate
+    elif rng.random() < 0.6:
+        name = f"{rng.choice(['V', 'IN', 'OUT', 'x', 'Var_'])}{rng.randrange(10000)}"
+    else:
+        name = rng.choice(CSV_NAMES)
+    cells = [name, rng.choice(CSV_TYPES), rng.choice(CSV_DIRS)]
+    r = rng.random()
+    if r < 0.05:
+        cells.append(rng.choice(["", "x", "0x10", '"extra"']))
+    elif r < 0.1:
+        cells.pop()
+    if rng.random() < 0.1:
+        i = rng.randrange(len(cells))
+        cells[i] = '"' + cells[i].replace('"', '""') + '"'
+    return ",".join(cells).encode("utf-8", "surrogatepass")
+
+
+def _csv_names(data: bytes) -> list[str]:
+    return [line.split(b",")[0].decode("utf-8", "replace") for line in _lines(data)[1:6]]
+
+
+def v_rows(rng, data, other):
+    names = _csv_names(data)
+    rows = [_csv_row(rng, names) for _ in range(rng.randint(1, 12))]
+    body = data if data.endswith(b"\n") or not data else data + b"\n"
+    return body + b"\n".join(rows) + b"\n", f"rows x{len(rows)}"
+
+
+def v_many_rows(rng, data, other):
+    row = _csv_row(rng, _csv_names(data))
+    n = rng.choice([100, 1000, 10000, 100000])
+    vary = rng.random() < 0.5         # numbered names (distinct) or the same row (duplicates)
+    size = len(row) + 8
+    n = max(1, min(n, (MAX_CSV - len(data)) // (size + 1) - 1))
+    if vary:
+        parts = row.split(b",", 1)
+        rows = [parts[0] + str(k).encode() + (b"," + parts[1] if len(parts) > 1 else b"")
+                for k in range(n)]
+    else:
+        rows = [row] * n
+    body = data if data.endswith(b"\n") or not data else data + b"\n"
+    return body + b"\n".join(rows) + b"\n", f"many-rows x{n}{' distinct' if vary else ''}"
+
+
+def v_header(rng, data, other):
+    lines = _lines(data)
+    head = rng.choice(CSV_HEADERS)
+    if rng.random() < 0.2:
+        return b"\n".join([head] + lines), "header+"        # a second header line
+    return b"\n".join([head] + lines[1:]), f"header {head[:20]!r}"
+
+
+def v_quote(rng, data, other):
+    at = rng.randrange(len(data) + 1)
+    junk = rng.choice([b'"', b'"', b'""', b'"a""b', b'"\n', b',"', b'\\"', b"'", b'"x"y'])
+    return data[:at] + junk + data[at:], "quote"
+
+
+def v_delim(rng, data, other):
+    sep = rng.choice([b";", b"\t", b"|", b", ", b",,"])
+    return data.replace(b",", sep), f"delim {sep!r}"
+
+
+def v_cell(rng, data, other):
+    """One cell of one row replaced with a hostile value."""
+    lines = _lines(data)
+    i = rng.randrange(len(lines))
+    cells = lines[i].split(b",")
+    j = rng.randrange(len(cells))
+    value = rng.choice(CSV_NAMES + CSV_TYPES + CSV_DIRS + HUGE)
+    cells[j] = value.encode("utf-8", "surrogatepass")
+    lines[i] = b",".join(cells)
+    return b"\n".join(lines), "cell"
+
+
+CSV_MUTATIONS = [v_rows, v_rows, v_rows, v_many_rows, v_header, v_quote, v_quote, v_delim,
+                 v_cell, v_cell, m_nul, m_flip, m_truncate, m_dup_line, m_del_lines, m_swap,
+                 m_cr_only, m_line_ends, m_utf16, m_bad_utf8, m_splice, m_binary]
+
+
 def mutate(rng: random.Random, data: bytes, other: bytes, kind: str) -> tuple[bytes, list[str]]:
-    table = DCF_MUTATIONS if kind == "dcf" else BIN_MUTATIONS
+    table = {"dcf": DCF_MUTATIONS, "container": BIN_MUTATIONS, "csv": CSV_MUTATIONS}[kind]
     ops = []
     for _ in range(rng.choice([1, 1, 2, 3])):
         data, what = rng.choice(table)(rng, data, other)
         ops.append(what)
+    if kind == "csv" and len(data) >= MAX_CSV:     # m_dup_line may grow past the bound
+        data, ops = data[:MAX_CSV - 1], ops + ["cut"]
     if kind == "container" and rng.random() < 0.5:
         data, what = c_fix_total(rng, data, other)
         ops.append(what)
@@ -423,9 +546,14 @@ def _max_rss_mib() -> float:
     return rss / (1 << 20) if sys.platform == "darwin" else rss / 1024
 
 
+# compiled up front: after a MemoryError in a command there may be no memory left to
+# compile a pattern (a 15,000-variant run died there instead of reporting the crash)
+_FRAME = re.compile(r'File "([^"]*dcf2bin[/\\][^"]*)", line (\d+), in (\S+)')
+
+
 def _crash_key(exc_text: str) -> str:
     """Exception type and the innermost frame inside dcf2bin, from a traceback text."""
-    frames = re.findall(r'File "([^"]*dcf2bin[/\\][^"]*)", line (\d+), in (\S+)', exc_text)
+    frames = _FRAME.findall(exc_text)
     last = exc_text.strip().splitlines()[-1] if exc_text.strip() else "?"
     where = ""
     if frames:
@@ -502,19 +630,64 @@ class Runner:
                 cmds.append(["export", "-q", "--format", rng.choice(["lenze-st", "port-c"]),
                              str(path), "-o", str(self.dir / "out.txt")])
             cmds.append(["@dump-if-written"])
+            # the newer commands (their draws come after the ones above: older variants
+            # run the same commands as before, plus these)
+            if rng.random() < 0.3:
+                cmds.append(["compile", "-q", "--format", "c", *opts, str(path),
+                             "-o", str(self.dir / "out.c")])
+            cmds.append(self.simulate(rng, path, dcf=True))
+            for fmt in rng.sample(MAP_FORMATS, 2):
+                cmds.append(self.map(rng, fmt, path, dcf=True))
+            return cmds
+        if kind == "csv":
+            cmds = [["allocate", str(path), "-o", str(self.dir / "alloc.dcf")],
+                    ["allocate", str(path), "--into", str(PLC_DCF),
+                     "-o", str(self.dir / "into.dcf")]]
+            if rng.random() < 0.2:
+                cmds[rng.randrange(2)].append("-v")
+            if rng.random() < 0.3:
+                cmds.append(["@map-allocated", rng.choice(MAP_FORMATS)])
             return cmds
         return [["dump", "-q", str(path)],
                 ["dump", "-q", "-f", "json", str(path), "-o", str(self.dir / "out.json")],
                 ["@compile-json"],
                 ["bin2dcf", "-q", str(path), "-o", str(self.dir / "back.dcf")],
-                ["validate", "-q", str(path)]]
+                ["validate", "-q", str(path)],
+                self.simulate(rng, path, dcf=False),
+                self.map(rng, rng.choice(MAP_FORMATS), path, dcf=False)]
+
+    def simulate(self, rng: random.Random, path: Path, dcf: bool) -> list[str]:
+        cmd = ["simulate", str(path)]
+        if rng.random() < 0.4:
+            cmd += ["--format", "json"]
+        if rng.random() < 0.3:
+            cmd += ["--emit-od", str(self.dir / "od.dcf")]
+        if rng.random() < 0.2:
+            cmd += rng.choice([["--pi-size", str(rng.choice([0, 8, 100]))],
+                               ["--tx-cobs", "1", "--rx-cobs", "0"], ["--granularity", "8"],
+                               ["--no-bit-mapping"], ["--address-base", "area"]])
+        if dcf and rng.random() < 0.2:
+            cmd += ["--select", "all"]
+        return cmd
+
+    def map(self, rng: random.Random, fmt: str, path: Path, dcf: bool) -> list[str]:
+        cmd = ["map", "-q", "--format", fmt, str(path), "-o", str(self.dir / "map.out")]
+        if fmt == "iec" and rng.random() < 0.5:
+            cmd += ["--iec-addressing", "element"]
+        if not dcf and rng.random() < 0.2:
+            cmd += ["--address-base", "area"]
+        if dcf and rng.random() < 0.2:
+            cmd += ["--pi-align", rng.choice(["1", "2", "4", "8"])]
+        return cmd
 
     def run_variant(self, rng: random.Random, kind: str, data: bytes) -> list[tuple]:
         """Run the commands; -> [(command, exit code, traceback text)]."""
-        suffix = ".bin" if kind == "container" else rng.choice([".dcf", ".dcf", ".eds"])
+        suffix = {"container": ".bin", "csv": ".csv"}.get(kind) or rng.choice([".dcf", ".dcf",
+                                                                                  ".eds"])
         path = self.dir / f"fuzz{suffix}"
         path.write_bytes(data)
-        for name in ("out.bin", "out.json", "back.dcf", "out.txt"):
+        for name in ("out.bin", "out.json", "back.dcf", "out.txt", "out.c", "od.dcf", "map.out",
+                     "alloc.dcf", "into.dcf"):
             with contextlib.suppress(FileNotFoundError):
                 (self.dir / name).unlink()
         results = []
@@ -527,22 +700,30 @@ class Runner:
                 if not (self.dir / "out.json").exists():
                     continue
                 cmd = ["compile", "-q", str(self.dir / "out.json"), "-o", str(self.dir / "rt.bin")]
+            elif cmd[0] == "@map-allocated":
+                if not (self.dir / "alloc.dcf").exists():
+                    continue
+                cmd = ["map", "-q", "--format", cmd[1], str(self.dir / "alloc.dcf"),
+                       "-o", str(self.dir / "map.out")]
             self.current = cmd
             code, tb = self.invoke(cmd)
             results.append((cmd, code, tb))
         return results
 
 
-def fuzz(seed: int, iterations: int, kind: str = "both", corpus: Path | None = CORPUS,
+def fuzz(seed: int, iterations: int, kind: str = "all", corpus: Path | None = CORPUS,
          timeout: float = 60.0, use_tracemalloc: bool = False, only: int | None = None,
          save: Path | None = None, progress: bool = False, max_size: int = MAX_SEED_SIZE,
          memory_limit_mib: int | None = None) -> Report:
-    kinds = ["dcf", "container"] if kind == "both" else [kind]
+    kinds = KINDS.get(kind, [kind])
     seeds = {k: seed_files(k, corpus, max_size) for k in kinds}
     for k, files in seeds.items():
-        if not files:
+        if not files and k != "csv":
             raise SystemExit(f"fuzz: no {k} seed files found")
     blobs = {k: [p.read_bytes() for p in files] for k, files in seeds.items()}
+    if "csv" in seeds:
+        seeds["csv"] = seeds["csv"] + [Path(f"builtin-{n}.csv") for n in range(len(CSV_SEEDS))]
+        blobs["csv"] = blobs["csv"] + CSV_SEEDS
     report = Report(seed)
     if memory_limit_mib and resource is not None:
         limit = memory_limit_mib << 20
@@ -605,7 +786,7 @@ def fuzz(seed: int, iterations: int, kind: str = "both", corpus: Path | None = C
                     report.crashes.append(Crash(key, i, k, seed_name, ops, cmd, tb[-2000:]))
                     if save is not None:
                         save.mkdir(parents=True, exist_ok=True)
-                        suffix = ".bin" if k == "container" else ".dcf"
+                        suffix = {"container": ".bin", "csv": ".csv"}.get(k, ".dcf")
                         (save / f"seed{seed}-variant{i}{suffix}").write_bytes(data)
             if progress and (i + 1) % 500 == 0:
                 print(f"  {i + 1} variants, {len(report.crashes)} crashes, "
@@ -629,8 +810,9 @@ def main(argv: list[str] | None = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seed", type=int, default=1, help="seed of the run (default 1)")
     ap.add_argument("--iterations", type=int, default=300, help="number of variants")
-    ap.add_argument("--kind", choices=["dcf", "container", "both"], default="both",
-                    help="what to mutate (both: alternate)")
+    ap.add_argument("--kind", choices=["dcf", "container", "csv", "both", "all"], default="all",
+                    help="what to mutate (all: dcf, container, csv in turn; both: dcf and "
+                         "container)")
     ap.add_argument("--only", type=int, metavar="N", help="run only variant N of this seed")
     ap.add_argument("--corpus", type=Path, default=CORPUS,
                     help=f"folder of extra seed files (default {CORPUS}; ignored if absent)")

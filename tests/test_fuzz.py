@@ -1,8 +1,10 @@
 """A short deterministic run of benchmarks/fuzz.py: mutated DCFs and containers through
-compile, validate, export, dump and bin2dcf end without an internal error or a hang.
+compile (bin and C), validate, export, dump, bin2dcf, simulate and map, and mutated
+allocate CSVs through allocate (alone and --into samples/plc.dcf), end without an internal
+error or a hang.
 
 The long run and its figures are in README.md ("Hostile input"); rerun it with
-``python benchmarks/fuzz.py --seed 7 --iterations 20000``.
+``python benchmarks/fuzz.py --seed 7 --iterations 12000``.
 """
 from __future__ import annotations
 
@@ -27,12 +29,55 @@ def fuzz():
 
 def test_short_run_finds_no_crash(fuzz):
     # samples and fixtures only (no corpus), so the run is the same on every checkout
-    report = fuzz.fuzz(seed=1, iterations=300, kind="both", corpus=None, timeout=60)
-    assert report.variants == 300 and report.by_kind == {"dcf": 150, "container": 150}
+    report = fuzz.fuzz(seed=1, iterations=300, kind="all", corpus=None, timeout=60)
+    assert report.variants == 300
+    assert report.by_kind == {"dcf": 100, "container": 100, "csv": 100}
     assert [(c.key, c.variant, c.command) for c in report.crashes] == []
     assert set(report.exit_codes) <= {0, 1, 3}
     assert report.exit_codes.get(1, 0) > 0 and report.exit_codes.get(0, 0) > 0
     assert report.slowest[1] is not None and report.peak_rss_mib > 0
+
+
+def test_the_new_commands_are_run(fuzz, monkeypatch):
+    """simulate and map on DCFs and containers, compile --format c, allocate alone and
+    --into samples/plc.dcf: each is among the commands of a short run."""
+    seen = []
+    real = fuzz.Runner.invoke
+
+    def spy(self, args):
+        seen.append(tuple(args))
+        return real(self, args)
+
+    monkeypatch.setattr(fuzz.Runner, "invoke", spy)
+    report = fuzz.fuzz(seed=2, iterations=30, kind="all", corpus=None)
+    assert report.crashes == []
+
+    def ran(pred):
+        return any(pred(a) for a in seen)
+
+    assert ran(lambda a: a[0] == "simulate" and a[1].endswith((".dcf", ".eds")))
+    assert ran(lambda a: a[0] == "simulate" and a[1].endswith(".bin"))
+    assert ran(lambda a: a[0] == "simulate" and "json" in a)
+    assert ran(lambda a: a[0] == "map" and a[4].endswith((".dcf", ".eds")))
+    assert ran(lambda a: a[0] == "map" and a[4].endswith(".bin"))
+    assert ran(lambda a: a[:4] == ("compile", "-q", "--format", "c"))
+    assert ran(lambda a: a[0] == "allocate" and "--into" not in a)
+    assert ran(lambda a: a[0] == "allocate" and "--into" in a
+               and a[a.index("--into") + 1].endswith("plc.dcf"))
+
+
+def test_a_csv_variant_is_the_same_bytes_every_time_and_below_1_mb(fuzz):
+    blobs = [p.read_bytes() for p in fuzz.seed_files("csv", None)] + fuzz.CSV_SEEDS
+
+    def variant(i):
+        rng = random.Random(f"5:{i}")
+        j = rng.randrange(len(blobs))
+        return fuzz.mutate(rng, blobs[j], rng.choice(blobs), "csv")
+
+    first = [variant(i) for i in range(200)]
+    assert first == [variant(i) for i in range(200)]
+    assert max(len(data) for data, ops in first) < fuzz.MAX_CSV
+    assert any(op.startswith("many-rows") for data, ops in first for op in ops)
 
 
 def test_a_variant_is_the_same_bytes_every_time(fuzz):
@@ -55,18 +100,18 @@ def test_a_crash_is_reported_with_where_it_happened(fuzz, monkeypatch):
 
     monkeypatch.setattr(compiler, "compile_path", broken)
     report = fuzz.fuzz(seed=1, iterations=2, kind="dcf", corpus=None)
-    keys = {c.key for c in report.crashes}
+    # simulate and map compile a DCF too: each crash is named by its own command's frame
+    keys = {c.command[0]: c.key for c in report.crashes}
     # the innermost frame inside the dcf2bin package: the command that called it
-    assert len(keys) == 1 and re.fullmatch(r"RuntimeError at compile\.py:\d+ in compile_cmd",
-                                           keys.pop())
-    assert all(c.command[0] == "compile" for c in report.crashes)
+    assert re.fullmatch(r"RuntimeError at compile\.py:\d+ in compile_cmd", keys.pop("compile"))
+    assert set(keys) <= {"simulate", "map"}
     assert "planted" in report.crashes[0].detail
 
 
 def test_command_line_exit_status(fuzz, capsys):
     assert fuzz.main(["--seed", "3", "--iterations", "4", "--no-corpus"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("seed 3: 4 variants (container 2, dcf 2), ")
+    assert out.startswith("seed 3: 4 variants (container 1, csv 1, dcf 2), ")
     assert "crashes: 0 (0 distinct)\n" in out
 
 

@@ -137,3 +137,34 @@ def test_names_are_escaped(tmp_path):
     assert ET.fromstring(svg).tag == SVG + "svg"          # well-formed XML
     html = run("map", dcf, "-f", "html").stdout
     assert "<tr><td>&lt;a&amp;b&gt; &quot;c&quot;</td>" in html
+
+
+# benchmarks/fuzz.py --seed 7 --only 8998: a 109-byte container whose PI total is 1 byte
+# but whose output area claims offset 1,524,413,890 and size 2,690,827,690 (with
+# --address-base area). The byte layout was chosen by the total alone and drew every byte
+# of the areas: over 5 GB, a MemoryError. Now it is the runs layout, a few KB.
+_AREAS_BEYOND_TOTAL = bytes.fromhex(
+    "6d00000001000400280000001d000000450000000200000047000000030000004a00000014000000030000"
+    "0040a000010000000140a0010100000000171000020000000070000030f070010000000000000001000000"
+    "c2b5dc5aaac562a095b8f9c039766e0000000000000000")
+
+
+@pytest.mark.parametrize("fmt", ["svg", "html"])
+def test_areas_reaching_past_the_total_are_drawn_as_runs(tmp_path, fmt):
+    src = tmp_path / "damaged.bin"
+    src.write_bytes(_AREAS_BEYOND_TOTAL)
+    out = tmp_path / f"map.{fmt}"
+    res = CliRunner().invoke(main, ["map", "-q", "--format", fmt, str(src), "-o", str(out),
+                                    "--address-base", "area"])
+    assert res.exit_code == 0, res.output
+    assert out.stat().st_size < 100_000
+
+
+def test_layout_kind_judges_by_the_areas_extent():
+    class VM:
+        rows = []
+        pi = (1, 0, 1, 1_524_413_890, 2_690_827_690)
+
+    assert picture.layout_kind(VM) == "runs"
+    VM.pi = (64, 0, 8, 8, 56)
+    assert picture.layout_kind(VM) == "bytes"

@@ -46,7 +46,12 @@ def colour(type_name: str) -> str:
 
 
 def layout_kind(vm: VarMap) -> str:
-    if vm.pi[0] <= BYTE_MODE_MAX_BYTES and len(vm.rows) <= BYTE_MODE_MAX_VARS:
+    # the byte layout draws every byte of both areas and the padding between them: judge
+    # by how far they reach, not by the total size (a damaged container's area offsets
+    # and sizes need not agree with it)
+    total, in_off, in_size, out_off, out_size = vm.pi
+    extent = max(total, in_off + in_size, out_off + out_size)
+    if extent <= BYTE_MODE_MAX_BYTES and len(vm.rows) <= BYTE_MODE_MAX_VARS:
         return "bytes"
     return "runs"
 
