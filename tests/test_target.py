@@ -463,3 +463,13 @@ def test_emulation_is_fast_enough_for_60000_variables():
     out = emulate(c)
     assert out.ok and out.created.entries == n
     assert time.perf_counter() - t < 5
+
+
+@pytest.mark.parametrize("readable, writable, access", [
+    (True, True, "rw"), (False, True, "wo"), (True, False, "ro"),
+    (False, False, "ro"),   # an attribute byte with neither READ nor WRITE: never written
+])
+def test_target_entry_access_is_one_rule_for_emit_od_and_the_node(readable, writable, access):
+    from dcf2bin.target import TargetEntry
+    e = TargetEntry(0x2000, 0, b"\x00", None, "numeric", readable, writable, False)
+    assert e.access == access

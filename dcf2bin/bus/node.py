@@ -405,12 +405,6 @@ def _type_code(entry) -> int:
     return _KIND_CODES.get(entry.kind, 0x0F)
 
 
-def _access(entry) -> str:
-    if entry.readable and entry.writable:
-        return "rw"
-    return "ro" if entry.readable else "wo"
-
-
 def image_of(outcome, memory: int | None = None) -> ProcessImage:
     """The PI memory after DynBuildOd: ``memory`` bytes (default: the complete size the
     parameter segment gives), each placed network variable's data at its address."""
@@ -443,7 +437,7 @@ def from_outcome(outcome, node_id: int, memory: int | None = None):
             e = subs[sub]
             var = od_mod.ODVariable(f"0x{index:04X}sub{sub:X}", index, sub)
             var.data_type = _type_code(e)
-            var.access_type = _access(e)
+            var.access_type = e.access
             var.pdo_mappable = e.mappable
             var.value = bytes(e.data)
             made.append(var)

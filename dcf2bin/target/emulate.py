@@ -47,6 +47,14 @@ class TargetEntry:
     created: bool = False             # created by the container (not in the static OD)
     written: bool = False             # written by the container
 
+    @property
+    def access(self) -> str:
+        """The AccessType this entry has after DynBuildOd: rw, wo, or ro (also for an
+        attribute byte with neither READ nor WRITE: such an entry is never written)."""
+        if self.readable and self.writable:
+            return "rw"
+        return "wo" if self.writable else "ro"
+
 
 @dataclass
 class Pdo:

@@ -110,14 +110,6 @@ def to_json(out: Outcome, name: str) -> str:
 
 # -- the object dictionary after DynBuildOd as a DCF -------------------------------------------
 
-def _access(e) -> str:
-    if e.readable and e.writable:
-        return "rw"
-    if e.writable:
-        return "wo"
-    return "ro"
-
-
 def _value(e) -> str | None:
     from dcf2bin import values
     t = e.dtype
@@ -176,7 +168,7 @@ def _entry_name(index: int, sub: int, e, static_names) -> str:
 def _entry_keys(e, name: str) -> list[str]:
     t = e.dtype or dt.DOMAIN_T
     keys = [f"ParameterName={name}", "ObjectType=0x7", f"DataType=0x{t.code:04X}",
-            f"AccessType={_access(e)}"]
+            f"AccessType={e.access}"]
     value = _value(e)
     if value is not None and "\n" not in value and "\r" not in value:
         keys.append(f"DefaultValue={value}")
