@@ -431,16 +431,26 @@ def read_eds(path: str | None, quiet: bool):
     return info, dev
 
 
-def target_stack_options(fn):
+def target_stack_options(fn=None, *, prefix: str = ""):
     """--tx-cobs/--rx-cobs/--granularity/--no-bit-mapping: what the target's stack was
-    built with, shared by compile, validate and simulate (node words them for --container)."""
+    built with, shared by compile, validate, simulate and node (which passes
+    ``prefix="With --container: "``)."""
+    if fn is None:
+        return lambda f: target_stack_options(f, prefix=prefix)
+
+    def text(help: str) -> str:
+        if not prefix or help[1].isupper():     # keep "TPDO", lower-case "The"
+            return prefix + help
+        return prefix + help[0].lower() + help[1:]
     fn = click.option("--no-bit-mapping", is_flag=True,
-                      help="The target cannot map a BOOLEAN as 1 bit.")(fn)
+                      help=text("The target cannot map a BOOLEAN as 1 bit."))(fn)
     fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
-                      show_default=True, help="The target's PDO mapping granularity in bits "
-                      "(8: whole bytes only).")(fn)
+                      show_default=True, help=text("The target's PDO mapping granularity in "
+                                                   "bits (8: whole bytes only)."))(fn)
     fn = click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-                      help="RPDO entries of the target's COB table (default: unlimited).")(fn)
+                      help=text("RPDO entries of the target's COB table "
+                                "(default: unlimited)."))(fn)
     fn = click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-                      help="TPDO entries of the target's COB table (default: unlimited).")(fn)
+                      help=text("TPDO entries of the target's COB table "
+                                "(default: unlimited)."))(fn)
     return fn

@@ -6,7 +6,8 @@ import time
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, fail, guarded, read_input
+from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_input,
+                                target_stack_options)
 from dcf2bin.cli.download import NODE_ID, bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
@@ -26,14 +27,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.option("--pi-size", type=click.IntRange(0), metavar="N",
               help="With --container: PI memory of the target in bytes (default: the "
               "complete size the container gives).")
-@click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
-              help="With --container: PDO entries of the TX COB table (default: unlimited).")
-@click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
-              help="With --container: PDO entries of the RX COB table (default: unlimited).")
-@click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
-              show_default=True, help="With --container: the stack's PDO granularity in bits.")
-@click.option("--no-bit-mapping", is_flag=True,
-              help="With --container: the stack maps no single bits (BOOLEAN takes 8 bits).")
+@target_stack_options(prefix="With --container: ")
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
               show_default=True, help="With --container: PI addresses count from the image "
               "start or from their area.")
