@@ -9,7 +9,7 @@ with N CiA 405 network variables), then three tools read that file:
   dcf2bin       dcf2bin.compiler.compile_file(path, CompileOptions()) -> bytes
   canopen       canopen.import_od(path)
   configparser  ConfigParser(strict=False, interpolation=None), optionxform=str
-  simulate      dcf2bin.target.emulate_bytes(container) -- DynBuildOd's model on the
+  simulate      dcf2bin.dynod.emulate_bytes(container) -- DynBuildOd's model on the
                 container compiled from that file (compiled once, not timed), as
                 ``dcf2bin simulate FILE.bin`` does; the report gives simulate/dcf2bin,
                 which should stay within 2x
@@ -97,9 +97,9 @@ def load_tool(tool: str):
         sys.path.insert(0, str(REPO))
         try:
             from dcf2bin.compiler import CompileOptions, compile_file
-            from dcf2bin.target import emulate_bytes
+            from dcf2bin.dynod import emulate_bytes
         except ImportError as e:
-            raise Unavailable(f"dcf2bin.target not available yet ({e})") from None
+            raise Unavailable(f"dcf2bin.dynod not available yet ({e})") from None
         containers: dict = {}
 
         def call(path: Path):

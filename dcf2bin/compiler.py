@@ -167,7 +167,7 @@ def blocked(dev: model.Device, sel) -> bool:
 
 
 def target_options(opts: CompileOptions):
-    from dcf2bin.target import TargetOptions
+    from dcf2bin.dynod import TargetOptions
     return TargetOptions(pi_size=opts.pi_size, tx_cobs=opts.tx_cobs, rx_cobs=opts.rx_cobs,
                          granularity=opts.granularity, bit_mapping=opts.bit_mapping,
                          address_base=opts.address_base)
@@ -180,7 +180,7 @@ def target_check(dev: model.Device, sel, c: BinContainer, opts: CompileOptions,
     a warning with --no-target-check) at the DCF line of the offending value."""
     if opts.target_check == "off":
         return []
-    from dcf2bin.target import check
+    from dcf2bin.dynod import check
     out = check.run(dev, sel, c, target_options(opts), list(extra))
     severity = Severity.ERROR if opts.target_check == "error" else Severity.WARNING
     return check.diagnostics(out, dev.path, severity)

@@ -300,15 +300,15 @@ def test_property_allocate_compile_map(tmp_path, variables, seed):
         {n: v["address"] for n, v in rows.items()}
 
 
-HAS_TARGET = importlib.util.find_spec("dcf2bin.target") is not None
+HAS_TARGET = importlib.util.find_spec("dcf2bin.dynod") is not None
 
 
-@pytest.mark.skipif(not HAS_TARGET, reason="needs dcf2bin.target")
+@pytest.mark.skipif(not HAS_TARGET, reason="needs dcf2bin.dynod")
 @settings(max_examples=10, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(variables=variable_lists)
 def test_property_target_builds_the_od(tmp_path, variables):
-    from dcf2bin.target import TargetOptions, emulate
+    from dcf2bin.dynod import TargetOptions, emulate
     csv = tmp_path / "v.csv"
     csv.write_text(HEADER + "".join(f"{n},{t},{d}\n" for n, t, d in variables))
     dcf = tmp_path / "v.dcf"

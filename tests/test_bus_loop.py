@@ -23,8 +23,8 @@ from dcf2bin.cli import main
 
 pytest_plugins = ["bus_fixtures"]
 pytestmark = [pytest.mark.usefixtures("at_root"),
-              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
-                                 reason="needs dcf2bin.target")]
+              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.dynod") is None,
+                                 reason="needs dcf2bin.dynod")]
 
 PLC_ID, SLAVE_ID = 0x10, 3
 POSITION, STATUS = (0xA140, 2), (0xA040, 1)          # inputs, from the slave's TPDO

@@ -10,8 +10,8 @@ from bus_helpers import Bench, run
 
 pytest_plugins = ["bus_fixtures"]
 pytestmark = [pytest.mark.usefixtures("at_root"),
-              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.target") is None,
-                                 reason="needs dcf2bin.target")]
+              pytest.mark.skipif(importlib.util.find_spec("dcf2bin.dynod") is None,
+                                 reason="needs dcf2bin.dynod")]
 
 
 @pytest.fixture

@@ -263,7 +263,7 @@ def test_simulate_help_does_not_import_heavy_modules():
     code = ("import sys; from dcf2bin.cli import main\n"
             "try:\n    main(['simulate', '--help'])\nexcept SystemExit:\n    pass\n"
             "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('construct', 'canopen')"
-            " or m.startswith('dcf2bin.target'))\nprint(bad)")
+            " or m.startswith('dcf2bin.dynod'))\nprint(bad)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={**os.environ, "NO_COLOR": "1"})
     assert out.stdout.strip().splitlines()[-1] == "[]"

@@ -117,7 +117,7 @@ def _target(path, node_id, static_od, pi_size, tx_cobs, rx_cobs, granularity,
             bit_mapping, address_base, quiet):
     from dcf2bin.bus import node as nodemod
     from dcf2bin.cli.common import read_container
-    from dcf2bin.target import StaticOD, TargetOptions, emulate
+    from dcf2bin.dynod import StaticOD, TargetOptions, emulate
     c, name = read_container(path, quiet)
     static = None
     if static_od is not None:

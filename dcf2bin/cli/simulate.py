@@ -78,7 +78,7 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
     image and every valid PDO with what it carries. Exit status: 0 when the code is
     0x00, 1 when it is not, 2 usage error, 3 an input could not be read.
     """
-    from dcf2bin.target import StaticOD, TargetOptions, emulate, emulate_bytes, report
+    from dcf2bin.dynod import StaticOD, TargetOptions, emulate, emulate_bytes, report
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
     kind = _kind(name, data, from_)
@@ -88,7 +88,7 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
     names = None
     if kind == "dcf":
         from dcf2bin.compiler import CompileOptions, compile_path
-        from dcf2bin.target import check
+        from dcf2bin.dynod import check
         for path in append:
             read_input(path)
         if static_od:

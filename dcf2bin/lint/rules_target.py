@@ -1,6 +1,6 @@
 """TGT0xx: what the target's DynBuildOd() would return (SPEC §8, D-11).
 
-The findings come from the emulation (``dcf2bin.target``), the same one ``compile``
+The findings come from the emulation (``dcf2bin.dynod``), the same one ``compile``
 runs on what it writes, so ``compile`` and ``validate`` report one fault under one id:
 the rule id is TGT + the return code in hex. On a DCF, the file is compiled as
 ``compile`` would (nothing is checked when compile would stop on other errors first);

@@ -233,8 +233,8 @@ class _Run:
         """TGT0xx on a container: the emulation without a static OD. A container the
         reader rejects is left to the CNT rules."""
         from dcf2bin.container import ContainerError, read
-        from dcf2bin.target import TargetOptions, emulate
-        from dcf2bin.target.check import message
+        from dcf2bin.dynod import TargetOptions, emulate
+        from dcf2bin.dynod.check import message
         try:
             c, _ = read(data)
         except ContainerError:

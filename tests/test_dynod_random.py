@@ -10,8 +10,8 @@ from hypothesis import strategies as st
 
 from dcf2bin import model
 from dcf2bin.compiler import CompileOptions, compile_device
-from dcf2bin.target import StaticOD, TargetOptions, emulate
-from dcf2bin.target import codes as C
+from dcf2bin.dynod import StaticOD, TargetOptions, emulate
+from dcf2bin.dynod import codes as C
 
 # (range index, DataType code, bits) -- CiA 405 (SPEC §2.1)
 INPUTS = [(0xA040, 0x05, 8), (0xA0C0, 0x03, 16), (0xA100, 0x06, 16), (0xA200, 0x07, 32),

@@ -1,6 +1,6 @@
 """The target side: a deterministic model of ``DynBuildOd()`` (SPEC §8, D-11).
 
-    >>> from dcf2bin.target import TargetOptions, emulate
+    >>> from dcf2bin.dynod import TargetOptions, emulate
     >>> from dcf2bin.container import BinContainer
     >>> out = emulate(BinContainer(entries=[(0x2000, 0, b"\\x01")], attributes=b"\\x70"))
     >>> out.code, out.name, out.created.entries
@@ -10,8 +10,8 @@ Never imports click: ``compile``, ``validate`` and ``simulate`` all use this pac
 """
 from __future__ import annotations
 
-from dcf2bin.target.codes import MEANINGS, NAMES, rule_id
-from dcf2bin.target.emulate import (
+from dcf2bin.dynod.codes import MEANINGS, NAMES, rule_id
+from dcf2bin.dynod.emulate import (
                                     Created,
                                     Descriptor,
                                     Outcome,
@@ -22,7 +22,7 @@ from dcf2bin.target.emulate import (
                                     emulate,
                                     emulate_bytes,
 )
-from dcf2bin.target.static import StaticOD
+from dcf2bin.dynod.static import StaticOD
 
 __all__ = [
                                     "MEANINGS",

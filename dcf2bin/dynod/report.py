@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 
 from dcf2bin import datatypes as dt
-from dcf2bin.target.check import value_text
-from dcf2bin.target.emulate import Outcome
+from dcf2bin.dynod.check import value_text
+from dcf2bin.dynod.emulate import Outcome
 
 
 def _pdo_label(comm: int) -> str:

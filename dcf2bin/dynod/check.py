@@ -5,9 +5,9 @@ and its result as diagnostics at the DCF line of the offending value.
 from __future__ import annotations
 
 from dcf2bin.diagnostics import Diagnostic, Severity, Where
-from dcf2bin.target import codes as C
-from dcf2bin.target.emulate import Outcome, TargetOptions, emulate
-from dcf2bin.target.static import StaticOD
+from dcf2bin.dynod import codes as C
+from dcf2bin.dynod.emulate import Outcome, TargetOptions, emulate
+from dcf2bin.dynod.static import StaticOD
 
 
 def value_text(data: bytes | None) -> str:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin.indexes import NV_FIRST, NV_LAST
-from dcf2bin.target import codes as C
+from dcf2bin.dynod import codes as C
 
 RX, TX = "rx", "tx"
 _NUMERIC_OR_BOOL = dt.ATTR_NUMERIC | dt.ATTR_BOOLEAN

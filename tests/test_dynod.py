@@ -10,8 +10,8 @@ from conftest import SAMPLES
 
 from dcf2bin import model
 from dcf2bin.container import BinContainer, read
-from dcf2bin.target import StaticOD, TargetOptions, emulate, emulate_bytes
-from dcf2bin.target import codes as C
+from dcf2bin.dynod import StaticOD, TargetOptions, emulate, emulate_bytes
+from dcf2bin.dynod import codes as C
 
 U32 = struct.Struct("<I")
 RW, RW_MAP = 0x70, 0xF0          # NUMERIC|READ|WRITE (+PDO)
@@ -470,6 +470,6 @@ def test_emulation_is_fast_enough_for_60000_variables():
     (False, False, "ro"),   # an attribute byte with neither READ nor WRITE: never written
 ])
 def test_target_entry_access_is_one_rule_for_emit_od_and_the_node(readable, writable, access):
-    from dcf2bin.target import TargetEntry
+    from dcf2bin.dynod import TargetEntry
     e = TargetEntry(0x2000, 0, b"\x00", None, "numeric", readable, writable, False)
     assert e.access == access
