@@ -76,6 +76,9 @@ JSON_SCHEMA = {
     },
 }
 
+
+# -- container -> JSON ----------------------------------------------------------------------
+
 def to_dict(c: BinContainer) -> dict:
     """The lossless document as Python data (key order is the documented one)."""
     h = header_of(c)
@@ -139,6 +142,9 @@ def format_json(doc: dict) -> str:
             out.append(f"  {d(key)}: {d(value)}{comma}")
     out.append("}")
     return "\n".join(out) + "\n"
+
+
+# -- the error of a document that is not a valid dump ---------------------------------------
 
 class JsonProblem(Exception):
     """A document that is not a valid dump; ``path`` is a tuple of keys/indexes."""

@@ -76,6 +76,9 @@ def _json_diag(severity: Severity, text: str, name: str, path: tuple, message: s
     line = text.count("\n", 0, pos) + 1 if pos is not None else None
     return Diagnostic(severity, f"{path_text(path)}: {message}", name, line, rule=rule)
 
+
+# -- where is a JSON path? (only used to report an error) --------------------------------------
+
 _WS_RE = re.compile(r"[ \t\n\r]*")
 _ATOM_RE = re.compile(r"-?(?:0|[1-9][0-9]*)(?:\.[0-9]+)?(?:[eE][-+]?[0-9]+)?|true|false|null")
 

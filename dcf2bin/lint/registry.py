@@ -155,4 +155,3 @@ def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[s
         active -= match(s)
     active |= {r.id for r in RULES.values() if r.always}
     return active
-
