@@ -133,7 +133,8 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
                 out = emulate_bytes(data, topts)
             else:
                 out = emulate(c, topts, static)
-    emit([Diagnostic(Severity.WARNING, w, name) for w in out.warnings], quiet)
+    emit([Diagnostic(Severity.WARNING, w.message, name, rule=w.rule) for w in out.warnings],
+         quiet)
     text = report.to_json(out, name) if fmt == "json" else report.text(out, name)
     write_output(text, "-", [], binary=False)   # a full disk or closed stdout: exit 3
     if emit_od:
