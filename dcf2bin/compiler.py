@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from dcf2bin import layout as layout_mod
 from dcf2bin import model
 from dcf2bin import select as select_mod
+from dcf2bin import values
 from dcf2bin.container import BinContainer
 from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity
 
@@ -120,6 +121,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         if (d.rule, d.line) not in reported:
             diags.append(Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
                                     d.file, d.line, d.column, d.offset, d.rule, d.hint))
+    diags.extend(value_checks(dev, sel.wrote))
     extra = []
     for path in opts.append:
         from dcf2bin.writes import ExtraWritesError, load_extra_writes
@@ -141,6 +143,53 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         if any(d.severity is Severity.ERROR for d in found):
             return Result(None, diags, dev, None, lay)
     return Result(data, diags, dev, c, lay, sel, extra)
+
+
+# -- 0x-prefixed hex (validate's DCF218) ----------------------------------------------------
+_HEX_CODES = (0x0A, 0x0F)                                    # OCTET_STRING, DOMAIN
+
+
+def value_checks(dev: model.Device, written) -> list[Diagnostic]:
+    """What validate says of the values beyond DCF200, in its words: an OCTET_STRING/DOMAIN
+    value with a 0x prefix (DCF218, a warning, "(not written by compile)" where
+    ``written(index, sub)`` says the entry's effective value is not written)."""
+    found: dict[tuple[str, int | None], list] = {}   # (rule, line) -> [message, written]
+
+    def add(rule: str, line: int | None, message: str, is_written: bool) -> None:
+        old = found.get((rule, line))   # CompactSubObj: one line for N entries
+        if old is None:
+            found[(rule, line)] = [message, is_written]
+        elif is_written:
+            old[1] = True
+
+    for obj in dev.objects.values():
+        for e in obj.entries.values():
+            dtype = e.dtype
+            if dtype is None or dtype.size is not None:
+                continue   # the common case: a fixed-size type
+            if dtype is None or e.implicit:
+                continue
+            texts = []
+            if e.param is not None:
+                texts.append(("parametervalue", "ParameterValue", e.param, True))
+            if e.default is not None:
+                texts.append(("defaultvalue", "DefaultValue", e.default,
+                              e.param is None and e.download_file is None))
+            some = written(e.index, e.sub)
+            if dtype.code in _HEX_CODES:
+                for key, shown, text, eff in texts:
+                    if values.hex_prefix(text) and values.hex_problem(dtype, text) is None:
+                        add("DCF218", e.key_where(key).line,
+                            f"{e.label} {shown}: {values.hex_prefix_problem(dtype)}",
+                            eff and some)
+                continue
+    out = []
+    for (rule, line), (message, is_written) in found.items():
+        if not is_written:
+            message += " (not written by compile)"
+        out.append(Diagnostic(Severity.WARNING, message, dev.path, line, rule=rule))
+    out.sort(key=lambda d: d.line or 0)
+    return out
 
 
 def container_of(dev: model.Device, sel, lay, opts: CompileOptions, extra=()) -> BinContainer:
