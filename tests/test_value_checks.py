@@ -1,5 +1,7 @@
 """compile's checks of values beyond encoding them: 0x-prefixed OCTET_STRING/DOMAIN hex
-(DCF218: accepted, the bytes after the prefix, a warning).
+(DCF218: accepted, the bytes after the prefix, a warning) and LowLimit/HighLimit
+(DCF210-DCF212: as validate words them; DCF212 an error for a written value, a warning
+"(not written by compile)" for the others).
 """
 from __future__ import annotations
 
@@ -126,9 +128,10 @@ SEVCON = CORPUS / "sevcon" / ("2019-06-13-ME0913-0705-0013-GEN4-110V-300A-PARINA
 @pytest.mark.skipif(not SEVCON.is_file(), reason=f"Sevcon corpus DCF not found at {SEVCON}")
 def test_sevcon_drivewizard_dcf_compiles_and_round_trips(tmp_path):
     """Sevcon's DriveWizard writes its DOMAINs (0x4617sub1, 0x5600subN) with 0x. The file
-    also has a TPDO on CAN-ID 0x178, which CiA 301 restricts (TGT023): that is turned
-    into a warning here, as a user of such a file does with --no-target-check."""
-    opts = CompileOptions(target_check="warning")
+    also has written values outside their limits (DCF212) and a TPDO on CAN-ID 0x178,
+    which CiA 301 restricts (TGT023): both are turned into warnings here, as a user of
+    such a file does with --no-limit-check --no-target-check."""
+    opts = CompileOptions(target_check="warning", limit_check="warning")
     res = compile_path(str(SEVCON), opts)
     assert res.ok, [d.format() for d in res.diagnostics if d.severity.value == "error"]
     prefixed = sorted(d.line for d in res.diagnostics if d.rule == "DCF218")
@@ -151,3 +154,118 @@ def test_sevcon_drivewizard_dcf_compiles_and_round_trips(tmp_path):
                          data=back.to_bytes())
     assert again.ok and again.data == res.data
 
+
+# ---------------------------------------------------------------------------------------
+# DCF210-DCF212: LowLimit/HighLimit
+
+LIMITS = """[2000]
+ParameterName=Speed
+DataType=0x0006
+AccessType=rw
+LowLimit=10
+HighLimit=0x64
+ParameterValue={param}
+DefaultValue={default}
+
+[2001]
+ParameterName=Read-only speed
+DataType=0x0006
+AccessType=ro
+LowLimit=10
+HighLimit=100
+ParameterValue=200
+
+[2002]
+ParameterName=Broken limits
+DataType=0x0002
+AccessType=rw
+LowLimit=200
+HighLimit=5
+ParameterValue=1
+
+[2003]
+ParameterName=Inverted limits
+DataType=0x0005
+AccessType=rw
+LowLimit=9
+HighLimit=5
+ParameterValue=7
+"""
+
+
+def test_compile_reports_limits_as_validate_does(tmp_path):
+    path = write(tmp_path, LIMITS.format(param="5", default="101"))
+    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
+    assert res.exit_code == 1
+    assert lines(res.output, path) == [
+        "F:10: error: 0x2000sub0 ParameterValue 5 is below LowLimit 10 [DCF212]",
+        "    hint: change the value or the limits; --no-limit-check makes this a warning",
+        "F:11: warning: 0x2000sub0 DefaultValue 101 is above HighLimit 0x64 (= 100) "
+        "(not written by compile) [DCF212]",
+        "F:19: warning: 0x2001sub0 ParameterValue 200 is above HighLimit 100 "
+        "(not written by compile) [DCF212]",
+        "F:25: warning: 0x2002sub0 LowLimit: value 200 out of range for INTEGER8 (-128..127) "
+        "[DCF210]",
+        "F:33: warning: 0x2003sub0 LowLimit 9 is greater than HighLimit 5 [DCF211]",
+        "F: 1 error, nothing written",
+    ]
+    # validate: the same words, at its own severities
+    assert validate(path, "DCF210", "DCF211", "DCF212") == [
+        ("DCF212", 10, "error", "0x2000sub0 ParameterValue 5 is below LowLimit 10"),
+        ("DCF212", 11, "error", "0x2000sub0 DefaultValue 101 is above HighLimit 0x64 (= 100)"),
+        ("DCF212", 19, "error", "0x2001sub0 ParameterValue 200 is above HighLimit 100"),
+        ("DCF210", 25, "error",
+         "0x2002sub0 LowLimit: value 200 out of range for INTEGER8 (-128..127)"),
+        ("DCF211", 33, "error", "0x2003sub0 LowLimit 9 is greater than HighLimit 5"),
+    ]
+
+
+def test_no_limit_check_makes_a_written_value_outside_its_limits_a_warning(tmp_path):
+    path = write(tmp_path, LIMITS.format(param="5", default="50"))
+    res = run("compile", "-q", "--no-limit-check", str(path), "-o", str(tmp_path / "v.bin"))
+    assert res.exit_code == 0 and res.output == ""
+    full = compile_path(str(path), limit_check="warning")
+    assert [(d.rule, d.line, d.severity.value) for d in full.diagnostics
+            if d.rule == "DCF212"] == [("DCF212", 10, "warning"), ("DCF212", 19, "warning")]
+    assert (tmp_path / "v.bin").read_bytes() == full.data
+
+
+def test_values_within_limits_compile_silently(tmp_path):
+    text = LIMITS.format(param="100", default="10").split("\n\n[2001]")[0] + "\n"
+    path = write(tmp_path, text)
+    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
+    assert res.exit_code == 0 and res.output == ""
+
+
+def test_limits_with_nodeid_and_compact_sub_objects(tmp_path):
+    text = """[2000]
+ParameterName=COB
+DataType=0x0007
+AccessType=rw
+LowLimit=$NODEID+0x180
+ParameterValue=0x180
+
+[2100]
+ParameterName=Array
+ObjectType=0x8
+CompactSubObj=3
+DataType=0x0005
+AccessType=rw
+HighLimit=4
+DefaultValue=5
+
+[2100Value]
+NrOfEntries=1
+2=3
+"""
+    path = write(tmp_path, text)
+    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
+    assert res.exit_code == 1
+    assert lines(res.output, path) == [
+        "F:9: error: 0x2000sub0 ParameterValue 0x180 (= 384) is below LowLimit "
+        "$NODEID+0x180 (= 389) [DCF212]",
+        "    hint: change the value or the limits; --no-limit-check makes this a warning",
+        "F:18: warning: 0x2100sub1 DefaultValue 5 is above HighLimit 4 (not written by "
+        "compile) [DCF212]",
+        "F: 1 error, nothing written",
+    ]
