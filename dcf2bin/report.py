@@ -24,7 +24,6 @@ from dcf2bin.diagnostics import Diagnostic, Severity
 JSON_FORMAT = "dcf2bin-validate"
 JSON_VERSION = 1
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
-INFORMATION_URI = "https://github.com/dcf2bin/dcf2bin/blob/main/docs/validate.md"
 
 _COLOURS = {Severity.ERROR: "\x1b[31m", Severity.WARNING: "\x1b[33m", Severity.INFO: "\x1b[36m"}
 
@@ -252,8 +251,9 @@ def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_cod
         "$schema": SARIF_SCHEMA,
         "version": "2.1.0",
         "runs": [{
+            # no "informationUri" (optional in SARIF 2.1.0): dcf2bin has no public URL
             "tool": {"driver": {"name": "dcf2bin", "version": tool_version,
-                                "informationUri": INFORMATION_URI, "rules": driver_rules}},
+                                "rules": driver_rules}},
             "columnKind": "unicodeCodePoints",
             "results": results,
             "invocations": [{"executionSuccessful": int(exit_code) in (0, 1),
