@@ -104,12 +104,14 @@ def left_out(file: str, rule: str, n: int, cap: int = CAP) -> str:
 def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool = False,
                cap: int | None = CAP) -> list[str]:
     """Lines of the text form, at most ``cap`` per rule and file (then one line saying how
-    many were left out)."""
+    many were left out); with ``hints``, each hint once per rule and file, after the
+    first finding that has it."""
     diags = list(diags)
     total: dict = {}
     for d in diags:
         total[(d.file, d.rule)] = total.get((d.file, d.rule), 0) + 1
     seen: dict = {}
+    hinted: set = set()
     out = []
     for d in diags:
         key = (d.file, d.rule)
@@ -117,7 +119,8 @@ def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool
         if cap is not None and n > cap:
             continue
         out.append(format_text(d, colour))
-        if hints and d.hint:
+        if hints and d.hint and (key, d.hint) not in hinted:
+            hinted.add((key, d.hint))
             out.append(f"    hint: {escape(d.hint)}")
         if cap is not None and n == cap and total[key] > cap:
             out.append(left_out(d.file, d.rule, total[key] - cap, cap))

@@ -6,8 +6,8 @@ import os
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, read_input, write_output
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.cli.common import (CONTEXT, emit, guarded, read_input, stop_on_errors,
+                                write_output)
 
 
 @click.command("allocate", context_settings=CONTEXT)
@@ -42,7 +42,7 @@ def allocate_cmd(input, output, into, verbose):
             text, placed, kept = merge(base, into, variables, name)
     except alloc.AllocationError as exc:
         emit(exc.diagnostics)
-        raise Failure(ExitCode.FINDINGS) from None
+        stop_on_errors(exc, name, "nothing written")
     write_output(text, output, [input] + ([into] if into else []), binary=False)
     if verbose:
         for v, idx, sub in kept:
