@@ -263,7 +263,7 @@ class _Predictor:
         spans: dict[str, list] = {INPUT: [], OUTPUT: []}
         placed = {}
         for index in sorted(nv_objs):
-            ch = self._channel(index)
+            ch = _channel(self.spec, index)
             if ch is None:
                 return None, (f"0x{index:04X} lies in 0xA900-0xAFFF without a "
                               "[DynamicChannels] segment")
@@ -307,15 +307,19 @@ class _Predictor:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None
 
-    def _channel(self, index: int):
-        for ch in self.spec.channels:
-            if ch.first <= index <= ch.last:
-                return ch.first, ch.dtype, ch.direction, ch.pp
-        tt = table_type(index)
-        if tt is None:
-            return None
-        return NV_FIRST + (index - NV_FIRST) // RANGE_LEN * RANGE_LEN, tt[0], tt[1], 0
 
+
+
+def _channel(spec: DcfSpec, index: int):
+    """(first index, type, area, PPOffset) of a network-variable index: its reconstructed
+    [DynamicChannels] segment, else its CiA 405 range; None outside both."""
+    for ch in spec.channels:
+        if ch.first <= index <= ch.last:
+            return ch.first, ch.dtype, ch.direction, ch.pp
+    tt = table_type(index)
+    if tt is None:
+        return None
+    return NV_FIRST + (index - NV_FIRST) // RANGE_LEN * RANGE_LEN, tt[0], tt[1], 0
 
 
 def _describe(entry, attr) -> str:
