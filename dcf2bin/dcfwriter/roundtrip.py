@@ -308,8 +308,6 @@ class _Predictor:
         return (addresses, (total, 0, in_size, out_off, out_size)), None
 
 
-
-
 def _channel(spec: DcfSpec, index: int):
     """(first index, type, area, PPOffset) of a network-variable index: its reconstructed
     [DynamicChannels] segment, else its CiA 405 range; None outside both."""
