@@ -104,12 +104,22 @@ def render(plan: Plan, node_id: int) -> list[str]:
     n = len(plan.writes)
     lines = [(f"{plan.source}: {n} SDO write{'s' if n != 1 else ''} to node {node_id} "
               "(dry run, nothing sent)"),
-             "   #  entry        size  data  source"]
+             ]
+    rows = []
     for w in plan.writes:
         shown = w.data[:_DRY_HEX].hex(" ").upper()
         if len(w.data) > _DRY_HEX:
             shown += f" ... ({len(w.data)} bytes)"
-        lines.append(f"{w.number:>4}  {w.label:<11} {len(w.data):>5}  {shown}  {w.where}")
+        rows.append((w.number, w.label, len(w.data), shown, w.where))
+    # every column as wide as its widest cell, so that the sources line up
+    num = max([len(str(r[0])) for r in rows] + [4])
+    label = max([len(r[1]) for r in rows] + [len("entry")])
+    size = max([len(str(r[2])) for r in rows] + [len("size")])
+    data = max([len(r[3]) for r in rows] + [len("data")])
+    lines.append(f"{'#':>{num}}  {'entry':<{label}}  {'size':>{size}}  {'data':<{data}}  "
+                 "source")
+    lines.extend(f"{n:>{num}}  {lab:<{label}}  {sz:>{size}}  {shown:<{data}}  {where}"
+                 for n, lab, sz, shown, where in rows)
     return lines
 
 

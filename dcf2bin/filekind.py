@@ -1,0 +1,96 @@
+"""What kind of file an input is: DCF/EDS text, a binary container, or the lossless JSON form.
+
+One rule for every command (issue 19): the content decides, the file name only where the
+content cannot (an empty or blank file). A container always has NUL bytes in its 40-byte
+header (its offsets and sizes are small numbers); CiA 306 text has none; the JSON form
+starts with ``{``. The text test is the DCF reader's own (``ini.not_text``), so a file that
+``compile`` would reject as "looks binary" is exactly a file this module calls a container
+-- except UTF-16 text, which is still text in a wrong encoding (the DCF reader says so).
+
+No click here: ``dcf2bin.cli`` and the lint runner both use it, and they word a mismatch
+with ``mismatch``.
+"""
+from __future__ import annotations
+
+import os
+
+DCF = "dcf"
+CONTAINER = "bin"
+JSON = "json"
+
+#: what each kind is called in a sentence
+NAMES = {DCF: "DCF/EDS text", CONTAINER: "a binary container",
+         JSON: "the JSON form of a container"}
+
+_BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, ".dcf": DCF, ".eds": DCF, ".ini": DCF}
+
+
+def by_name(path: str) -> str | None:
+    """The kind a file's suffix promises (None for '-', no suffix or another one)."""
+    return _BY_SUFFIX.get(os.path.splitext(path)[1].lower())
+
+
+def detect(data: bytes, path: str = "") -> str:
+    """The kind of ``data``, read by content; ``path``'s suffix only breaks a tie
+    (a file that is empty or blank)."""
+    from dcf2bin.ini import not_text
+    head = data[:8192]
+    body = head.lstrip(b" \t\r\n\x0b\x0c")
+    if body.startswith(b"\xef\xbb\xbf"):
+        body = body[3:].lstrip(b" \t\r\n\x0b\x0c")
+    if not body:
+        return by_name(path) or DCF
+    if body[:1] == b"{":
+        return JSON
+    problem = not_text(data)
+    if problem is None or "UTF-16" in problem[0]:
+        return DCF
+    return CONTAINER
+
+
+def contradicts_name(kind: str, path: str) -> bool:
+    """True when the content's kind is not the one the file's suffix promises."""
+    named = by_name(path)
+    return named is not None and named != kind
+
+
+def what_it_is(path: str, kind: str) -> str:
+    """'fake.bin is DCF/EDS text' (the name as given)."""
+    return f"{path} is {NAMES[kind]}"
+
+
+# The command that takes each kind, for the sentence that names it.
+_USE = {
+    DCF: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
+    CONTAINER: "use dcf2bin dump to read it (dcf2bin bin2dcf turns it into a DCF)",
+    JSON: "use dcf2bin compile to turn it back into the container",
+}
+
+
+def advice(kind: str) -> str:
+    """'use dcf2bin dump to read it ...': the command that takes a file of this kind."""
+    return _USE[kind]
+
+
+def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
+             use: str | None = None) -> str | None:
+    """The sentence for a file of the wrong kind: None when ``kind`` is one of ``wanted``.
+
+    ``fake.bin is DCF/EDS text, not a binary container; use dcf2bin compile ...``
+    ``use`` replaces the standard advice (an option that takes the file, say)."""
+    wanted = (wanted,) if isinstance(wanted, str) else tuple(wanted)
+    if kind in wanted:
+        return None
+    want = " or ".join(NAMES[w].replace("the JSON form of a container", "its JSON form")
+                       for w in wanted)
+    return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"
+
+
+def misnamed(path: str, kind: str) -> str | None:
+    """The note for a file whose content contradicts its suffix, read by its content:
+    'fake.dcf is a binary container, not DCF/EDS text as its name says; read as a binary
+    container'. None when the name fits (or says nothing)."""
+    if not contradicts_name(kind, path):
+        return None
+    named = NAMES[by_name(path)]
+    return f"{what_it_is(path, kind)}, not {named} as its name says; read as {NAMES[kind]}"
