@@ -1,11 +1,10 @@
 """What kind of file an input is: DCF/EDS text, a binary container, or the lossless JSON form.
 
-One rule for every command (issue 19): the content decides, the file name only where the
-content cannot (an empty or blank file). A container always has NUL bytes in its 40-byte
-header (its offsets and sizes are small numbers); CiA 306 text has none; the JSON form
-starts with ``{``. The text test is the DCF reader's own (``ini.not_text``), so a file that
-``compile`` would reject as "looks binary" is exactly a file this module calls a container
--- except UTF-16 text, which is still text in a wrong encoding (the DCF reader says so).
+One rule for every command (issue 19): the content decides where it is clear -- the JSON
+form starts with ``{``, a container's first DWORD is its own size, CiA 306 text has
+``[section]`` lines and passes the DCF reader's text test (``ini.not_text``) -- and the file
+name only where the content is not (an empty file, a damaged container, binary junk): such a
+file is then read as its name says, and the reader of that kind reports what is wrong.
 
 No click here: ``dcf2bin.cli`` and the lint runner both use it, and they word a mismatch
 with ``mismatch``.
@@ -13,6 +12,7 @@ with ``mismatch``.
 from __future__ import annotations
 
 import os
+import re
 
 DCF = "dcf"
 CONTAINER = "bin"
@@ -31,21 +31,40 @@ def by_name(path: str) -> str | None:
 
 
 def detect(data: bytes, path: str = "") -> str:
-    """The kind of ``data``, read by content; ``path``'s suffix only breaks a tie
-    (a file that is empty or blank)."""
+    """The kind of ``data``: by content where the content is clear, else by ``path``'s
+    suffix, else by the content's best guess.
+
+    Clear: a ``{`` first (the JSON form); a complete container header (its first DWORD is
+    the file's size, 40 bytes or more); CiA 306 text (the DCF reader's own text test) with
+    at least one ``[section]`` line. Anything else -- an empty file, a truncated or damaged
+    container, a text without sections, UTF-16 -- is decided by the name, and without a
+    known suffix a binary file is a container and text is DCF."""
+    kind = _clear(data)
+    if kind is not None:
+        return kind
+    named = by_name(path)
+    if named is not None:
+        return named
     from dcf2bin.ini import not_text
-    head = data[:8192]
-    body = head.lstrip(b" \t\r\n\x0b\x0c")
+    problem = not_text(data)
+    return DCF if problem is None or "UTF-16" in problem[0] else CONTAINER
+
+
+_SECTION = re.compile(rb"(?m)^[ \t]*\[[^\]\r\n]+\]")
+
+
+def _clear(data: bytes) -> str | None:
+    body = data[:8192].lstrip(b" \t\r\n\x0b\x0c")
     if body.startswith(b"\xef\xbb\xbf"):
         body = body[3:].lstrip(b" \t\r\n\x0b\x0c")
-    if not body:
-        return by_name(path) or DCF
     if body[:1] == b"{":
         return JSON
-    problem = not_text(data)
-    if problem is None or "UTF-16" in problem[0]:
+    if len(data) >= 40 and int.from_bytes(data[:4], "little") == len(data):
+        return CONTAINER
+    from dcf2bin.ini import not_text
+    if _SECTION.search(data[:65536]) and not_text(data) is None:
         return DCF
-    return CONTAINER
+    return None
 
 
 def contradicts_name(kind: str, path: str) -> bool:

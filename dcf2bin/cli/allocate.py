@@ -36,7 +36,7 @@ def allocate_cmd(input, output, into, quiet, verbose, debug):
         from dcf2bin import filekind
         kind = filekind.detect(data, input)
         fail(f"{filekind.what_it_is(name, kind)}, not a CSV list of variables; "
-             f"{filekind.advice(kind)}", name, ExitCode.USAGE)
+             f"{filekind.advice(kind)}", name)
     kept = []
     try:
         variables = alloc.read_vars(data, name)

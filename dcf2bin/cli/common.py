@@ -520,6 +520,9 @@ class Option(click.Option):
         finally:
             self.opts = saved
 
+    def get_error_hint(self, ctx) -> str:
+        return " / ".join(f"'{o}'" for o in self.shown_names())
+
     def shown_names(self) -> list[str]:
         return [o for o in self.opts + self.secondary_opts if o not in self.hidden_names]
 
@@ -603,7 +606,7 @@ def from_option(choices, more: str = ""):
 def input_kind(path: str, data: bytes, accepted, forced: str | None = None, *,
                quiet: bool = False, use: str | None = None) -> str:
     """The kind of an input (dcf2bin.filekind: content first). A kind the command does not
-    take ends it with one sentence naming the command that does (exit 2); a name that says
+    take ends it with one sentence naming the command that does (exit 1); a name that says
     another kind than the content is a warning, and the content wins. ``--from`` (forced)
     is taken as given."""
     from dcf2bin import filekind
@@ -612,8 +615,8 @@ def input_kind(path: str, data: bytes, accepted, forced: str | None = None, *,
     name = "<stdin>" if path == "-" else path
     kind = filekind.detect(data, "" if path == "-" else path)
     problem = filekind.mismatch(name, kind, accepted, use=use)
-    if problem:
-        fail(problem, name, ExitCode.USAGE)
+    if problem:          # not what this command reads: an input error, as a damaged file is
+        fail(problem, name, ExitCode.FINDINGS)
     note = filekind.misnamed(name, kind) if path != "-" else None
     if note:
         emit([Diagnostic(Severity.WARNING, note, name)], quiet)
@@ -622,7 +625,7 @@ def input_kind(path: str, data: bytes, accepted, forced: str | None = None, *,
 
 def load_static_od(path: str | None, quiet: bool, outcome: str):
     """Check a --static-od file as compile checks it, the one rule of every command: it
-    must be readable (exit 3), DCF/EDS text (exit 2, naming what it is) and free of the
+    must be readable (exit 3), DCF/EDS text (exit 1, naming what it is) and free of the
     errors that make its object list unreliable (printed, then exit 1 with ``outcome``).
     Returns its bytes (None without --static-od)."""
     if path is None:
