@@ -1,7 +1,7 @@
 """What kind of file an input is: DCF/EDS text, a binary container, or the lossless JSON form.
 
 One rule for every command (issue 19): the content decides where it is clear -- the JSON
-form starts with ``{``, a container's first DWORD is its own size, CiA 306 text has
+form starts with ``{`` and names its format, a container's first DWORD is its own size, CiA 306 text has
 ``[section]`` lines and passes the DCF reader's text test (``ini.not_text``) -- and the file
 name only where the content is not (an empty file, a damaged container, binary junk): such a
 file is then read as its name says, and the reader of that kind reports what is wrong.
@@ -34,7 +34,7 @@ def detect(data: bytes, path: str = "") -> str:
     """The kind of ``data``: by content where the content is clear, else by ``path``'s
     suffix, else by the content's best guess.
 
-    Clear: a ``{`` first (the JSON form); a complete container header (its first DWORD is
+    Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete container header (its first DWORD is
     the file's size, 40 bytes or more); CiA 306 text (the DCF reader's own text test) with
     at least one ``[section]`` line. Anything else -- an empty file, a truncated or damaged
     container, a text without sections, UTF-16 -- is decided by the name, and without a
@@ -46,18 +46,24 @@ def detect(data: bytes, path: str = "") -> str:
     if named is not None:
         return named
     from dcf2bin.ini import not_text
+    if _body(data)[:1] == b"{":
+        return JSON
     problem = not_text(data)
     return DCF if problem is None or "UTF-16" in problem[0] else CONTAINER
+
+
+def _body(data: bytes) -> bytes:
+    body = data[:8192].lstrip(b" \t\r\n\x0b\x0c")
+    if body.startswith(b"\xef\xbb\xbf"):
+        body = body[3:].lstrip(b" \t\r\n\x0b\x0c")
+    return body
 
 
 _SECTION = re.compile(rb"(?m)^[ \t]*\[[^\]\r\n]+\]")
 
 
 def _clear(data: bytes) -> str | None:
-    body = data[:8192].lstrip(b" \t\r\n\x0b\x0c")
-    if body.startswith(b"\xef\xbb\xbf"):
-        body = body[3:].lstrip(b" \t\r\n\x0b\x0c")
-    if body[:1] == b"{":
+    if _body(data)[:1] == b"{" and b'"dcf2bin-container"' in data[:65536]:
         return JSON
     if len(data) >= 40 and int.from_bytes(data[:4], "little") == len(data):
         return CONTAINER

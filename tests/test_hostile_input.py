@@ -299,8 +299,8 @@ def test_nothing_configured_compiles_with_a_warning(tmp_path):
     assert (r.exit_code, r.stderr_with_hints) == (0, (
         f"{src}: warning: nothing is configured (no ParameterValue or DownloadFile, no network "
         "variable): the container holds no entries [DCF009]\n"
-        "    hint: --select all also writes every DefaultValue (the device's defaults)\n"))
-    r = run("compile", "--select", "all", str(src), "-o", str(tmp_path / "x.bin"))
+        "    hint: --entries all also writes every DefaultValue (the device's defaults)\n"))
+    r = run("compile", "--entries", "all", str(src), "-o", str(tmp_path / "x.bin"))
     assert (r.exit_code, r.stderr) == (0, "")
 
 

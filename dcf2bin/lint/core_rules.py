@@ -27,7 +27,7 @@ core("DCF008", "not-text", ERROR,
      hint="an EDS/DCF is text in UTF-8 or Latin-1 with LF or CRLF line ends")
 core("DCF009", "nothing-configured", WARNING,
      "compile only: nothing in the file is configured, so the container holds no entries.",
-     hint="--select all also writes every DefaultValue (the device's defaults)")
+     hint="--entries all also writes every DefaultValue (the device's defaults)")
 core("DCF056", "no-sections", ERROR,
      "The file has no section at all (empty, or not an EDS/DCF); compile refuses it too.",
      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
