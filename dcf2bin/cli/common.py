@@ -451,10 +451,10 @@ def target_stack_options(fn=None, *, prefix: str = ""):
     fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
                       show_default=True, help=text("The target's PDO mapping granularity in "
                                                    "bits (8: whole bytes only)."))(fn)
-    fn = click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+    fn = click.option("--rx-cobs", type=COUNT, metavar="N",
                       help=text("RPDO entries of the target's COB table "
                                 "(default: unlimited)."))(fn)
-    fn = click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+    fn = click.option("--tx-cobs", type=COUNT, metavar="N",
                       help=text("TPDO entries of the target's COB table "
                                 "(default: unlimited)."))(fn)
     return fn
