@@ -98,16 +98,19 @@ def advice(kind: str) -> str:
 
 
 def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
-             use: str | None = None) -> str | None:
+             use: str | dict[str, str] | None = None) -> str | None:
     """The sentence for a file of the wrong kind: None when ``kind`` is one of ``wanted``.
 
     ``fake.bin is DCF/EDS text, not a binary container; use dcf2bin compile ...``
-    ``use`` replaces the standard advice (an option that takes the file, say)."""
+    ``use`` replaces the standard advice (an option that takes the file, say): one text
+    for every kind, or a text per kind (the others keep the standard one)."""
     wanted = (wanted,) if isinstance(wanted, str) else tuple(wanted)
     if kind in wanted:
         return None
     want = " or ".join(NAMES[w].replace("the JSON form of a container", "its JSON form")
                        for w in wanted)
+    if isinstance(use, dict):
+        use = use.get(kind)
     return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"
 
 

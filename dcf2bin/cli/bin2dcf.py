@@ -14,8 +14,8 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     from dcf2bin import dcfwriter
-    c, name = read_container(input, quiet, use="it is a DCF already (dcf2bin compile makes a "
-                             "container of it)")
+    c, name = read_container(input, quiet, use={
+        "dcf": "it is a DCF already (dcf2bin compile makes a container of it)"})
     if output is None:
         # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
         output = default_output(input, ".dcf", force,

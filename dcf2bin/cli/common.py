@@ -398,7 +398,7 @@ def _write_atomic(data: bytes, target: str, output: str, st) -> None:
         _cleanup_temps()
 
 
-def read_container(path: str, quiet: bool, *, json_ok: bool = False, use: str | None = None):
+def read_container(path: str, quiet: bool, *, json_ok: bool = False, use=None):
     """Read and decode a container (``json_ok``: or its JSON form); a bad one ends with one
     line naming the byte offset, a file of another kind with one naming its command."""
     data = read_input(path)
@@ -604,7 +604,7 @@ def from_option(choices, more: str = ""):
 # -- the kind of an input -----------------------------------------------------------------------
 
 def input_kind(path: str, data: bytes, accepted, forced: str | None = None, *,
-               quiet: bool = False, use: str | None = None) -> str:
+               quiet: bool = False, use=None) -> str:
     """The kind of an input (dcf2bin.filekind: content first). A kind the command does not
     take ends it with one sentence naming the command that does (exit 1); a name that says
     another kind than the content is a warning, and the content wins. ``--from`` (forced)
