@@ -200,3 +200,18 @@ def test_readme_option_table_names_every_shared_option():
     for names, _ in SHARED.values():
         assert f"`{', '.join(names)}" in table, names
     assert "`--select`" in table and "`--node`" in table
+
+
+def test_readme_opens_with_the_two_commands_and_ci_runs_the_second_verbatim():
+    """Both make a venv first (Debian and Ubuntu refuse pip outside one); .ci/run runs the
+    second exactly as the README says it."""
+    text = (ROOT / "README.md").read_text()
+    head = text.split("\n")
+    assert head[:2] == ["# dcf2bin", ""] and head[2] == "```sh" and head[5] == "```"
+    first, second = head[3], head[4]
+    venv = "python3 -m venv .venv && . .venv/bin/activate && "
+    assert first.startswith(venv) and second.startswith(venv)
+    assert first.endswith("dcf2bin compile -v samples/plc.dcf -o plc.bin && dcf2bin dump plc.bin")
+    assert second.endswith("python3 -m pip install -q -e '.[test]' && python3 -m pytest -q")
+    ci = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert second in ci
