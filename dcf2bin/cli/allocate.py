@@ -14,7 +14,7 @@ from dcf2bin.diagnostics import ExitCode
 
 @click.command("allocate", context_settings=CONTEXT)
 @click.argument("input", metavar="VARS.csv", type=click.Path(allow_dash=True))
-@output_option("The DCF; default: standard output.")
+@output_option("Default: standard output.")
 @click.option("--into", type=click.Path(), metavar="BASE.dcf",
               help="Merge into this DCF: its variables keep their places, its other lines "
               "stay as they are.")

@@ -435,31 +435,6 @@ def read_eds(path: str | None, quiet: bool):
     return info, dev
 
 
-def target_stack_options(fn=None, *, prefix: str = ""):
-    """--tx-cobs/--rx-cobs/--granularity/--no-bit-mapping: what the target's stack was
-    built with, shared by compile, validate, simulate and node (which passes
-    ``prefix="With --container: "``)."""
-    if fn is None:
-        return lambda f: target_stack_options(f, prefix=prefix)
-
-    def text(help: str) -> str:
-        if not prefix or help[1].isupper():     # keep "TPDO", lower-case "The"
-            return prefix + help
-        return prefix + help[0].lower() + help[1:]
-    fn = click.option("--no-bit-mapping", is_flag=True,
-                      help=text("The target cannot map a BOOLEAN as 1 bit."))(fn)
-    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
-                      show_default=True, help=text("The target's PDO mapping granularity in "
-                                                   "bits (8: whole bytes only)."))(fn)
-    fn = click.option("--rx-cobs", type=COUNT, metavar="N",
-                      help=text("RPDO entries of the target's COB table "
-                                "(default: unlimited)."))(fn)
-    fn = click.option("--tx-cobs", type=COUNT, metavar="N",
-                      help=text("TPDO entries of the target's COB table "
-                                "(default: unlimited)."))(fn)
-    return fn
-
-
 # -- one vocabulary of options (issue 19) -------------------------------------------------------
 #
 # Every command takes its shared options from here, so that a name, its short form, its value
@@ -540,7 +515,8 @@ SHARED_HELP = {
     "static_od": "EDS of the objects the target's firmware already has (its static OD); "
                  "it must read without errors.",
     "force": "Replace an existing file at the default output name.",
-    "from_": "Input kind (default: by content, the name's suffix only for an empty file).",
+    "from_": "Input kind (default: by its content; by the name's suffix where the content is "
+             "not clear).",
 }
 
 
@@ -655,3 +631,28 @@ def default_output(input: str, suffix: str, force: bool, why: str = "") -> str:
         fail(f"{output} exists{why}; name the output with -o to replace it, or give --force",
              code=ExitCode.USAGE)
     return output
+
+
+def target_stack_options(fn=None, *, prefix: str = ""):
+    """--tx-cobs/--rx-cobs/--granularity/--no-bit-mapping: what the target's stack was
+    built with, shared by compile, validate, simulate and node (which passes
+    ``prefix="With --container: "``)."""
+    if fn is None:
+        return lambda f: target_stack_options(f, prefix=prefix)
+
+    def text(help: str) -> str:
+        if not prefix or help[1].isupper():     # keep "TPDO", lower-case "The"
+            return prefix + help
+        return prefix + help[0].lower() + help[1:]
+    fn = click.option("--no-bit-mapping", is_flag=True,
+                      help=text("The target cannot map a BOOLEAN as 1 bit."))(fn)
+    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+                      show_default=True, help=text("The target's PDO mapping granularity in "
+                                                   "bits (8: whole bytes only)."))(fn)
+    fn = click.option("--rx-cobs", type=COUNT, metavar="N",
+                      help=text("RPDO entries of the target's COB table "
+                                "(default: unlimited)."))(fn)
+    fn = click.option("--tx-cobs", type=COUNT, metavar="N",
+                      help=text("TPDO entries of the target's COB table "
+                                "(default: unlimited)."))(fn)
+    return fn

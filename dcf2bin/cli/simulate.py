@@ -28,7 +28,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
               show_default=True, help="PI addresses count from the image start or their area.")
 @format_option(["text", "json"], "text", "the report as text or JSON.")
-@output_option("The report; default: standard output.")
+@output_option("Default: standard output.")
 @click.option("--emit-od", type=click.Path(), metavar="FILE.dcf",
               help="Also write the object dictionary after DynBuildOd as a DCF.")
 @node_id_option("DCF input: used for $NODEID values.")

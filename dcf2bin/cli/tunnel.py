@@ -27,7 +27,7 @@ def _int(text: str, what: str, hint: str) -> int:
 @click.option("--read-mode", type=click.Choice(["value", "min", "max"]), default="value",
               show_default=True, help="What 0x2204 returns for --read: the current value, "
                                       "the lower or the upper limit.")
-@output_option("The extra-writes file; default: standard output.")
+@output_option("Default: standard output.")
 @quiet_option("No line that counts the writes.")
 @debug_option
 @guarded

@@ -22,7 +22,7 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.command("validate", context_settings=CONTEXT)
 @click.argument("paths", nargs=-1, type=click.Path(allow_dash=True))
 @format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
-@output_option("The report; default: standard output.")
+@output_option("Default: standard output.")
 @click.option("--select", "select_", multiple=True, metavar="RULES",
               help="Run only these rules: ids, id prefixes (DCF4, CNT), names, or ALL; "
                    "comma-separated or repeated.")
