@@ -1,10 +1,11 @@
 """What kind of file an input is: DCF/EDS text, a binary container, or the lossless JSON form.
 
 One rule for every command (issue 19): the content decides where it is clear -- the JSON
-form starts with ``{`` and names its format, a container's first DWORD is its own size, CiA 306 text has
-``[section]`` lines and passes the DCF reader's text test (``ini.not_text``) -- and the file
-name only where the content is not (an empty file, a damaged container, binary junk): such a
-file is then read as its name says, and the reader of that kind reports what is wrong.
+form starts with ``{`` and names its format, a container's first DWORD is its own size,
+CiA 306 text has ``[section]`` lines and passes the DCF reader's text test
+(``ini.not_text``) -- and the file name only where the content is not (an empty file, a
+damaged container, binary junk): such a file is then read as its name says, and the reader
+of that kind reports what is wrong.
 
 No click here: ``dcf2bin.cli`` and the lint runner both use it, and they word a mismatch
 with ``mismatch``.
@@ -34,9 +35,9 @@ def detect(data: bytes, path: str = "") -> str:
     """The kind of ``data``: by content where the content is clear, else by ``path``'s
     suffix, else by the content's best guess.
 
-    Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete container header (its first DWORD is
-    the file's size, 40 bytes or more); CiA 306 text (the DCF reader's own text test) with
-    at least one ``[section]`` line. Anything else -- an empty file, a truncated or damaged
+    Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete
+    container header (its first DWORD is the file's size, 40 bytes or more); CiA 306 text
+    (the DCF reader's own text test) with at least one ``[section]`` line. Anything else -- an empty file, a truncated or damaged
     container, a text without sections, UTF-16 -- is decided by the name, and without a
     known suffix a binary file is a container and text is DCF."""
     kind = _clear(data)
