@@ -37,9 +37,10 @@ def detect(data: bytes, path: str = "") -> str:
 
     Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete
     container header (its first DWORD is the file's size, 40 bytes or more); CiA 306 text
-    (the DCF reader's own text test) with at least one ``[section]`` line. Anything else -- an empty file, a truncated or damaged
-    container, a text without sections, UTF-16 -- is decided by the name, and without a
-    known suffix a binary file is a container and text is DCF."""
+    (the DCF reader's own text test) with at least one ``[section]`` line. Anything else --
+    an empty file, a truncated or damaged container, a text without sections, UTF-16 -- is
+    decided by the name, and without a known suffix a binary file is a container and text
+    is DCF."""
     kind = _clear(data)
     if kind is not None:
         return kind
