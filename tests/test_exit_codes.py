@@ -159,3 +159,36 @@ def test_validate_an_empty_directory_counts_no_file(folder):
     assert (r.exit_code, r.stdout) == (3, (
         f"{folder / 'adir'}: error: no *.dcf, *.eds or *.bin file in this directory [IO001]\n"
         "1 error, 0 warnings, 0 infos in 0 files\n"))
+
+
+# -- default output names never replace a file (README "Output files") ----------------------
+
+def test_compile_default_output_never_replaces_a_file(tmp_path):
+    src = tmp_path / "plc.dcf"
+    src.write_bytes((SAMPLES / "plc.dcf").read_bytes())
+    for out, extra in ((tmp_path / "plc.bin", []), (tmp_path / "plc.c", ["-f", "c"])):
+        out.write_text("the user's own file\n")
+        r = CliRunner().invoke(main, ["compile", str(src), *extra])
+        assert (r.exit_code, r.stderr) == (2, (
+            f"dcf2bin: error: {out} exists; name the output with -o to replace it, or give "
+            "--force\n"))
+        assert out.read_text() == "the user's own file\n"
+        r = CliRunner().invoke(main, ["compile", str(src), *extra, "--force"])
+        assert (r.exit_code, r.stderr) == (0, "")
+        assert out.read_bytes() != b"the user's own file\n"
+        out.write_text("the user's own file\n")
+        r = CliRunner().invoke(main, ["compile", str(src), *extra, "-o", str(out)])
+        assert r.exit_code == 0 and out.read_bytes() != b"the user's own file\n"
+    (tmp_path / "plc.bin").unlink()
+    r = CliRunner().invoke(main, ["compile", str(src)])
+    assert r.exit_code == 0
+    assert (tmp_path / "plc.bin").read_bytes() == (SAMPLES / "plc.bin").read_bytes()
+
+
+def test_bin2dcf_force_replaces_the_default_output(tmp_path):
+    (tmp_path / "plc.bin").write_bytes((SAMPLES / "plc.bin").read_bytes())
+    (tmp_path / "plc.dcf").write_text("; the user's own DCF\n")
+    r = CliRunner().invoke(main, ["bin2dcf", str(tmp_path / "plc.bin"), "--force"])
+    assert r.exit_code == 0
+    assert (tmp_path / "plc.dcf").read_text().startswith(
+        f"; DCF written by dcf2bin bin2dcf from {tmp_path / 'plc.bin'} (434 bytes, 34 entries).")
