@@ -62,10 +62,6 @@ _TOP_KEYS = ["format", "version", "layout", "header", "entries", "extra_attribut
 _ENTRY_KEYS = ["index", "subindex", "data", "attribute"]
 
 
-def doc_keys(doc) -> list:
-    return list(doc) if isinstance(doc, dict) else []
-
-
 @dataclass
 class Parsed:
     container: BinContainer
@@ -76,7 +72,8 @@ class Parsed:
 def from_dict(doc) -> Parsed:
     """Check a document and turn it into a container model. Raises JsonProblem."""
     # "schema_version" is what dcf2bin wrote before "version": old dumps still compile
-    allowed = _TOP_KEYS + ["schema_version"] if "schema_version" in doc_keys(doc) else _TOP_KEYS
+    old_name = isinstance(doc, dict) and "schema_version" in doc
+    allowed = _TOP_KEYS + ["schema_version"] if old_name else _TOP_KEYS
     doc = _obj(doc, (), allowed, ["format", "entries"])
     if doc["format"] != FORMAT:
         got = json.dumps(doc["format"])[:40]
