@@ -32,8 +32,6 @@ class _PdoSemantics:
         if value:
             self.check_mapped(pos, value, _dir(comm))
 
-    # an unknown static OD: what the container does not hold (yet) is assumed (SPEC §8.1)
-
     def cob_write(self, pos: int, comm: int, cob: int) -> None:
         d = _dir(comm)
         if cob & 0x80000000:
