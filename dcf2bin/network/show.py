@@ -208,7 +208,7 @@ def value_text(w: WriteRow) -> str:
     return json.dumps(v) if isinstance(v, str) else str(v)
 
 
-def _table(head: list[str], rows: list[list[str]]) -> list[str]:
+def table(head: list[str], rows: list[list[str]]) -> list[str]:
     widths = [max(len(head[i]), *(len(r[i]) for r in rows)) if rows else len(head[i])
               for i in range(len(head))]
     fmt = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
@@ -225,11 +225,11 @@ def text(view: View) -> str:
              ", ".join(str(c) for c in k.consumers) or "(nobody)",
              str(k.bytes), rate_text(k.rate), f"{k.share:.2f} %",
              ", ".join(k.content)] for k in view.links]
-    out += _table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load",
+    out += table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load",
                    "content"], rows)
     if view.variables:
         out += ["", "PLC variables:"]
-        out += _table(["variable", "dir", "type", "node", "object", "PLC entry", "offset"],
+        out += table(["variable", "dir", "type", "node", "object", "PLC entry", "offset"],
                       [[v.name, "in" if v.direction == "input" else "out", v.datatype,
                         f"{v.node} ({v.node_id})", f"0x{v.index:04X}sub{v.sub:X}",
                         f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
@@ -238,7 +238,7 @@ def text(view: View) -> str:
     if view.slaves:
         out += ["", "Identity the master enforces:"]
         cols = [0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88]
-        out += _table(["node", *(IDENTITY_NAMES[c] for c in cols)],
+        out += table(["node", *(IDENTITY_NAMES[c] for c in cols)],
                       [[f"{s.name} ({s.node_id})",
                         *(f"0x{s.identity[c]:08X}" if c in s.identity else "-" for c in cols)]
                        for s in view.slaves])
@@ -247,7 +247,7 @@ def text(view: View) -> str:
             continue
         n = len(s.writes)
         out += ["", f"{s.name} (node {s.node_id}): {n} SDO write{'s' if n != 1 else ''}"]
-        out += _table(["#", "entry", "name", "value", "why", "source"],
+        out += table(["#", "entry", "name", "value", "why", "source"],
                       [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.name, value_text(w),
                         w.why, w.where] for k, w in enumerate(s.writes)])
     return "\n".join(out) + "\n"

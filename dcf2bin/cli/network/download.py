@@ -1,0 +1,122 @@
+"""dcf2bin network download: configure every slave of a network by SDO."""
+from __future__ import annotations
+
+import click
+
+from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
+from dcf2bin.cli.download import bus_options, open_bus
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+
+
+@click.command("download", context_settings=CONTEXT)
+@click.argument("network_file", metavar="NETWORK", type=click.Path())
+@bus_options
+@click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
+              metavar="SECONDS", help="Seconds to wait for each SDO response.")
+@click.option("--retries", type=click.IntRange(0), default=2, show_default=True, metavar="N",
+              help="Times an unanswered SDO request is sent again.")
+@click.option("--dry-run", is_flag=True,
+              help="Print each slave's identity check and SDO writes; touch no bus.")
+@click.option("--verify", is_flag=True,
+              help="Read back every readable entry written and report each difference.")
+@click.option("--keep-going", is_flag=True,
+              help="Go on after an SDO abort or a node that fails (the next entries, the "
+              "next nodes) and report every failure at the end.")
+@click.option("--save", is_flag=True,
+              help="After a slave is configured, write \"save\" to its 0x1010 sub 1 (store "
+              "all parameters).")
+@click.option("-q", "--quiet", is_flag=True, help="No progress lines and no summary; errors only.")
+@guarded
+def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dry_run, verify,
+                 keep_going, save, quiet):
+    """Configure every slave of a network by SDO, in node-ID order.
+
+    Each slave's identity is checked first: its device type (0x1000) and 0x1018 sub 1...4
+    are read and compared with what the master will enforce (0x1F84...0x1F88); a slave
+    the master would refuse is an error, and nothing is written to it. Then its
+    configuration is written: its PDOs (each disabled while it is changed), heartbeat and
+    guarding entries and the `sdo` list of the network file, in that order. The master
+    (the PLC) is not written: its container goes with the PLC program. One progress line
+    per slave; a summary names every slave configured, failed or skipped.
+    """
+    from dcf2bin.bus import netconf
+    from dcf2bin.cli.network.show import configured_network
+    network = configured_network(network_file, quiet, "nothing sent")
+    if dry_run:
+        write_output(_dry(network), "-", [], binary=False)
+        return
+    from dcf2bin.bus import link
+    net = open_bus(interface, channel, bitrate)
+    options = netconf.Options(timeout, retries, verify, keep_going, save)
+
+    def progress(out: netconf.Outcome) -> None:
+        emit([Diagnostic(Severity.ERROR, f"{out.label}: {p.message}", p.where or network_file)
+              for p in out.problems])
+        if not quiet:
+            click.echo(_line(out))
+
+    try:
+        outcomes = netconf.configure_slaves(net, network, options, source=network_file,
+                                            progress=progress)
+    finally:
+        link.close_network(net)
+    if not quiet:
+        write_output(_summary(network_file, outcomes, keep_going), "-", [], binary=False)
+    if any(o.status != netconf.CONFIGURED for o in outcomes):
+        raise Failure(ExitCode.FINDINGS)
+
+
+def _count(n: int, word: str, plural: str) -> str:
+    return f"{n} {word if n == 1 else plural}"
+
+
+def _line(out) -> str:
+    from dcf2bin.bus import netconf
+    if out.status == netconf.CONFIGURED:
+        done = [f"{_count(out.total, 'entry', 'entries')} written"]
+        if out.verified:
+            done.append("read back equal")
+        if out.saved:
+            done.append("saved")
+        return f"{out.label}: identity checked, " + ", ".join(done)
+    if out.written == 0 and not out.aborts:
+        return f"{out.label}: failed, nothing written"
+    return f"{out.label}: failed, {out.written} of {out.total} entries written"
+
+
+def _summary(path: str, outcomes, keep_going: bool) -> str:
+    from dcf2bin.bus import netconf
+    counts = {s: sum(o.status == s for o in outcomes)
+              for s in (netconf.CONFIGURED, netconf.FAILED, netconf.SKIPPED)}
+    out = [f"{path}: {counts['configured']} configured, {counts['failed']} failed, "
+           f"{counts['skipped']} skipped"]
+    for o in outcomes:
+        if o.status == netconf.CONFIGURED:
+            why = _count(o.total, "entry", "entries")
+        elif o.status == netconf.FAILED:
+            why = "; ".join(p.message for p in o.problems)
+        else:
+            why = "not written: an earlier node failed (--keep-going goes on)"
+        out.append(f"  {o.status:<10}  {o.label}  {why}")
+    return "\n".join(out) + "\n"
+
+
+def _dry(network) -> str:
+    from dcf2bin.bus.scan import ENFORCED
+    from dcf2bin.network import show
+    out = []
+    for n in sorted(network.slaves, key=lambda n: n.node_id):
+        checks = [f"0x{ENFORCED[k][0]:04X}"
+                  + (f" sub {ENFORCED[k][1]}" if ENFORCED[k][0] != 0x1000 else "")
+                  + f" = 0x{v:08X}" for k, v in sorted(n.identity.items()) if v]
+        out.append(f"node {n.node_id} ({n.name}): "
+                   + (f"checks {', '.join(checks)}; " if checks else "no identity check; ")
+                   + f"{_count(len(n.writes), 'SDO write', 'SDO writes')} (dry run, nothing sent)")
+        rows = [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.data.hex(" ").upper(),
+                 show.value_text(show.WriteRow(w.index, w.sub, w.name, w.value, w.data, w.why,
+                                               "")),
+                 w.name, w.why, str(w.where) if w.where is not None else ""]
+                for k, w in enumerate(n.writes)]
+        out += ["  " + line for line in
+                show.table(["#", "entry", "data", "value", "name", "why", "source"], rows)]
+    return "\n".join(out) + "\n"
