@@ -266,7 +266,7 @@ def to_svg(view: View) -> str:
 def to_html(view: View) -> str:
     from dcf2bin.network.show import IDENTITY_NAMES, value_text
     svg = to_svg(view).split("\n", 1)[1]          # without the XML declaration
-    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8"/>',
            f"<title>{_e(view.path)}</title>",
            "<style>body{font-family:sans-serif;margin:1em}"
            "table{border-collapse:collapse;margin:1em 0}"
