@@ -18,8 +18,10 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.bus import download as dl
 from dcf2bin.bus.scan import ENFORCED
+from dcf2bin.network.show import identity_of
 
 CONFIGURED, FAILED, SKIPPED = "configured", "failed", "skipped"
+PLC = "not written"          # a .cpj project's PLC: its container goes with its program
 
 
 @dataclass
@@ -55,6 +57,12 @@ class Outcome:
         return f"node {self.node_id} ({self.name})"
 
 
+def is_plc(node) -> bool:
+    """A SYS TEC PLC: its file has network variables (0xA000–0xAFFF)."""
+    dev = node.device
+    return dev is not None and any(0xA000 <= i <= 0xAFFF for i in dev.objects)
+
+
 def plan_of(node, source: str) -> dl.Plan:
     """A slave's D-18 write list as ``download``'s plan; each write's place is its YAML
     (or file) line, and its attribute byte says whether it can be read back."""
@@ -77,13 +85,21 @@ def _attr(node, w) -> int | None:
     return attr
 
 
-def identity_problems(sdo, node) -> list[Problem]:
-    """The enforced identity entries the node does not hold (read by SDO)."""
+def cpj_plan(node) -> tuple[dl.Plan | None, list]:
+    """A .cpj node's configuration: its DCF's entries, as ``download`` writes them (the
+    plan, and the compile's diagnostics)."""
+    from dcf2bin.compiler import CompileOptions, compile_path
+    res = compile_path(node.file, CompileOptions(node_id=node.node_id))
+    return (dl.plan_from_result(res, node.file) if res.ok else None), list(res.diagnostics)
+
+
+def identity_problems(sdo, node, identity: dict[int, int]) -> list[Problem]:
+    """The identity entries the node does not hold as ``identity`` says (read by SDO)."""
     from canopen import SdoAbortedError, SdoCommunicationError
     where = str(node.where) if node.where is not None else ""
     out = []
-    for key in sorted(node.identity):
-        want = node.identity[key]
+    for key in sorted(identity):
+        want = identity[key]
         if not want:
             continue
         index, sub, what = ENFORCED[key]
@@ -106,16 +122,26 @@ def identity_problems(sdo, node) -> list[Problem]:
 
 
 def configure_slaves(net, network, options: Options, *, source: str,
+                     plans: dict[int, dl.Plan] | None = None,
                      progress: Callable[[Outcome], None] | None = None) -> list[Outcome]:
-    """Configure every slave; one outcome per slave, in node-ID order. Without
-    ``keep_going`` the first node that fails ends the run, the rest are skipped."""
-    outcomes = [Outcome(n.node_id, n.name, total=len(n.writes))
-                for n in sorted(network.slaves, key=lambda n: n.node_id)]
+    """Configure every slave; one outcome per node, in node-ID order. ``plans``: each
+    node's writes by node-ID (default: its D-18 list); a node without one is a PLC and is
+    not written. Without ``keep_going`` the first node that fails ends the run, the rest
+    are skipped."""
+    nodes = sorted(network.slaves, key=lambda n: n.node_id)
+    if plans is None:
+        plans = {n.node_id: plan_of(n, source) for n in nodes}
+    outcomes = [Outcome(n.node_id, n.name, total=len(plans[n.node_id].writes)
+                        if n.node_id in plans else 0) for n in nodes]
     stop = False
-    for out, node in zip(outcomes, sorted(network.slaves, key=lambda n: n.node_id)):
+    for out, node in zip(outcomes, nodes):
         if stop:
             break
-        _configure_one(net, node, out, options, source)
+        if node.node_id not in plans:
+            out.status = PLC
+        else:
+            _configure_one(net, node, plans[node.node_id], identity_of(network, node), out,
+                           options, source)
         if progress is not None:
             progress(out)
         if out.status == FAILED and not options.keep_going:
@@ -123,12 +149,12 @@ def configure_slaves(net, network, options: Options, *, source: str,
     return outcomes
 
 
-def _configure_one(net, node, out: Outcome, options: Options, source: str) -> None:
+def _configure_one(net, node, plan: dl.Plan, identity: dict[int, int], out: Outcome,
+                   options: Options, source: str) -> None:
     sdo = dl.sdo_client(net, node.node_id, timeout=options.timeout, retries=options.retries)
-    plan = plan_of(node, source)
     out.status = FAILED
     try:
-        out.problems = identity_problems(sdo, node)
+        out.problems = identity_problems(sdo, node, identity)
         if out.problems:
             return
         result = dl.execute(plan, sdo, keep_going=options.keep_going)
@@ -165,8 +191,8 @@ def _configure_one(net, node, out: Outcome, options: Options, source: str) -> No
 
 
 def _abort_line(a: dl.Abort, node, total: int) -> str:
-    w = node.writes[a.write.number - 1]
-    name = f" {w.name}" if w.name else ""
-    why = f" ({w.why})" if w.why else ""
+    w = node.writes[a.write.number - 1] if a.write.number <= len(node.writes) else None
+    name = f" {w.name}" if w is not None and w.name else ""
+    why = f" ({w.why})" if w is not None and w.why else ""
     return (f"{a.write.label}{name}{why}: {a.text}; {a.written_before} of {total} entries "
             "written before it")

@@ -5,7 +5,8 @@ its text and JSON forms (the picture is :mod:`dcf2bin.network.svg`).
   per second (None: the configuration does not say), bits of a frame, share of the bus;
   an RPDO whose COB-ID no node produces is listed too, with no producer;
 * per PLC variable: the slave and object it comes from or goes to, and its PLC entry;
-* per slave: the identity the master will enforce (0x1F84…0x1F88);
+* per slave: the identity the master will enforce (0x1F84…0x1F88; for a .cpj project,
+  which has no master, the identity each node's DCF states);
 * with ``writes``: a slave's decoded D-18 write list (index, sub, name, value, why).
 
     view = build(network, writes=None | "all" | node-name-or-ID)
@@ -17,8 +18,11 @@ import json
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
+from dcf2bin.diagnostics import DcfError
 from dcf2bin.network.model import COB_EXTENDED, RPDO, Network, Node, Pdo
 
+IDENTITY_ENTRIES = {0x1F84: (0x1000, 0), 0x1F85: (0x1018, 1), 0x1F86: (0x1018, 2),
+                    0x1F87: (0x1018, 3), 0x1F88: (0x1018, 4)}
 IDENTITY_NAMES = {0x1F84: "device type", 0x1F85: "vendor-ID", 0x1F86: "product code",
                   0x1F87: "revision number", 0x1F88: "serial number"}
 
@@ -103,6 +107,28 @@ class View:
     unknown: int
     variables: list[VarRow] = field(default_factory=list)
     slaves: list[SlaveRow] = field(default_factory=list)
+    kind: str = "yaml"                        # "yaml" or "cpj"
+
+
+def identity_of(network, node) -> dict[int, int]:
+    """What a node must be (0x1F84…0x1F88 → value, the nonzero ones): for a YAML network
+    what the master will enforce; for a .cpj project, which has no master, the node's own
+    DCF (its 0x1000 and 0x1018 sub 1…4)."""
+    if network.kind != "cpj":
+        return {k: v for k, v in node.identity.items() if v}
+    out = {}
+    dev = node.device
+    for key, (index, sub) in IDENTITY_ENTRIES.items():
+        entry = dev.entry(index, sub) if dev is not None else None
+        if entry is None:
+            continue
+        try:
+            value = dev.effective_int(entry)
+        except DcfError:         # a value the file's own findings already report
+            continue
+        if value:
+            out[key] = value
+    return out
 
 
 def _end(node: Node, pdo: Pdo | None) -> End:
@@ -167,7 +193,8 @@ def build(network: Network, writes: str | None = None) -> View:
         links.append(Link(can_id, ext, p.label, None, [_end(n, q) for n, q in ends],
                           _content(network, node, p), (p.bits + 7) // 8, None, 0, 0.0))
     links.sort(key=lambda k: (k.extended, k.can_id))
-    view = View(network.path, network.bitrate, nodes, links, load.total, len(load.unknown))
+    view = View(network.path, network.bitrate, nodes, links, load.total, len(load.unknown),
+                kind=network.kind)
     by_id = {n.node_id: n for n in network.nodes}
     for v in network.variables:
         t = dt.BY_CODE.get(v.datatype)
@@ -177,7 +204,7 @@ def build(network: Network, writes: str | None = None) -> View:
                                      v.pi_index, v.pi_sub, v.pi_offset))
     chosen = None if writes in (None, "all") else find_node(network, writes)
     for n in sorted(network.slaves, key=lambda n: n.node_id):
-        row = SlaveRow(n.name, n.node_id, {k: v for k, v in sorted(n.identity.items()) if v})
+        row = SlaveRow(n.name, n.node_id, dict(sorted(identity_of(network, n).items())))
         if writes == "all" or (chosen is not None and chosen is n):
             row.writes = [WriteRow(w.index, w.sub, w.name, w.value, w.data, w.why,
                                    str(w.where) if w.where is not None else "")
@@ -236,7 +263,8 @@ def text(view: View) -> str:
                         str(v.pi_offset) if v.pi_offset is not None else ""]
                        for v in view.variables])
     if view.slaves:
-        out += ["", "Identity the master enforces:"]
+        out += ["", "Identity the master enforces:" if view.kind != "cpj" else
+                "Identity each node's DCF states (a .cpj project has no master):"]
         cols = [0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88]
         out += table(["node", *(IDENTITY_NAMES[c] for c in cols)],
                       [[f"{s.name} ({s.node_id})",

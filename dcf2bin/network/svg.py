@@ -298,7 +298,8 @@ def to_html(view: View) -> str:
                 f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
                 str(v.pi_offset) if v.pi_offset is not None else ""] for v in view.variables])
     if view.slaves:
-        out.append("<h2>Identity the master enforces</h2>")
+        out.append("<h2>Identity the master enforces</h2>" if view.kind != "cpj" else
+                   "<h2>Identity each node's DCF states</h2>")
         cols = list(IDENTITY_NAMES)
         table(["node", *IDENTITY_NAMES.values()],
               [[f"{s.name} ({s.node_id})",

@@ -5,6 +5,7 @@ import click
 
 from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
 from dcf2bin.cli.download import bus_options, open_bus
+from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
@@ -25,10 +26,11 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.option("--save", is_flag=True,
               help="After a slave is configured, write \"save\" to its 0x1010 sub 1 (store "
               "all parameters).")
+@net_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress lines and no summary; errors only.")
 @guarded
 def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dry_run, verify,
-                 keep_going, save, quiet):
+                 keep_going, save, net, quiet):
     """Configure every slave of a network by SDO, in node-ID order.
 
     Each slave's identity is checked first: its device type (0x1000) and 0x1018 sub 1...4
@@ -38,15 +40,19 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
     guarding entries and the `sdo` list of the network file, in that order. The master
     (the PLC) is not written: its container goes with the PLC program. One progress line
     per slave; a summary names every slave configured, failed or skipped.
+
+    A .cpj project has no master: each node's DCF is written as `download` writes it,
+    after the check of the identity its DCF states; a PLC (a file with network variables)
+    is not written.
     """
     from dcf2bin.bus import netconf
-    from dcf2bin.cli.network.show import configured_network
-    network = configured_network(network_file, quiet, "nothing sent")
+    network = configured_network(network_file, quiet, "nothing sent", net)
+    plans = _plans(network, network_file, quiet)
     if dry_run:
-        write_output(_dry(network), "-", [], binary=False)
+        write_output(_dry(network, plans), "-", [], binary=False)
         return
     from dcf2bin.bus import link
-    net = open_bus(interface, channel, bitrate)
+    bus = open_bus(interface, channel, bitrate)
     options = netconf.Options(timeout, retries, verify, keep_going, save)
 
     def progress(out: netconf.Outcome) -> None:
@@ -56,14 +62,39 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
             click.echo(_line(out))
 
     try:
-        outcomes = netconf.configure_slaves(net, network, options, source=network_file,
-                                            progress=progress)
+        outcomes = netconf.configure_slaves(bus, network, options, source=network_file,
+                                            plans=plans, progress=progress)
     finally:
-        link.close_network(net)
+        link.close_network(bus)
     if not quiet:
         write_output(_summary(network_file, outcomes, keep_going), "-", [], binary=False)
-    if any(o.status != netconf.CONFIGURED for o in outcomes):
+    if any(o.status in (netconf.FAILED, netconf.SKIPPED) for o in outcomes):
         raise Failure(ExitCode.FINDINGS)
+
+
+def _plans(network, source: str, quiet: bool) -> dict:
+    """Each node's writes by node-ID: a YAML network's slaves their D-18 lists; a .cpj
+    project's nodes their DCFs compiled (a PLC has none; a DCF with errors ends the run
+    before anything is sent)."""
+    from dcf2bin.bus import netconf
+    slaves = sorted(network.slaves, key=lambda n: n.node_id)
+    if network.kind != "cpj":
+        return {n.node_id: netconf.plan_of(n, source) for n in slaves}
+    plans, errors = {}, 0
+    for n in slaves:
+        if netconf.is_plc(n):
+            continue
+        plan, diags = netconf.cpj_plan(n)
+        emit(diags, quiet)
+        if plan is None:
+            errors += sum(d.severity is Severity.ERROR for d in diags)
+        else:
+            plans[n.node_id] = plan
+    if errors:
+        click.echo(f"{source}: {errors} error{'s' if errors != 1 else ''}, nothing sent",
+                   err=True)
+        raise Failure(ExitCode.FINDINGS)
+    return plans
 
 
 def _count(n: int, word: str, plural: str) -> str:
@@ -72,6 +103,8 @@ def _count(n: int, word: str, plural: str) -> str:
 
 def _line(out) -> str:
     from dcf2bin.bus import netconf
+    if out.status == netconf.PLC:
+        return f"{out.label}: not written (a PLC: its container goes with the PLC program)"
     if out.status == netconf.CONFIGURED:
         done = [f"{_count(out.total, 'entry', 'entries')} written"]
         if out.verified:
@@ -87,36 +120,50 @@ def _line(out) -> str:
 def _summary(path: str, outcomes, keep_going: bool) -> str:
     from dcf2bin.bus import netconf
     counts = {s: sum(o.status == s for o in outcomes)
-              for s in (netconf.CONFIGURED, netconf.FAILED, netconf.SKIPPED)}
+              for s in (netconf.CONFIGURED, netconf.FAILED, netconf.SKIPPED, netconf.PLC)}
     out = [f"{path}: {counts['configured']} configured, {counts['failed']} failed, "
-           f"{counts['skipped']} skipped"]
+           f"{counts['skipped']} skipped"
+           + (f", {counts[netconf.PLC]} not written (PLC)" if counts[netconf.PLC] else "")]
     for o in outcomes:
         if o.status == netconf.CONFIGURED:
             why = _count(o.total, "entry", "entries")
         elif o.status == netconf.FAILED:
             why = "; ".join(p.message for p in o.problems)
+        elif o.status == netconf.PLC:
+            why = "a PLC: its container goes with the PLC program"
         else:
             why = "not written: an earlier node failed (--keep-going goes on)"
         out.append(f"  {o.status:<10}  {o.label}  {why}")
     return "\n".join(out) + "\n"
 
 
-def _dry(network) -> str:
+def _dry(network, plans: dict) -> str:
+    from dcf2bin.bus.netconf import identity_of
     from dcf2bin.bus.scan import ENFORCED
     from dcf2bin.network import show
     out = []
     for n in sorted(network.slaves, key=lambda n: n.node_id):
+        if n.node_id not in plans:
+            out.append(f"node {n.node_id} ({n.name}): not written (a PLC: its container goes "
+                       "with the PLC program)")
+            continue
+        plan = plans[n.node_id]
         checks = [f"0x{ENFORCED[k][0]:04X}"
                   + (f" sub {ENFORCED[k][1]}" if ENFORCED[k][0] != 0x1000 else "")
-                  + f" = 0x{v:08X}" for k, v in sorted(n.identity.items()) if v]
+                  + f" = 0x{v:08X}" for k, v in sorted(identity_of(network, n).items())]
         out.append(f"node {n.node_id} ({n.name}): "
                    + (f"checks {', '.join(checks)}; " if checks else "no identity check; ")
-                   + f"{_count(len(n.writes), 'SDO write', 'SDO writes')} (dry run, nothing sent)")
-        rows = [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.data.hex(" ").upper(),
-                 show.value_text(show.WriteRow(w.index, w.sub, w.name, w.value, w.data, w.why,
-                                               "")),
-                 w.name, w.why, str(w.where) if w.where is not None else ""]
-                for k, w in enumerate(n.writes)]
+                   + f"{_count(len(plan.writes), 'SDO write', 'SDO writes')} (dry run, "
+                   "nothing sent)")
+        named = {k: w for k, w in enumerate(n.writes)} if network.kind != "cpj" else {}
+        rows = []
+        for k, w in enumerate(plan.writes):
+            m = named.get(k)
+            value = (show.value_text(show.WriteRow(m.index, m.sub, m.name, m.value, m.data,
+                                                   m.why, "")) if m is not None else "")
+            rows.append([str(k + 1), w.label, w.data.hex(" ").upper() or "(0 bytes)", value,
+                         m.name if m is not None else "", m.why if m is not None else "",
+                         w.where])
         out += ["  " + line for line in
                 show.table(["#", "entry", "data", "value", "name", "why", "source"], rows)]
     return "\n".join(out) + "\n"

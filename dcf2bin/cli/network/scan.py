@@ -8,6 +8,7 @@ import click
 
 from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
 from dcf2bin.cli.download import bus_options, open_bus
+from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
@@ -27,9 +28,11 @@ COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
               help="Times an unanswered SDO request is sent again.")
 @click.option("-f", "--format", "fmt", type=click.Choice(["text", "json"]), default="text",
               show_default=True, help="Output format.")
+@net_option
 @click.option("-q", "--quiet", is_flag=True, help="No table; the findings only.")
 @guarded
-def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries, fmt, quiet):
+def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries, fmt, net,
+             quiet):
     """Find the nodes on the bus and compare them with a network.
 
     Listens for boot-up and heartbeat messages and asks every node-ID 1...127 for 0x1000
@@ -37,7 +40,8 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     Reports missing nodes, nodes the network does not have, and each present node's
     device type, vendor-ID, product code, revision and serial number that differ from what
     the master will enforce (0x1F84...0x1F88) -- the nodes the master would refuse to boot.
-    The master's own node-ID is shown, never missing or unexpected.
+    The master's own node-ID is shown, never missing or unexpected. For a .cpj project
+    (no master) each node is compared with its own DCF's 0x1000 and 0x1018.
 
     A scan takes at most max(LISTEN, (RETRIES+1) x TIMEOUT) + 4 x (RETRIES+1) x TIMEOUT
     seconds, 1.7 s with the defaults, plus the time to send 127 requests (about 30 ms at
@@ -46,15 +50,15 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     """
     from dcf2bin.bus import link
     from dcf2bin.bus import scan as sc
-    from dcf2bin.cli.network.show import configured_network
-    network = configured_network(network_file, quiet, "nothing scanned")
-    expected = [sc.Expected(n.node_id, n.name, {k: v for k, v in n.identity.items() if v},
+    from dcf2bin.bus.netconf import identity_of
+    network = configured_network(network_file, quiet, "nothing scanned", net)
+    expected = [sc.Expected(n.node_id, n.name, identity_of(network, n),
                             master=n.role == "master") for n in network.nodes]
-    net = open_bus(interface, channel, bitrate)
+    bus = open_bus(interface, channel, bitrate)
     try:
-        result = sc.scan(net, listen=listen, timeout=timeout, retries=retries)
+        result = sc.scan(bus, listen=listen, timeout=timeout, retries=retries)
     finally:
-        link.close_network(net)
+        link.close_network(bus)
     findings = sc.compare(result, expected)
     bound = sc.worst_case(listen, timeout, retries)
     wheres = {n.node_id: str(n.where) if n.where is not None else network_file

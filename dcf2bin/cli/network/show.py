@@ -8,13 +8,20 @@ from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guard
 from dcf2bin.diagnostics import ExitCode
 
 
-def configured_network(path: str, quiet: bool, outcome: str):
-    """Read ``path`` (a YAML network or a .cpj project) and configure it in memory; its
-    findings are printed; an error ends the command (exit 1) saying ``outcome``."""
+def configured_network(path: str, quiet: bool, outcome: str, net: int | None = None):
+    """Read ``path`` (a YAML network, configured in memory, or a .cpj project, whose nodes
+    are their DCFs as they are; ``net`` picks its network) ; its findings are printed and
+    an error ends the command (exit 1) saying ``outcome``."""
     check_input(path)
-    from dcf2bin.network import configure, load_network
-    network = load_network(path)
-    if not network.diagnostics.has_errors:
+    from dcf2bin.network.check import read_network
+    try:
+        network = read_network(path, net=net)
+    except OSError as exc:
+        fail(f"cannot read: {exc.strerror or exc}", path, code=ExitCode.UNREADABLE)
+    if network.kind != "cpj" and not network.diagnostics.has_errors:
+        # from the module: once it is imported, the package's name `configure` is the
+        # module, not the function
+        from dcf2bin.network.configure import configure
         configure(network)
     emit(network.diagnostics, quiet)
     n = len(network.diagnostics.errors)
@@ -22,6 +29,13 @@ def configured_network(path: str, quiet: bool, outcome: str):
         say(f"{path}: {n} error{'s' if n != 1 else ''}, {outcome}")
         raise Failure(ExitCode.FINDINGS)
     return network
+
+
+def net_option(fn):
+    """--net N: the network of a .cpj project."""
+    return click.option("--net", "net", type=click.IntRange(1), metavar="N",
+                        help="For a .cpj project: its N-th network ([TopologyN]; default "
+                        "the first, [Topology]).")(fn)
 
 
 @click.command("show", context_settings=CONTEXT)
@@ -34,9 +48,10 @@ def configured_network(path: str, quiet: bool, outcome: str):
               metavar="[NODE]",
               help="Also the SDO writes that configure each slave (or only NODE, a name or "
               "node-ID): index, sub, name, value and why.")
+@net_option
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only, no warnings.")
 @guarded
-def show_cmd(network_file, fmt, output, writes, quiet):
+def show_cmd(network_file, fmt, output, writes, net, quiet):
     """Show what talks to what in a network (YAML network file or .cpj project).
 
     Per COB-ID the producer, consumers, bytes, rate and share of the estimated bus load;
@@ -45,7 +60,7 @@ def show_cmd(network_file, fmt, output, writes, quiet):
     from its producer to its consumers; html adds the tables.
     """
     from dcf2bin.network import show, svg
-    network = configured_network(network_file, quiet, "nothing shown")
+    network = configured_network(network_file, quiet, "nothing shown", net)
     if writes not in (None, "all") and show.find_node(network, writes) is None:
         names = ", ".join(f"{n.name} ({n.node_id})" for n in network.slaves)
         fail(f"--writes {writes}: no such node in {network_file} (slaves: {names})",
