@@ -139,8 +139,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             _add(diags, "NET055", f"Node{x}DCFName: cannot read '{dcf[0]}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
-        own = node.device.node_id
-        if node.device.node_id_where is not None and own is not None and own != x:
+        own = _own_node_id(node.device)
+        if own is not None and own != x:
             _add(diags, "NET059", f"node {x}: its DCF '{dcf[0]}' sets NodeID {own}; the "
                  f"project's node-ID {x} is used", Where(path, dcf[1]))
         network.nodes.append(node_from_device(node))
@@ -154,6 +154,16 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if not present:
         _add(diags, "NET057", f"[{sec.name}] marks no node present", Where(path, sec.line))
     return network
+
+
+def _own_node_id(dev) -> int | None:
+    """The NodeID the DCF's [DeviceComissioning] gives (None: none, or not a number)."""
+    sec = dev.ini.section("devicecomissioning") if dev.ini is not None else None
+    text = sec.get("nodeid") if sec is not None else None
+    try:
+        return values.parse_int(values.split_numeric_comment(text)[0]) if text else None
+    except values.ValueProblem:
+        return None
 
 
 def _int(diags: Diagnostics, path: str, sec, low: str) -> int | None:
