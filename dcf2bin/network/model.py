@@ -59,6 +59,11 @@ class Pdo:
     listed: bool = False               # given in the YAML
     mirror_of: "Pdo | None" = None     # for a PLC PDO: the slave PDO it mirrors
     where: Where | None = None
+    # added by configure (the names above are shared, never renamed)
+    config: "PdoConfig | None" = None  # the YAML entry, when listed
+    file_cob_id: int | None = None     # comm sub 1 as the node's file gives it
+    broken: bool = False               # a kept mapping naming a zero entry: not linked
+    mirrored_by: "Pdo | None" = None   # for a slave PDO: the PLC PDO that mirrors it
 
     @property
     def can_id(self) -> int:
@@ -197,6 +202,7 @@ class Network:
     master_where: Where | None = None  # the `master:` line: network-wide findings go there
     layout: str = "flat"               # "flat" (lely) or "nodes" (ros2_canopen)
     configured: bool = False
+    plc_dcf: bytes | None = None       # the PLC's file with the variables merged (D-15)
 
     @property
     def master(self) -> Node | None:

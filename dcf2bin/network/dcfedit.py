@@ -1,0 +1,114 @@
+"""State configured values in a DCF as ``ParameterValue``, every other line as it was
+(line ends and encoding too), as ``allocate --into`` edits a file.
+
+An entry with its own section gets its ``ParameterValue=`` line replaced, or one added
+after the section's last key; a sub-entry of a CompactSubObj object goes into the
+object's ``[XXXXValue]`` section (made at the end of the file when missing);
+``[DeviceComissioning] NodeID`` likewise. An entry the file only implies (made from
+CompactPDO, an implied sub 0) has no section to write into: that is an error.
+"""
+from __future__ import annotations
+
+from dcf2bin import datatypes as dt
+from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.network.model import Write
+
+
+def value_text(w: Write) -> str:
+    dtype = dt.BY_CODE.get(w.datatype)
+    if isinstance(w.value, bool) or dtype is None or dtype.size is None \
+            or not dtype.is_integer:
+        from dcf2bin import values
+        if dtype is not None and dtype.size is None and not dtype.kind == dt.VSTRING:
+            return w.data.hex().upper() if w.data else '""'
+        text = values.decode(dtype, w.data) if dtype is not None else None
+        return text if text is not None else w.data.hex().upper()
+    if isinstance(w.value, int) and w.value >= 0:
+        return f"0x{w.value:0{dtype.size * 2}X}"
+    return str(w.value)
+
+
+def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id: int,
+         diags: Diagnostics, *, shown_as: str) -> bytes | None:
+    """``data`` (the file ``path``) with the settings and NodeID stated; None (reported
+    at the setting's YAML line) when an entry has no section to hold its value."""
+    from dcf2bin import model
+    from dcf2bin.plc.merge import _lines, _set_value
+    dev = model.load(path, data=data)
+    enc = dev.encoding
+    nl = "\r\n" if b"\r\n" in data else "\n"
+    lines = _lines(data)
+    replace: dict[int, bytes] = {}
+    after: dict[int, list[str]] = {}
+    tail: list[str] = []
+    compact_values: dict[int, list[tuple[int, str]]] = {}
+    ok = True
+
+    def last_line(sec) -> int:
+        return max([sec.line] + [k.line for k in sec.keys.values()])
+
+    for (index, sub), w in sorted(settings.items()):
+        text = value_text(w)
+        e = dev.entry(index, sub)
+        obj = dev.objects.get(index)
+        if e is None or obj is None:
+            continue    # configure reported it
+        if e.section is not None:
+            sec = e.section
+            if sec.has("parametervalue"):
+                k = sec.line_of("parametervalue") - 1
+                replace[k] = _set_value(lines[k], text, enc)
+            else:
+                after.setdefault(last_line(sec) - 1, []).append(f"ParameterValue={text}")
+        elif obj.compact and sub > 0:
+            compact_values.setdefault(index, []).append((sub, text))
+        else:
+            diags.error(f"{shown_as}: 0x{index:04X}sub{sub:X} is implied by the file "
+                        "(CompactPDO or a missing sub 0 section): there is no section to "
+                        "state its value in", w.where or Where(path), rule="NET120")
+            ok = False
+    ini = dev.ini
+    for index, items in compact_values.items():
+        vsec = ini.section(f"{index:04x}value")
+        if vsec is None:
+            tail.append(f"[{index:04X}Value]{nl}NrOfEntries={len(items)}{nl}"
+                        + "".join(f"{s}={t}{nl}" for s, t in items))
+            continue
+        added = 0
+        for s, t in items:
+            key = str(s)
+            if vsec.has(key):
+                k = vsec.line_of(key) - 1
+                replace[k] = _set_value(lines[k], t, enc)
+            else:
+                after.setdefault(last_line(vsec) - 1, []).append(f"{s}={t}")
+                added += 1
+        if added and vsec.has("nrofentries"):
+            k = vsec.line_of("nrofentries") - 1
+            count = sum(1 for key in vsec.keys if key.isdigit()) + added
+            replace[k] = _set_value(lines[k], str(count), enc)
+    sec = ini.section("devicecomissioning") or ini.section("devicecommissioning")
+    if sec is None:
+        tail.insert(0, f"[DeviceComissioning]{nl}NodeID={node_id}{nl}")
+    elif sec.has("nodeid"):
+        k = sec.line_of("nodeid") - 1
+        replace[k] = _set_value(lines[k], str(node_id), enc)
+    else:
+        after.setdefault(last_line(sec) - 1, []).insert(0, f"NodeID={node_id}")
+    if not ok:
+        return None
+    out: list[bytes] = []
+    nlb = nl.encode(enc)
+    for i, line in enumerate(lines):
+        line = replace.get(i, line)
+        if i in after and not line.endswith((b"\n", b"\r")):
+            line += nlb
+        out.append(line)
+        for text in after.get(i, ()):
+            out.append(text.encode(enc) + nlb)
+    if tail:
+        if out and not out[-1].endswith((b"\n", b"\r")):
+            out.append(nlb)
+        for text in tail:
+            out.append(nlb + text.encode(enc))
+    return b"".join(out)
