@@ -41,7 +41,7 @@ def test_the_fixture_project():
         ("TPDO1", "0x182", 1, True)]
     assert [(m.index, m.sub, m.bits, m.datatype) for m in io.pdo(TPDO, 1).mapping] == [
         (0x6000, 1, 8, 0x05), (0x6000, 2, 8, 0x05), (0x6401, 1, 16, 0x03)]
-    assert io.pdo(RPDO, 1).where.line == 169          # [1400sub1]
+    assert io.pdo(RPDO, 1).where.line == 176          # [1400sub1] ParameterValue
     assert (io.heartbeat_producer, [(h.node_id, h.time_ms) for h in io.heartbeat_consumers]) \
         == (200, [(1, 300)])
     plc = net.node(1)

@@ -7,11 +7,12 @@ module (node 3) whose PDOs are off. It checks clean. Each test edits one value o
 exact text, and that a neighbour one edit away — a value at the boundary, or the PDO
 disabled — does not.
 
-Lines: a PDO from a file is named by its comm sub 1 section ([1800sub1] of io.dcf is line
-286, [1400sub1] of plc.dcf line 201, [1802sub1] line 374, [1401sub1] of io.dcf line 200,
-[1400sub1] of io3.dcf line 169, [1800sub1] of io3.dcf line 286); a heartbeat entry by its
-0x1016 sub section ([1016sub1] of plc.dcf line 132, [1016sub2] line 141); the SYNC window
-by its ParameterValue (plc.dcf line 101); a network-wide finding by [Topology] (line 3).
+Lines: a PDO from a file is named by its comm sub 1 value line (the ParameterValue of
+[1800sub1] of io.dcf and io3.dcf is line 293, of [1400sub1] of plc.dcf line 208, of
+[1802sub1] line 381, of [1401sub1] of io.dcf line 207, of [1400sub1] of io.dcf and io3.dcf
+line 176); a heartbeat entry by its 0x1016 sub's value line (plc.dcf lines 139 and 148);
+the SYNC window by its ParameterValue (plc.dcf line 101); a network-wide finding by
+[Topology] (line 3).
 """
 from __future__ import annotations
 
@@ -59,27 +60,27 @@ def test_the_fixture_network_checks_clean(tmp_path):
 CASES = [
     ("NET210", [("io3.dcf", "1800sub1", "ParameterValue", "0x182")],
      [("io3.dcf", "1800sub1", "ParameterValue", "0x80000182")],      # disabled: no producer
-     ["io3.dcf:286: error: io3 (node 3) TPDO1 produces COB-ID 0x182, as io (node 2) TPDO1 "
-      "at io.dcf:286 does [NET210]"]),
+     ["io3.dcf:293: error: io3 (node 3) TPDO1 produces COB-ID 0x182, as io (node 2) TPDO1 "
+      "at io.dcf:293 does [NET210]"]),
     ("NET211", [("io3.dcf", "1400sub1", "ParameterValue", "0x203")],
      [("io3.dcf", "1400sub1", "ParameterValue", "0x202")],           # listens to plc TPDO1
-     ["io3.dcf:169: error: io3 (node 3) RPDO1 listens to COB-ID 0x203, which no TPDO of "
+     ["io3.dcf:176: error: io3 (node 3) RPDO1 listens to COB-ID 0x203, which no TPDO of "
       "the network produces [NET211]"]),
     ("NET212", [("plc.dcf", "1802sub1", "ParameterValue", "0x381")],
      [("plc.dcf", "1802sub1", "ParameterValue", "0x80000381")],
-     ["plc.dcf:374: info: plc (node 1) TPDO3 (COB-ID 0x381) is consumed by no RPDO of the "
+     ["plc.dcf:381: info: plc (node 1) TPDO3 (COB-ID 0x381) is consumed by no RPDO of the "
       "network [NET212]"]),
     # io TPDO1 sends 0x6000sub1, 0x6000sub2 (UNSIGNED8), 0x6401sub1 (INTEGER16): 32 bits;
     # plc RPDO1 maps 0x2000sub1, 0x2000sub2, 0x2001 and, as its sub 4, 0x2000sub3
     ("NET220", [("plc.dcf", "1600sub0", "ParameterValue", "4")],    # 8+8+16+8 = 40 bits
      [("plc.dcf", "1600sub0", "ParameterValue", "3")],              # 32 bits
-     ["plc.dcf:201: error: plc (node 1) RPDO1 maps 40 bits but its producer io (node 2) "
-      "TPDO1 at io.dcf:286 sends 32: every PDO would arrive too short (EMCY 0x8210) "
+     ["plc.dcf:208: error: plc (node 1) RPDO1 maps 40 bits but its producer io (node 2) "
+      "TPDO1 at io.dcf:293 sends 32: every PDO would arrive too short (EMCY 0x8210) "
       "[NET220]"]),
     ("NET221", [("plc.dcf", "1600sub0", "ParameterValue", "2")],    # 16 bits
      [("plc.dcf", "1600sub0", "ParameterValue", "3")],
-     ["plc.dcf:201: warning: plc (node 1) RPDO1 maps 16 bits of the 32 its producer io "
-      "(node 2) TPDO1 at io.dcf:286 sends [NET221]"]),
+     ["plc.dcf:208: warning: plc (node 1) RPDO1 maps 16 bits of the 32 its producer io "
+      "(node 2) TPDO1 at io.dcf:293 sends [NET221]"]),
     # 0x2003 (16 bits) at bits 0…15 where the producer has two 8-bit fields; 0x2001 at
     # 16…31 matches 0x6401sub1
     ("NET222", [("plc.dcf", "1600sub0", "ParameterValue", "2"),
@@ -88,17 +89,17 @@ CASES = [
      [("plc.dcf", "1600sub0", "ParameterValue", "3"),               # as the producer
       ("plc.dcf", "1600sub1", "DefaultValue", "0x20000108"),
       ("plc.dcf", "1600sub2", "DefaultValue", "0x20000208")],
-     ["plc.dcf:201: error: plc (node 1) RPDO1 maps 0x2003sub0 at bits 0…15, where its "
-      "producer io (node 2) TPDO1 at io.dcf:286 has no field of 16 bits [NET222]"]),
+     ["plc.dcf:208: error: plc (node 1) RPDO1 maps 0x2003sub0 at bits 0…15, where its "
+      "producer io (node 2) TPDO1 at io.dcf:293 has no field of 16 bits [NET222]"]),
     ("NET223", [("plc.dcf", "1600sub3", "DefaultValue", "0x20020010")],   # UNSIGNED16
      [("plc.dcf", "1600sub3", "DefaultValue", "0x20010010")],             # INTEGER16
-     ["plc.dcf:201: warning: plc (node 1) RPDO1 maps 0x2002sub0 (UNSIGNED16) at bits "
-      "16…31, where its producer io (node 2) TPDO1 at io.dcf:286 sends 0x6401sub1 "
+     ["plc.dcf:208: warning: plc (node 1) RPDO1 maps 0x2002sub0 (UNSIGNED16) at bits "
+      "16…31, where its producer io (node 2) TPDO1 at io.dcf:293 sends 0x6401sub1 "
       "(INTEGER16) [NET223]"]),
     # io RPDO1 (0x202) maps 0x6200sub1 and sub2; RPDO2 (0x302) maps 0x6200sub3
     ("NET224", [("io.dcf", "1601sub1", "ParameterValue", "0x62000108")],
      [("io.dcf", "1601sub1", "ParameterValue", "0x62000308")],
-     ["io.dcf:200: warning: io (node 2) RPDO2 maps 0x6200sub1, as RPDO1 at io.dcf:169 "
+     ["io.dcf:207: warning: io (node 2) RPDO2 maps 0x6200sub1, as RPDO1 at io.dcf:176 "
       "does: the later frame overwrites it [NET224]"]),
     # the link io TPDO1 -> plc RPDO1 moved, both ends; each file's own DCF412 comes too
     ("NET230", [("io.dcf", "1800sub1", "ParameterValue", "0x102"),
@@ -107,16 +108,16 @@ CASES = [
       ("plc.dcf", "1400sub1", "ParameterValue", "0x1A2")],
      ["plc.dcf:208: warning: RPDO 0x1400: CAN-ID 0x102 is reserved by CiA 301 [DCF412]",
       "io.dcf:293: warning: TPDO 0x1800: CAN-ID 0x102 is reserved by CiA 301 [DCF412]",
-      "io.dcf:286: error: io (node 2) TPDO1 has COB-ID 0x102, an ID CiA 301 reserves for "
+      "io.dcf:293: error: io (node 2) TPDO1 has COB-ID 0x102, an ID CiA 301 reserves for "
       "other services [NET230]"]),
     # the PLC's TIME COB-ID onto the link's ID; its neighbour on a free ID
     ("NET231", [("plc.dcf", "1012", "DefaultValue", "0x182")],
      [("plc.dcf", "1012", "DefaultValue", "0x183")],
-     ["io.dcf:286: error: io (node 2) TPDO1 has COB-ID 0x182, the ID of the TIME of plc "
+     ["io.dcf:293: error: io (node 2) TPDO1 has COB-ID 0x182, the ID of the TIME of plc "
       "(node 1) [NET231]"]),
     ("NET240", [("plc.dcf", "1005", "ParameterValue", "0x00000080")],
      [("plc.dcf", "1005", "ParameterValue", "0x40000080")],
-     ["io.dcf:286: error: io (node 2) TPDO1 is synchronous (transmission type 1) but no "
+     ["io.dcf:293: error: io (node 2) TPDO1 is synchronous (transmission type 1) but no "
       "node of the network produces SYNC [NET240]"]),
     # io has 0x1006 = 10000 already: bit 30 of its 0x1005 makes it a second producer
     ("NET241", [("io.dcf", "1005", "ParameterValue", "0x40000080")],
@@ -130,15 +131,15 @@ CASES = [
     # io sends its heartbeat every 200 ms; the PLC waits 200 ms (0xC8), neighbour 201
     ("NET250", [("plc.dcf", "1016sub1", "ParameterValue", "0x000200C8")],
      [("plc.dcf", "1016sub1", "ParameterValue", "0x000200C9")],
-     ["plc.dcf:132: error: plc (node 1) expects the heartbeat of io (node 2) within 200 ms, "
+     ["plc.dcf:139: error: plc (node 1) expects the heartbeat of io (node 2) within 200 ms, "
       "but it is sent every 200 ms [NET250]"]),
     ("NET251", [("io.dcf", "1017", "ParameterValue", "0")],
      [("io.dcf", "1017", "ParameterValue", "1")],
-     ["plc.dcf:132: error: plc (node 1) monitors io (node 2), which produces no heartbeat "
+     ["plc.dcf:139: error: plc (node 1) monitors io (node 2), which produces no heartbeat "
       "(producer time 0) [NET251]"]),
     ("NET252", [("plc.dcf", "1016sub2", "ParameterValue", "0x000501F4")],
      [("plc.dcf", "1016sub2", "ParameterValue", "0x000001F4")],    # node 0: an unused entry
-     ["plc.dcf:141: warning: plc (node 1) monitors node 5, which is not in the network "
+     ["plc.dcf:148: warning: plc (node 1) monitors node 5, which is not in the network "
       "[NET252]"]),
 ]
 

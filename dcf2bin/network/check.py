@@ -194,6 +194,7 @@ def _touched(node: Node) -> set:
             out.add((base + 0x200, None))
             out.update((m.index, m.sub) for m in p.mapping)
     out.update((w.index, w.sub) for w in node.writes)
+    out.update(node.settings)
     return out
 
 

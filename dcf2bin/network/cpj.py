@@ -77,7 +77,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     """Read a .cpj project: the network of ``[Topology]`` (``net`` N > 1: ``[TopologyN]``)
     with every present node read from its DCF."""
     from dcf2bin import model
-    from dcf2bin.network.fromfile import node_from_device
+    from dcf2bin.network import pdos
+    from dcf2bin.network.configure import _node_facts as node_facts
     if data is None:
         with open(path, "rb") as f:
             data = f.read()
@@ -143,7 +144,12 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         if own is not None and own != x:
             _add(diags, "NET059", f"node {x}: its DCF '{dcf[0]}' sets NodeID {own}; the "
                  f"project's node-ID {x} is used", Where(path, dcf[1]))
-        network.nodes.append(node_from_device(node))
+        # its PDOs as the file has them, the mapping rules every PDO of a network obeys
+        # (the object is in the file and mappable that way), its heartbeat, SYNC, EMCY, TIME
+        pdos.from_file(node)
+        pdos.check_kept(node, diags)
+        node_facts(node)
+        network.nodes.append(node)
     count = sec.get("nodes")
     if count is not None:
         n = _int(diags, path, sec, "nodes")
