@@ -147,7 +147,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         # its PDOs as the file has them, the mapping rules every PDO of a network obeys
         # (the object is in the file and mappable that way), its heartbeat, SYNC, EMCY, TIME
         pdos.from_file(node)
-        pdos.check_kept(node, diags)
+        _check_mappings(node, diags)
         node_facts(node)
         network.nodes.append(node)
     count = sec.get("nodes")
@@ -160,6 +160,22 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if not present:
         _add(diags, "NET057", f"[{sec.name}] marks no node present", Where(path, sec.line))
     return network
+
+
+def _check_mappings(node: Node, diags: Diagnostics) -> None:
+    """configure's mapping rules for a PDO kept from a file, over the objects that are not
+    network variables: a PLC's 0xA000…0xAFFF variables are its process image, mapped both
+    ways whatever their access (as validate checks a PLC's DCF)."""
+    from dcf2bin.model import NV_FIRST, NV_LAST
+    from dcf2bin.network import pdos
+    whole = [p.mapping for p in node.pdos]
+    for p in node.pdos:
+        p.mapping = [m for m in p.mapping if not NV_FIRST <= m.index <= NV_LAST]
+    try:
+        pdos.check_kept(node, diags)
+    finally:
+        for p, mapping in zip(node.pdos, whole):
+            p.mapping = mapping
 
 
 def _own_node_id(dev) -> int | None:
