@@ -17,7 +17,7 @@ from dcf2bin.network.model import MASTER, Network, Node
 from dcf2bin.network.rules import RULES as NET_RULES
 from dcf2bin.network.rules import add, network_where, run_rules
 
-UNREADABLE = ("IO001", "NET055")     # an input that cannot be read: exit 3
+UNREADABLE = ("IO001", "NET010", "NET055")     # an input that cannot be read: exit 3
 ALWAYS = ("IO001", "INT001")
 NOT_TOUCHED = " (the network neither configures nor maps this entry)"
 _SECTION = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")
@@ -64,11 +64,10 @@ def rule_table() -> dict:
 
 def _config_rules() -> dict:
     """The YAML reader's and the configuration's codes (``network/codes.py``)."""
-    try:
-        from dcf2bin.network import codes
-    except ImportError:
-        return {}
-    return dict(getattr(codes, "RULES", {}))
+    from dcf2bin.lint.registry import Rule
+    from dcf2bin.network import codes
+    return {c: Rule(c, c.lower(), Severity(sev), text[:1].upper() + text[1:] + ".", "",
+                    "network") for c, sev, text in codes.CODES}
 
 
 class SelectorError(ValueError):
@@ -106,7 +105,7 @@ def read_network(path: str, *, net: int | None = None) -> Network:
     if path.lower().endswith(".cpj"):
         from dcf2bin.network import cpj
         return cpj.read(path, net)
-    from dcf2bin.network import load_network
+    from dcf2bin.network.yamlfile import load_network
     return load_network(path)
 
 
@@ -195,6 +194,7 @@ def _touched(node: Node) -> set:
             out.add((base + 0x200, None))
             out.update((m.index, m.sub) for m in p.mapping)
     out.update((w.index, w.sub) for w in node.writes)
+    out.update(node.settings)
     return out
 
 

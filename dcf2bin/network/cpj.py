@@ -77,7 +77,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     """Read a .cpj project: the network of ``[Topology]`` (``net`` N > 1: ``[TopologyN]``)
     with every present node read from its DCF."""
     from dcf2bin import model
-    from dcf2bin.network.fromfile import node_from_device
+    from dcf2bin.network import pdos
+    from dcf2bin.network.configure import _node_facts as node_facts
     if data is None:
         with open(path, "rb") as f:
             data = f.read()
@@ -139,11 +140,16 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             _add(diags, "NET055", f"Node{x}DCFName: cannot read '{dcf[0]}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
-        own = node.device.node_id
-        if node.device.node_id_where is not None and own is not None and own != x:
+        own = _own_node_id(node.device)
+        if own is not None and own != x:
             _add(diags, "NET059", f"node {x}: its DCF '{dcf[0]}' sets NodeID {own}; the "
                  f"project's node-ID {x} is used", Where(path, dcf[1]))
-        network.nodes.append(node_from_device(node))
+        # its PDOs as the file has them, the mapping rules every PDO of a network obeys
+        # (the object is in the file and mappable that way), its heartbeat, SYNC, EMCY, TIME
+        pdos.from_file(node)
+        _check_mappings(node, diags)
+        node_facts(node)
+        network.nodes.append(node)
     count = sec.get("nodes")
     if count is not None:
         n = _int(diags, path, sec, "nodes")
@@ -154,6 +160,32 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if not present:
         _add(diags, "NET057", f"[{sec.name}] marks no node present", Where(path, sec.line))
     return network
+
+
+def _check_mappings(node: Node, diags: Diagnostics) -> None:
+    """configure's mapping rules for a PDO kept from a file, over the objects that are not
+    network variables: a PLC's 0xA000…0xAFFF variables are its process image, mapped both
+    ways whatever their access (as validate checks a PLC's DCF)."""
+    from dcf2bin.model import NV_FIRST, NV_LAST
+    from dcf2bin.network import pdos
+    whole = [p.mapping for p in node.pdos]
+    for p in node.pdos:
+        p.mapping = [m for m in p.mapping if not NV_FIRST <= m.index <= NV_LAST]
+    try:
+        pdos.check_kept(node, diags)
+    finally:
+        for p, mapping in zip(node.pdos, whole):
+            p.mapping = mapping
+
+
+def _own_node_id(dev) -> int | None:
+    """The NodeID the DCF's [DeviceComissioning] gives (None: none, or not a number)."""
+    sec = dev.ini.section("devicecomissioning") if dev.ini is not None else None
+    text = sec.get("nodeid") if sec is not None else None
+    try:
+        return values.parse_int(values.split_numeric_comment(text)[0]) if text else None
+    except values.ValueProblem:
+        return None
 
 
 def _int(diags: Diagnostics, path: str, sec, low: str) -> int | None:

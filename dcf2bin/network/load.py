@@ -97,18 +97,18 @@ def estimate(network: Network) -> Load:
         ext = bool(node.sync_cob_id & COB_EXTENDED)
         can_id = node.sync_cob_id & (0x1FFFFFFF if ext else 0x7FF)
         consumers = [(n, p) for n in network.nodes if n is not node
-                     for p in n.pdos if p.exists and p.transmission <= 240]
+                     for p in n.pdos if p.exists and not p.broken and p.transmission <= 240]
         row(Row(can_id, ext, "SYNC", node, None, consumers, 1 if node.sync_counter else 0,
                 1e6 / node.sync_period if node.sync_period else 0.0))
     consumers: dict[tuple[int, bool], list] = {}
     for node in network.nodes:
         for p in node.pdos:
-            if p.exists and p.kind != TPDO:
+            if p.exists and not p.broken and p.kind != TPDO:
                 consumers.setdefault((p.can_id, bool(p.cob_id & COB_EXTENDED)), []).append(
                     (node, p))
     for node in network.nodes:
         for p in node.pdos:
-            if p.exists and p.kind == TPDO:
+            if p.exists and not p.broken and p.kind == TPDO:
                 k = (p.can_id, bool(p.cob_id & COB_EXTENDED))
                 row(Row(k[0], k[1], p.label, node, p, consumers.get(k, []),
                         (p.bits + 7) // 8, pdo_rate(p, load.sync_rate)))

@@ -133,10 +133,11 @@ def key(pdo: Pdo) -> tuple[int, bool]:
 
 
 def existing(network: Network, kind: str | None = None):
-    """(node, pdo) for every PDO that exists in the network, nodes in the network's order."""
+    """(node, pdo) for every PDO that exists in the network, nodes in the network's order
+    (a PDO whose kept mapping names a zero entry is not counted, D-17)."""
     for node in network.nodes:
         for pdo in node.pdos:
-            if pdo.exists and (kind is None or pdo.kind == kind):
+            if pdo.exists and not pdo.broken and (kind is None or pdo.kind == kind):
                 yield node, pdo
 
 

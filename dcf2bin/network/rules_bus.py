@@ -14,9 +14,9 @@ LSS = ((0x7E4, "LSS (slave to master)"), (0x7E5, "LSS (master to slave)"))
 def node_value(node: Node, index: int, sub: int = 0) -> tuple[int | None, Where | None]:
     """A node's value of an integer entry after configuration (its last write, else its
     file's effective value) and the line it comes from; (None, None) when it has none."""
-    for w in reversed(node.writes):
-        if w.index == index and w.sub == sub and isinstance(w.value, int):
-            return w.value, w.where
+    w = node.settings.get((index, sub))
+    if w is not None and isinstance(w.value, int):
+        return w.value, w.where
     dev = node.device
     entry = dev.entry(index, sub) if dev is not None else None
     if entry is None or entry.dtype is None or not entry.dtype.is_integer \

@@ -84,7 +84,7 @@ def written_twice(network: Network, out: Diagnostics) -> None:
     for node in network.nodes:
         first: dict[tuple[int, int], Pdo] = {}
         for pdo in node.pdos:
-            if not pdo.exists or pdo.kind != RPDO:
+            if not pdo.exists or pdo.broken or pdo.kind != RPDO:
                 continue
             for m in {(m.index, m.sub): m for m in pdo.mapping if not m.is_dummy}.values():
                 other = first.setdefault((m.index, m.sub), pdo)
