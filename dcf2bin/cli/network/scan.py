@@ -9,7 +9,7 @@ import click
 from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
-from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, Where
 
 COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
            ((0x1018, 2), "product code"), ((0x1018, 3), "revision"), ((0x1018, 4), "serial")]
@@ -61,10 +61,15 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
         link.close_network(bus)
     findings = sc.compare(result, expected)
     bound = sc.worst_case(listen, timeout, retries)
-    wheres = {n.node_id: str(n.where) if n.where is not None else network_file
-              for n in network.nodes}
-    diags = [Diagnostic(Severity.WARNING if f.kind == "unexpected" else Severity.ERROR,
-                        f.text, wheres.get(f.node_id, network_file)) for f in findings]
+    # a node's finding names its line; an unexpected node, the master: line (or the .cpj
+    # project's [Topology] line)
+    top = network.master_where or Where(network_file)
+    wheres = {n.node_id: n.where or top for n in network.nodes}
+    diags = []
+    for f in findings:
+        w = wheres.get(f.node_id, top)
+        diags.append(Diagnostic(Severity.WARNING if f.kind == "unexpected" else Severity.ERROR,
+                                f.text, w.file, w.line))
     if fmt == "json":
         write_output(_json(network_file, result, expected, findings, bound), "-", [],
                      binary=False)
