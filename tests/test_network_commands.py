@@ -136,7 +136,7 @@ def test_scan_clean(bench):
     assert lines[0].startswith(f"{NETWORK}: node-IDs 1-127 scanned in ")
     assert lines[0].endswith("3 answer, 0 findings")
     assert lines[4].split() == ["5", "ai5", "answers", "0x00020194", "0x0000003F",
-                                "0x002DCAAB", "0x01390538", "abort"]
+                                "0x002DCAAB", "0x01390538", "abort", "060A0023"]
     assert lines[5].split() == ["16", "plc", "master,", "not", "on", "the", "bus",
                                 "-", "-", "-", "-", "-"]
 

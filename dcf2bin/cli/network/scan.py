@@ -11,6 +11,7 @@ from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, Where
 
+NO_SUCH_ENTRY = (0x06020000, 0x06090011)    # SDO aborts: object / sub-index does not exist
 COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
            ((0x1018, 2), "product code"), ((0x1018, 3), "revision"), ((0x1018, 4), "serial")]
 
@@ -87,8 +88,10 @@ def _cell(found, key) -> str:
     a = found.entries.get(key)
     if a is None:
         return "-"
+    if a.code in NO_SUCH_ENTRY:
+        return "(none)"
     if a.code is not None:
-        return "abort"
+        return f"abort {a.code:08X}"
     return f"0x{a.value:08X}" if a.value is not None else "no answer"
 
 
