@@ -4,7 +4,6 @@ LocalNodes made from samples/device.eds (device type 0x000F0191, vendor-ID 0xAB,
 from __future__ import annotations
 
 import pytest
-from bus_helpers import Bench
 from network_helpers import network
 
 from dcf2bin.bus import netconf

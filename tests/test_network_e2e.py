@@ -18,7 +18,6 @@ import time
 import pytest
 
 from bus_helpers import Bench, TIMEOUT, run
-from dcf2bin.cli import main
 
 pytest_plugins = ["bus_fixtures"]
 pytestmark = [pytest.mark.usefixtures("at_root"),

@@ -128,7 +128,8 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
     res = CheckResult(network, files=[(path, network.kind)])
     found = Diagnostics()
     if network.kind != "cpj" and not network.diagnostics.has_errors:
-        from dcf2bin.network import configure
+        # the module's function: once the module is loaded, the package's `configure` is the module
+        from dcf2bin.network.configure import configure
         configure(network)
     found.extend(network.diagnostics)
     files = Diagnostics()

@@ -144,7 +144,8 @@ def layout(view: View) -> Layout:
     title_lines = [f"{view.path}: {len(view.nodes)} nodes, "
                    f"{sum(k.is_pdo for k in view.links)} PDO COB-IDs, estimated bus load "
                    f"{view.total:.1f} % of {view.bitrate // 1000} kbit/s",
-                   "one lane per COB-ID: \u25CF producer, \u25B6 consumer (heartbeats: see the tables)"]
+                   "one lane per COB-ID: \u25CF producer, \u25B6 consumer "
+                   "(heartbeats: see the tables)"]
     x0 = M + label_w + 16
     width = max(x0 + COL_W * len(view.nodes) + M,
                 M + max(text_width(t, FS) for t in title_lines) + M)
@@ -244,7 +245,8 @@ def to_svg(view: View) -> str:
             left, right = min(ends), max(ends)
             y = lane.line_y
             start = lay.columns[0] - COL_W / 2 if lane.source is None else left
-            out.append(f'<line x1="{lay.label_right:.1f}" y1="{y:.1f}" x2="{start:.1f}" y2="{y:.1f}" '
+            out.append(f'<line x1="{lay.label_right:.1f}" y1="{y:.1f}" x2="{start:.1f}" '
+                       f'y2="{y:.1f}" '
                        'stroke="#c8c8c8" stroke-dasharray="2,3"/>')
             out.append(f'<line x1="{min(start, left):.1f}" y1="{y:.1f}" x2="{right:.1f}" '
                        f'y2="{y:.1f}" stroke="{lane.colour}" stroke-width="2"/>')
