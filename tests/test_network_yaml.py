@@ -294,3 +294,10 @@ def test_code_table_is_consistent():
     assert codes == sorted(set(codes))
     assert all(c.startswith("NET0") or c.startswith("NET1") for c in codes)
     assert {sev for _, sev, _ in CODES} <= {"error", "warning", "info"}
+
+
+def test_docs_list_every_code():
+    """docs/network.md's code table is the code table of dcf2bin/network/codes.py."""
+    text = (ROOT / "docs" / "network.md").read_text()
+    rows = [line for line in text.splitlines() if line.startswith("| NET")]
+    assert rows == [f"| {c} | {s} | {t} |" for c, s, t in CODES]
