@@ -23,7 +23,7 @@ def load_network(path: str, data: bytes | None = None) -> Network:
 
 def configure(network: Network) -> Network:
     """Configure ``network`` in place (D-17, D-18) and return it."""
-    from dcf2bin.network.configure import configure as _configure
+    from dcf2bin.network.configuration import configure as _configure
     return _configure(network)
 
 
