@@ -128,7 +128,7 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
     res = CheckResult(network, files=[(path, network.kind)])
     found = Diagnostics()
     if network.kind != "cpj" and not network.diagnostics.has_errors:
-        from dcf2bin.network import configure
+        from dcf2bin.network.configure import configure
         configure(network)
     found.extend(network.diagnostics)
     files = Diagnostics()
