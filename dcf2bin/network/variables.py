@@ -69,6 +69,16 @@ def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None
                     _check_name(m.name, where, with_dcf, diags)
                     _claim(var.name, key, where, by_name, with_dcf, diags)
             mirror.mapping.append(Mapped(m.index, m.sub, m.bits, m.datatype, var.name, where))
+    for mirror in mirrors:      # a later name: may have renamed a variable
+        for m in mirror.mapping:
+            if not m.is_dummy:
+                m.name = by_object[_key(mirror, m)].name
+
+
+def _key(mirror: Pdo, m: Mapped) -> tuple:
+    """The variable of a mirror's entry, before placement (the slave object)."""
+    return (mirror.mirror_of.node_id, m.index, m.sub,
+            "input" if mirror.kind == RPDO else "output")
 
 
 def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
@@ -134,11 +144,11 @@ def place(net: Network, diags: Diagnostics) -> None:
         got = spots.get(v.name)
         if got is not None:
             v.pi_index, v.pi_sub, v.pi_offset = got
-    names = {v.name: v for v in net.variables}
+    by_object = {(v.node_id, v.index, v.sub, v.direction): v for v in net.variables}
     for pdo in master.pdos:
         if pdo.mirror_of is None:
             continue
         for m in pdo.mapping:
-            var = names.get(m.name) if m.name else None
+            var = None if m.is_dummy else by_object.get(_key(pdo, m))
             if var is not None and var.pi_index is not None:
                 m.index, m.sub = var.pi_index, var.pi_sub
