@@ -33,4 +33,10 @@ def build_network(path: str, outdir: str | None = None, *, data: bytes | None = 
     return _build(path, outdir, data=data)
 
 
-__all__ = ["Network", "build_network", "configure", "load_network"]
+__all__ = ["Network", "build_network", "check_network", "configure", "load_network"]
+
+# Importing the submodule dcf2bin.network.configure sets this package's attribute
+# `configure` to that module (the second build_network in one process then failed): load
+# it now and bind the function again, so the name stays the function. (network check)
+from dcf2bin.network.configure import configure  # noqa: E402,F811
+from dcf2bin.network.check import check_network  # noqa: E402
