@@ -42,8 +42,8 @@ from dcf2bin.model import Device, load
 
 __all__ = ["BinContainer", "CompileError", "CompileOptions", "CompileResult", "DcfResult",
            "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
-           "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
-           "read_container", "to_dcf", "validate"]
+           "check_network", "compile_file", "compile_path", "dump_json", "dump_text",
+           "from_json", "load", "read_container", "to_dcf", "validate"]
 
 Container = bytes | str | os.PathLike | BinContainer
 
@@ -176,6 +176,28 @@ def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active)
     return run([os.fspath(p) for p in paths], opts).diagnostics
+
+
+def check_network(path: str | os.PathLike, *, select: str | Iterable[str] | None = None,
+                  ignore: str | Iterable[str] | None = None, max_load: float = 80.0,
+                  net: int | None = None):
+    """Check a network file -- a lely/ros2_canopen ``bus.yml`` or a CiA 306-3 ``.cpj``
+    project -- as a whole (``dcf2bin network check``). Returns a result with
+    ``network`` (the configured network: nodes, PDOs, variables), ``diagnostics`` (every
+    finding: the network file's, each node's file as ``validate`` reads it, the NET2xx
+    rules between nodes), ``load`` (the bus-load estimate, per COB-ID), ``ok`` and
+    ``exit_code(strict)``.
+
+    ``select``/``ignore`` pick rules as ``validate``'s do (``"NET2"``, ``"NET210"``,
+    ``"cob-id-produced-twice"``); an unknown one raises ``ValueError``. ``net`` picks the
+    ``[TopologyN]`` of a ``.cpj``. A file that cannot be read is an ``IO001`` finding.
+
+        >>> res = check_network("tests/fixtures/network/check/network.cpj", max_load=3)
+        >>> [(d.line, d.rule) for d in res.diagnostics], round(res.load.total, 3)
+        ([(3, 'NET260')], 3.625)
+    """
+    from dcf2bin.network.check import check_network as _check
+    return _check(os.fspath(path), select=select, ignore=ignore, max_load=max_load, net=net)
 
 
 # -- helpers ---------------------------------------------------------------------------------
