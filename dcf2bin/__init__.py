@@ -14,8 +14,10 @@ __version__ = "0.1.0"
 # the names of dcf2bin.api (tests/test_api.py checks that the two lists agree)
 _API = ("BinContainer", "CompileError", "CompileOptions", "CompileResult", "DcfResult",
         "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
-        "check_network", "compile_file", "compile_path", "dump_json", "dump_text",
-        "from_json", "load", "read_container", "to_dcf", "validate")
+        "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
+        "read_container", "to_dcf", "validate",
+        "BuildResult", "Network", "build_network", "check_network", "configure_network",
+        "load_network")
 
 __all__ = ["__version__", *_API]
 

@@ -23,7 +23,7 @@ def load_network(path: str, data: bytes | None = None) -> Network:
 
 def configure(network: Network) -> Network:
     """Configure ``network`` in place (D-17, D-18) and return it."""
-    from dcf2bin.network.configure import configure as _configure
+    from dcf2bin.network.configuration import configure as _configure
     return _configure(network)
 
 
@@ -35,8 +35,4 @@ def build_network(path: str, outdir: str | None = None, *, data: bytes | None = 
 
 __all__ = ["Network", "build_network", "check_network", "configure", "load_network"]
 
-# Importing the submodule dcf2bin.network.configure sets this package's attribute
-# `configure` to that module (the second build_network in one process then failed): load
-# it now and bind the function again, so the name stays the function. (network check)
-from dcf2bin.network.configure import configure  # noqa: E402,F811
-from dcf2bin.network.check import check_network  # noqa: E402
+from dcf2bin.network.check import check_network  # noqa: E402  (network check's)

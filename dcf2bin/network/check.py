@@ -136,7 +136,7 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
         res.diagnostics = [d for d in found if not d.rule or d.rule in active]
         return res
     if network.kind != "cpj" and not network.diagnostics.has_errors:
-        from dcf2bin.network.configure import configure
+        from dcf2bin.network.configuration import configure
         configure(network)
     found.extend(network.diagnostics)
     files = Diagnostics()

@@ -78,7 +78,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     with every present node read from its DCF."""
     from dcf2bin import model
     from dcf2bin.network import pdos
-    from dcf2bin.network.configure import _node_facts as node_facts
+    from dcf2bin.network.configuration import _node_facts as node_facts
     from dcf2bin.network.files import read_node_file
     if data is None:
         data = read_node_file(path)

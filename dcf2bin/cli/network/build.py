@@ -14,7 +14,7 @@ from dcf2bin.diagnostics import ExitCode, Severity
 @click.command("build", context_settings=CONTEXT)
 @click.argument("network", metavar="NETWORK.yml", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", "outdir", required=True, metavar="DIR",
-              type=click.Path(file_okay=False),
+              type=click.Path(),
               help="Folder for the outputs (made when missing).")
 @click.option("-v", "--verbose", is_flag=True,
               help="List every link and every PLC variable.")
