@@ -152,3 +152,31 @@ def test_validate_findings_of_a_node_file_are_part_of_the_report(tmp_path):
     line = [x for x in res.output.splitlines() if "plc.dcf" in x]
     assert len(line) == 1 and ": warning: " in line[0] and line[0].endswith(
         "(the network neither configures nor maps this entry) [DCF200]"), line
+
+
+def test_build_then_a_cpj_naming_the_outputs_checks_clean(tmp_path):
+    """network build of bus.yml, a .cpj project naming the files it wrote, network check of
+    that project: the network as built checks clean, as the YAML it came from does."""
+    from dcf2bin.network.build import build_network
+    from dcf2bin.network.check import check_network
+    shutil.copytree(FIX.parent, tmp_path / "net")
+    yml = tmp_path / "net" / "check" / "bus.yml"
+    assert check_network(str(yml)).diagnostics == []
+    out = tmp_path / "out"
+    res = build_network(str(yml), str(out))
+    assert res.ok, [d.format() for d in res.diagnostics]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "drive.bin", "drive.dcf", "io.bin", "io.dcf", "master.dcf"]
+    (out / "machine.cpj").write_text(
+        "[Topology]\nNetName=machine\nNodes=3\n"
+        "Node1Present=1\nNode1Name=master\nNode1DCFName=master.dcf\n"
+        "Node2Present=1\nNode2Name=drive\nNode2DCFName=drive.dcf\n"
+        "Node3Present=1\nNode3Name=io\nNode3DCFName=io.dcf\n")
+    res = check_network(str(out / "machine.cpj"))
+    assert [d.format() for d in res.diagnostics] == []
+    # the links are there: the drive's TPDO1 feeds the master, the master feeds its RPDO1
+    net = res.network
+    assert [(r.what, r.producer.name, [n.name for n, _ in r.consumers])
+            for r in res.load.rows if r.what.startswith("TPDO")][:2] == [
+        ("TPDO1", "drive", ["master"]), ("TPDO1", "io", ["master"])]
+    assert net.node(1).pdo(RPDO, 1).exists

@@ -219,3 +219,48 @@ def test_a_plc_mirror_is_named_by_the_slave_pdo_and_not_reported_twice():
 def test_every_rule_has_a_test():
     tested = {c[0] for c in CASES} | {"NET200", "NET201", "NET253", "NET260"}
     assert tested == set(RULES)
+
+
+# -- the YAML path: bus.yml (a PLC, a CiA 402 drive, a CiA 401 I/O module) -------------------
+
+def yaml_check(tmp_path: pathlib.Path, old: str = "", new: str = "", **kw) -> list[str]:
+    """Check a copy of bus.yml (one text edit, same line count) next to the net fixtures."""
+    folder = tmp_path / "check"
+    shutil.copytree(FIX.parent, tmp_path, dirs_exist_ok=True)
+    text = (FIX / "bus.yml").read_text()
+    if old:
+        assert text.count(old) == 1 and old.count("\n") == new.count("\n")
+        text = text.replace(old, new)
+    (folder / "bus.yml").write_text(text)
+    res = check_network(str(folder / "bus.yml"), **kw)
+    return [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics]
+
+
+def test_the_yaml_network_checks_clean(tmp_path):
+    assert yaml_check(tmp_path) == []
+
+
+def test_NET200_in_yaml(tmp_path):
+    # io on the drive's node-ID: the drive's TPDO1 COB-ID 0x182 is then io's too
+    assert yaml_check(tmp_path / "a", "  node_id: 3\n", "  node_id: 2\n") == [
+        "check/bus.yml:32: error: io has node-ID 2, as drive at check/bus.yml:10 has [NET200]",
+        "IoX4_8AI.eds:419: error: io (node 2) TPDO1 produces COB-ID 0x182, as drive (node 2) "
+        "TPDO1 at check/bus.yml:16 does [NET210]"]
+    assert yaml_check(tmp_path / "b", "  node_id: 3\n", "  node_id: 4\n") == []
+
+
+def test_NET253_in_yaml(tmp_path):
+    # without a producer time the master has no 0x1016 entry for the drive
+    assert yaml_check(tmp_path / "a", "  heartbeat_producer: 50\n", "  boot: true\n") == [
+        "check/bus.yml:10: warning: drive (node 2) is mandatory but the master does not "
+        "monitor its heartbeat [NET253]"]
+    assert yaml_check(tmp_path / "b", "  mandatory: true\n", "  mandatory: false\n") == []
+
+
+def test_NET242_in_yaml_names_the_master_line(tmp_path):
+    old = "  heartbeat_producer: 100\n  sync_period: 10000\n"
+    assert yaml_check(tmp_path / "a", old, "  sync_window: 10000\n  sync_period: 10000\n") \
+        == ["check/bus.yml:5: error: master (node 1): the synchronous window of 10000 µs is "
+            "not below the SYNC period of 10000 µs [NET242]"]
+    assert yaml_check(tmp_path / "b", old, "  sync_window: 9999\n  sync_period: 10000\n") \
+        == []

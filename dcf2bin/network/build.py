@@ -38,9 +38,7 @@ def build_network(path: str, outdir: str | None = None, *,
     ``path``). With ``outdir``, the outputs are written there when there is no error:
     each file is written to a temporary file first, then all are renamed. A network file
     that cannot be read raises OSError."""
-    from dcf2bin.network import load_network
-    # the module's function: once the module is loaded, the package's `configure` is the module
-    from dcf2bin.network.configure import configure
+    from dcf2bin.network import configure, load_network
     net = configure(load_network(path, data))
     res = BuildResult(net)
     diags = net.diagnostics

@@ -127,9 +127,16 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
         return CheckResult(None, [d], [(path, "unreadable")])
     res = CheckResult(network, files=[(path, network.kind)])
     found = Diagnostics()
+    if len(network.nodes) > 127:
+        # more nodes than node-IDs: not one network. Say which node-IDs repeat, and do not
+        # configure thousands of nodes (a fuzzed file with 10,000 slaves)
+        from dcf2bin.network.rules import node_ids
+        found.extend(network.diagnostics)
+        node_ids(network, found)
+        res.diagnostics = [d for d in found if not d.rule or d.rule in active]
+        return res
     if network.kind != "cpj" and not network.diagnostics.has_errors:
-        # the module's function: once the module is loaded, the package's `configure` is the module
-        from dcf2bin.network.configure import configure
+        from dcf2bin.network.configuration import configure
         configure(network)
     found.extend(network.diagnostics)
     files = Diagnostics()
@@ -153,36 +160,41 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
 # -- every node's file, as validate reads it ---------------------------------------------
 
 def _validate_files(network: Network, out: Diagnostics, res: CheckResult) -> None:
+    """Each node's file linted once, as ``validate`` lints it (a file that several nodes
+    share: once, with the node-ID of the first; the COB-IDs each node-ID gives are the
+    network rules' to check). An error is kept as an error when some node of that file
+    configures or maps its entry, else it becomes a warning."""
     from dcf2bin.lint.context import Options
     from dcf2bin.lint.runner import lint_bytes
-    seen: set = set()
-    cache: dict = {}
+    linted: dict[str, tuple] = {}
+    found: dict = {}
     for node in network.nodes:
         if node.file is None or node.device is None:
             continue
-        try:
-            with open(node.file, "rb") as f:
-                data = f.read()
-        except OSError:
-            continue             # the reader reported it
-        master = node.role == MASTER
-        k = (node.file, node.node_id if b"$NODEID" in data.upper() else None, master)
-        if k not in cache:
-            cache[k] = lint_bytes(node.file, data, Options(node_id=node.node_id,
-                                                           target_check=master))
-            res.files.append((node.file, cache[k].kind))
-        lines = _line_owner(node)
+        if node.file not in linted:
+            try:
+                with open(node.file, "rb") as f:
+                    data = f.read()
+            except OSError:
+                continue             # the reader reported it
+            result = lint_bytes(node.file, data, Options(
+                node_id=node.node_id, target_check=node.role == MASTER))
+            linted[node.file] = (result, _line_owner(node))
+            res.files.append((node.file, result.kind))
+        result, lines = linted[node.file]
         touched = _touched(node)
-        for d in cache[k].diagnostics:
+        for d in result.diagnostics:
+            key = (d.file, d.line, d.column, d.rule, d.message)
             if d.severity is Severity.ERROR and d.line is not None and d.rule not in ALWAYS:
                 owner = lines(d.line)
                 if owner is not None and not _is_touched(owner, touched):
-                    d = Diagnostic(Severity.WARNING, d.message + NOT_TOUCHED, d.file, d.line,
-                                   d.column, d.offset, d.rule, d.hint)
-            key = (d.severity, d.file, d.line, d.rule, d.message)
-            if key not in seen:
-                seen.add(key)
-                out.items.append(d)
+                    if key not in found:
+                        found[key] = Diagnostic(Severity.WARNING, d.message + NOT_TOUCHED,
+                                                d.file, d.line, d.column, d.offset, d.rule,
+                                                d.hint)
+                    continue
+            found[key] = d           # an error some node touches stays an error
+    out.items.extend(found.values())
 
 
 def _touched(node: Node) -> set:

@@ -76,10 +76,8 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         path = node.file
         if path not in parsed:
             try:
-                if os.path.isdir(path):
-                    raise IsADirectoryError(21, "Is a directory")
-                with open(path, "rb") as f:
-                    data = f.read()
+                from dcf2bin.network.files import read_node_file  # not a FIFO, not /dev/zero
+                data = read_node_file(path)
                 parsed[path] = ini_mod.parse_bytes(data, path)
             except OSError as exc:
                 parsed[path] = None

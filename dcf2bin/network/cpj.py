@@ -78,10 +78,10 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     with every present node read from its DCF."""
     from dcf2bin import model
     from dcf2bin.network import pdos
-    from dcf2bin.network.configure import _node_facts as node_facts
+    from dcf2bin.network.configuration import _node_facts as node_facts
+    from dcf2bin.network.files import read_node_file
     if data is None:
-        with open(path, "rb") as f:
-            data = f.read()
+        data = read_node_file(path)
     network = Network(path, kind="cpj")
     diags = network.diagnostics
     parsed = ini.parse_bytes(data, path)
@@ -135,7 +135,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             continue
         node.file = os.path.join(folder, dcf[0])
         try:
-            node.device = model.load(node.file, node_id=x)
+            node.device = model.load(node.file, node_id=x, data=read_node_file(node.file))
         except OSError as exc:
             _add(diags, "NET055", f"Node{x}DCFName: cannot read '{dcf[0]}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))

@@ -18,10 +18,13 @@ def configured_network(path: str, quiet: bool, outcome: str, net: int | None = N
         network = read_network(path, net=net)
     except OSError as exc:
         fail(f"cannot read: {exc.strerror or exc}", path, code=ExitCode.UNREADABLE)
-    if network.kind != "cpj" and not network.diagnostics.has_errors:
-        # from the module: once it is imported, the package's name `configure` is the
-        # module, not the function
-        from dcf2bin.network.configure import configure
+    if len(network.nodes) > 127:
+        # more nodes than node-IDs: not one network (as network check says, naming the
+        # node-IDs that repeat); nothing is configured
+        from dcf2bin.network.rules import node_ids
+        node_ids(network, network.diagnostics)
+    elif network.kind != "cpj" and not network.diagnostics.has_errors:
+        from dcf2bin.network import configure
         configure(network)
     emit(network.diagnostics, quiet)
     n = len(network.diagnostics.errors)
