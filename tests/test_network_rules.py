@@ -264,3 +264,13 @@ def test_NET242_in_yaml_names_the_master_line(tmp_path):
             "not below the SYNC period of 10000 µs [NET242]"]
     assert yaml_check(tmp_path / "b", old, "  sync_window: 9999\n  sync_period: 10000\n") \
         == []
+
+
+def test_docs_network_md_lists_every_check_rule():
+    """docs/network.md "What check reports": one row per .cpj and NET2xx rule, as the
+    tables in dcf2bin/network/cpj.py and rules.py have them."""
+    from dcf2bin.network import cpj
+    text = (pathlib.Path(__file__).parent.parent / "docs" / "network.md").read_text()
+    rows = [line for line in text.splitlines() if line.startswith("| `NET")]
+    assert rows == [f"| `{r.id}` | {r.severity.value} | `{r.name}` | {r.description} |"
+                    for table in (cpj.RULES, RULES) for r in table.values()]

@@ -34,9 +34,6 @@ FAMILIES = {
     "DCF4": "PDOs",
     "CNT0": "containers",
     "TGT0": "target emulation (DynBuildOd)",
-    "NET0": "network file (network check)",
-    "NET1": "network configuration (network check)",
-    "NET2": "network rules (network check)",
     "IO0": "inputs",
     "INT0": "internal",
 }

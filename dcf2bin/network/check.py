@@ -64,10 +64,10 @@ def rule_table() -> dict:
 
 def _config_rules() -> dict:
     """The YAML reader's and the configuration's codes (``network/codes.py``)."""
-    from dcf2bin.lint.registry import Rule
     from dcf2bin.network import codes
-    return {c: Rule(c, c.lower(), Severity(sev), text[:1].upper() + text[1:] + ".", "",
-                    "network") for c, sev, text in codes.CODES}
+    from dcf2bin.network.rules import NetRule
+    return {c: NetRule(c, c.lower(), Severity(sev), text[:1].upper() + text[1:] + ".", "",
+                       "network") for c, sev, text in codes.CODES}
 
 
 class SelectorError(ValueError):

@@ -18,14 +18,14 @@ import re
 
 from dcf2bin import ini, values
 from dcf2bin.diagnostics import Diagnostics, Severity, Where
-from dcf2bin.lint.registry import Rule
 from dcf2bin.network.model import SLAVE, Network, Node
+from dcf2bin.network.rules import NetRule
 
 ERROR, WARNING = Severity.ERROR, Severity.WARNING
 
 
 def _r(id, name, severity, description, hint=""):
-    return Rule(id, name, severity, description, hint, "network")
+    return NetRule(id, name, severity, description, hint, "network")
 
 
 RULES: dict[str, Rule] = {r.id: r for r in (

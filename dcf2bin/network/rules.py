@@ -11,6 +11,8 @@ Nothing here reads files or prints; :func:`run_rules` returns the findings.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from dcf2bin.diagnostics import Diagnostics, Severity, Where
 from dcf2bin.lint.registry import Rule
 from dcf2bin.network.model import COB_EXTENDED, RPDO, TPDO, Network, Node, Pdo
@@ -19,8 +21,22 @@ ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 KIND = "network"
 
 
+FAMILIES = {"NET05": "network project (.cpj)", "NET0": "network file",
+            "NET1": "network configuration", "NET2": "network as a whole"}
+
+
+@dataclass(frozen=True)
+class NetRule(Rule):
+    """A rule of ``network check``: validate's Rule, with the network's families."""
+
+    @property
+    def family(self) -> str:
+        return next((name for prefix, name in FAMILIES.items()
+                     if self.id.startswith(prefix)), "network")
+
+
 def _r(id, name, severity, description, hint=""):
-    return Rule(id, name, severity, description, hint, KIND)
+    return NetRule(id, name, severity, description, hint, KIND)
 
 
 # The rule table of this module, in code order (docs/network.md "What check reports").
