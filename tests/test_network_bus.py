@@ -74,11 +74,32 @@ def test_scan_worst_case_bound():
     assert sc.worst_case(2.0, 0.1, 0) == pytest.approx(2.4)
 
 
-def test_scan_of_an_empty_bus_keeps_to_its_bound(bench):
-    result = sc.scan(bench.network(), listen=0.05, timeout=0.2)
+def test_scan_of_an_empty_bus_asks_once_and_reads_no_identity(bench, monkeypatch):
+    # how long it takes is measured in benchmarks/network_scan.py; here: one round of 127
+    # requests and, with nobody answering, no identity round
+    rounds = []
+    real = sc._Round.run
+
+    def counted(self, timeout, retries):
+        rounds.append((self.index, self.sub, len(self.ids)))
+        return real(self, timeout, retries)
+    monkeypatch.setattr(sc._Round, "run", counted)
+    result = sc.scan(bench.network(), listen=0.05, timeout=0.1)
     assert result.found == {}
-    # no node: one round of 127 requests, no identity rounds
-    assert result.seconds < sc.worst_case(0.05, 0.2, 0) + 1.0
+    assert rounds == [(0x1000, 0, 127)]
+
+
+def test_scan_reads_the_identity_of_answering_nodes_only(bench, monkeypatch):
+    rounds = []
+    real = sc._Round.run
+
+    def counted(self, timeout, retries):
+        rounds.append((self.index, self.sub, self.ids))
+        return real(self, timeout, retries)
+    monkeypatch.setattr(sc._Round, "run", counted)
+    bench.device(7)
+    sc.scan(bench.network(), listen=0, timeout=0.5)
+    assert rounds == [(0x1000, 0, list(range(1, 128)))] + [(0x1018, k, [7]) for k in (1, 2, 3, 4)]
 
 
 # -- download -------------------------------------------------------------------------------
