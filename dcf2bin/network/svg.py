@@ -47,12 +47,15 @@ def text_width(text: str, font_px: float) -> float:
 
 
 def wrap(text: str, width: float, font_px: float, sep: str = ", ") -> list[str]:
-    """``text`` broken at ``sep`` (else anywhere) into lines of at most ``width`` px."""
+    """``text`` broken after each ``sep`` (else anywhere) into lines of at most ``width``
+    px; joined again with the separator's trailing blanks, the lines give ``text`` back."""
     cap = chars(width, font_px)
+    glue = sep[len(sep.rstrip()):]            # ", " -> " ", "_" -> ""
+    parts = text.split(sep)
     lines, cur = [], ""
-    for k, part in enumerate(text.split(sep)):
-        piece = part + (sep.rstrip() if k < len(text.split(sep)) - 1 else "")
-        cand = piece if not cur else cur + " " + piece
+    for k, part in enumerate(parts):
+        piece = part + (sep.rstrip() if k < len(parts) - 1 else "")
+        cand = piece if not cur else cur + glue + piece
         if len(cand) <= cap:
             cur = cand
             continue
