@@ -29,15 +29,30 @@ def value_text(w: Write) -> str:
 
 
 def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id: int,
-         diags: Diagnostics, *, shown_as: str) -> bytes | None:
+         diags: Diagnostics, *, shown_as: str, dev=None,
+         cache: dict | None = None) -> bytes | None:
     """``data`` (the file ``path``) with the settings and NodeID stated; None (reported
-    at the setting's YAML line) when an entry has no section to hold its value."""
+    at the setting's YAML line) when an entry has no section to hold its value. ``dev``:
+    the model of exactly ``data``, when the caller has it; ``cache``: a dict the caller
+    keeps across calls, so that the slaves sharing one file are edited from one reading
+    of its lines."""
     from dcf2bin import model
-    from dcf2bin.plc.merge import _lines, _set_value
-    dev = model.load(path, data=data)
+    from dcf2bin.plc.merge import _lines, _set_value, section_ends
+    if dev is None:
+        dev = model.load(path, data=data)
     enc = dev.encoding
-    nl = "\r\n" if b"\r\n" in data else "\n"
-    lines = _lines(data)
+    cache = {} if cache is None else cache
+    cached = cache.get(id(dev.ini))
+    if cached is None or cached[0] is not dev.ini or cached[1] is not data:
+        lines = _lines(data)
+        offsets = [0]
+        for line in lines:
+            offsets.append(offsets[-1] + len(line))
+        cached = (dev.ini, data, lines, offsets, section_ends(dev.ini, lines),
+                  {id(sec): c for c, sec in dev.ini.sections.items()},
+                  "\r\n" if b"\r\n" in data else "\n")
+        cache[id(dev.ini)] = cached
+    _, _, lines, offsets, ends, canon, nl = cached
     replace: dict[int, bytes] = {}
     after: dict[int, list[str]] = {}
     tail: list[str] = []
@@ -45,7 +60,7 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
     ok = True
 
     def last_line(sec) -> int:
-        return max([sec.line] + [k.line for k in sec.keys.values()])
+        return ends[canon[id(sec)]]
 
     for (index, sub), w in sorted(settings.items()):
         text = value_text(w)
@@ -99,13 +114,17 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
         return None
     out: list[bytes] = []
     nlb = nl.encode(enc)
-    for i, line in enumerate(lines):
-        line = replace.get(i, line)
+    pos = 0                      # the lines between changes are copied as one slice
+    for i in sorted(set(replace) | set(after)):
+        out.append(data[pos:offsets[i]])
+        line = replace.get(i, lines[i])
         if i in after and not line.endswith((b"\n", b"\r")):
             line += nlb
         out.append(line)
         for text in after.get(i, ()):
             out.append(text.encode(enc) + nlb)
+        pos = offsets[i + 1]
+    out.append(data[pos:])
     if tail:
         if out and not out[-1].endswith((b"\n", b"\r")):
             out.append(nlb)

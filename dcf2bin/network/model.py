@@ -203,6 +203,7 @@ class Network:
     layout: str = "flat"               # "flat" (lely) or "nodes" (ros2_canopen)
     configured: bool = False
     plc_dcf: bytes | None = None       # the PLC's file with the variables merged (D-15)
+    files: dict[str, bytes] = field(default_factory=dict, repr=False)  # path -> bytes read
 
     @property
     def master(self) -> Node | None:

@@ -123,8 +123,10 @@ def place(net: Network, diags: Diagnostics) -> None:
     master = net.master
     dev = master.device
     yaml_path = net.path
-    with open(dev.path, "rb") as f:
-        base = f.read()
+    base = net.files.get(dev.path)
+    if base is None:
+        with open(dev.path, "rb") as f:
+            base = f.read()
     order = ([v for v in net.variables if v.direction == "input"]
              + [v for v in net.variables if v.direction == "output"])
     fallback = net.node(order[0].node_id).where.line if order else None
@@ -132,7 +134,8 @@ def place(net: Network, diags: Diagnostics) -> None:
                      v.where.line if v.where and v.where.file == yaml_path else fallback)
                  for v in order]
     try:
-        text, placed, kept = merge(base, dev.path, variables, yaml_path)
+        text, placed, kept = merge(base, dev.path, variables, yaml_path,
+                                   dev=dev if dev.path in net.files else None)
     except AllocationError as exc:
         for d in exc.diagnostics:
             diags.error(d.message, Where(d.file, d.line), rule="NET118")

@@ -11,7 +11,6 @@ lacks) go at the end.
 """
 from __future__ import annotations
 
-import re
 
 from dcf2bin.diagnostics import Diagnostic, Severity
 from dcf2bin.layout import INPUT, OUTPUT, channel_for
@@ -20,12 +19,24 @@ from dcf2bin.plc.allocate import (RULE_BASE, AllocationError, Placed, Var, _err,
 
 def _lines(data: bytes) -> list[bytes]:
     """The file's lines with their line ends, as the INI reader counts them."""
-    out, pos = [], 0
-    for m in re.finditer(rb"\n", data):
-        out.append(data[pos:m.end()])
-        pos = m.end()
-    if pos < len(data):
-        out.append(data[pos:])
+    out = [line + b"\n" for line in data.split(b"\n")]
+    out[-1] = out[-1][:-1]
+    if not out[-1]:
+        out.pop()
+    return out
+
+
+def section_ends(ini, lines: list[bytes]) -> dict[str, int]:
+    """canonical section name -> its last line (1-based) that is neither blank nor a
+    comment: the line new keys go after (without building every section's keys)."""
+    order = sorted(ini.sections.items(), key=lambda kv: kv[1].line)
+    out = {}
+    for k, (canon, sec) in enumerate(order):
+        end = order[k + 1][1].line - 1 if k + 1 < len(order) else len(lines)
+        while end > sec.line and (not lines[end - 1].strip()
+                                  or lines[end - 1].lstrip()[:1] in (b";", b"#")):
+            end -= 1
+        out[canon] = end
     return out
 
 
@@ -56,11 +67,13 @@ def existing_variables(dev) -> dict[str, tuple[int, int, str, object]]:
     return out
 
 
-def merge(base: bytes, base_path: str, variables: list[Var], vars_path: str
+def merge(base: bytes, base_path: str, variables: list[Var], vars_path: str, *, dev=None
           ) -> tuple[bytes, list[Placed], list[tuple[Var, int, int]]]:
-    """-> (the merged DCF, the variables placed now, the ones kept (var, index, sub))."""
+    """-> (the merged DCF, the variables placed now, the ones kept (var, index, sub)).
+    ``dev``: the model of exactly ``base``, when the caller has it."""
     from dcf2bin import layout, model
-    dev = model.load(base_path, data=base)
+    if dev is None:
+        dev = model.load(base_path, data=base)
     if dev.ini is not None and dev.ini.section("dynamicchannels") is not None:
         sec = dev.ini.section("dynamicchannels")
         raise AllocationError([_err(
@@ -114,8 +127,7 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
                 f"'{v.name if v else text}' cannot be written in the {encoding} encoding of "
                 "the DCF", vars_path, v.line if v else None, RULE_BASE)]) from None
 
-    def last_line(sec) -> int:
-        return max([sec.line] + [k.line for k in sec.keys.values()])
+    last = section_ends(ini, lines)
 
     # the sections of each object, to find where it ends
     ends: dict[int, int] = {}
@@ -123,7 +135,7 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
     for canon, sec in ini.sections.items():
         idx, _ = _section_target(canon)
         if idx is not None:
-            ends[idx] = max(ends.get(idx, 0), last_line(sec))
+            ends[idx] = max(ends.get(idx, 0), last[canon])
 
     objs = _objects(placed)
     new_objects = []
@@ -173,7 +185,7 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
                 replace[k] = _set_value(lines[k], str(count), encoding)
             else:
                 entries.insert(0, f"SupportedObjects={len(numbers) + len(new_objects)}")
-            after.setdefault(last_line(opt) - 1, []).append(nl.join(entries) + nl)
+            after.setdefault(last["optionalobjects"] - 1, []).append(nl.join(entries) + nl)
         else:
             tail.insert(0, f"[OptionalObjects]{nl}SupportedObjects={len(new_objects)}{nl}"
                         + "".join(e + nl for e in entries))
