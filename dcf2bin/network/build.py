@@ -111,18 +111,22 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     master = net.master
     outputs: dict[str, bytes] = {}
     plc_name = names[master.name] + ".dcf"
-    base = net.plc_dcf if net.plc_dcf is not None else net.files[master.device.path]
-    plc = edit(base, master.device.path, master.settings, master.node_id, diags,
-               shown_as=plc_name,
-               dev=master.device if net.plc_dcf is None and master.device.path in net.files
-               else None)
+    base = net.files[master.device.path]
+    from dcf2bin.plc.allocate import AllocationError
+    try:
+        plc = edit(base, master.device.path, master.settings, master.node_id, diags,
+                   shown_as=plc_name, ini=master.device.ini, merge_plan=net.plc_plan)
+    except AllocationError as exc:          # a name the PLC file's encoding cannot hold
+        for d in exc.diagnostics:
+            diags.error(d.message, Where(d.file, d.line), rule="NET118")
+        return {}
     if plc is not None:
         outputs[plc_name] = plc
     cache: dict = {}
     for s in net.slaves:
         text = net.files[s.device.path]
         dcf = edit(text, s.device.path, s.settings, s.node_id, diags,
-                   shown_as=names[s.name] + ".dcf", dev=s.device, cache=cache)
+                   shown_as=names[s.name] + ".dcf", ini=s.device.ini, cache=cache)
         outputs[names[s.name] + ".bin"] = concise_dcf(s)
         if dcf is not None:
             outputs[names[s.name] + ".dcf"] = dcf

@@ -10,12 +10,17 @@ is 12, ``010`` is 8, ``yes`` is True).
 """
 from __future__ import annotations
 
+import re
+
 from dcf2bin.diagnostics import Diagnostics, Where
 
 MAX_NODES = 1_000_000      # expanded nodes: 126 slaves of 8 PDOs are ~50,000
 MAX_DEPTH = 64
 MERGE_TAG = "tag:yaml.org,2002:merge"
 STR_TAG = "tag:yaml.org,2002:str"
+# plain scalars that YAML 1.1 resolves to these integers (decimal without a leading 0,
+# hexadecimal): read directly, the resolver and constructor give the same
+_PLAIN_INT = re.compile(r"0|[1-9][0-9]*|0x[0-9a-fA-F]+")
 
 
 class YMap(dict):
@@ -146,6 +151,9 @@ class _Builder:
     def scalar(self, ev, line: int):
         yaml = self.yaml
         tag = ev.tag
+        value = ev.value
+        if tag is None and ev.implicit[0] and _PLAIN_INT.fullmatch(value):
+            return int(value, 16) if value[1:2] == "x" else int(value)
         if tag is None or tag == "!":
             tag = self.resolver.resolve(yaml.ScalarNode, ev.value, ev.implicit)
         if tag == STR_TAG:
