@@ -28,7 +28,7 @@ def _r(id, name, severity, description, hint=""):
     return NetRule(id, name, severity, description, hint, "network")
 
 
-RULES: dict[str, Rule] = {r.id: r for r in (
+RULES: dict[str, NetRule] = {r.id: r for r in (
     _r("NET050", "cpj-syntax", ERROR,
        "The .cpj project is not readable INI text (a bad line, a repeated section or key).",
        "a .cpj is INI text: [Topology] and Key=Value lines"),
