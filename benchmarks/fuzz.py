@@ -27,7 +27,8 @@ formats drawn from the seed; each container through ``dump`` (text, JSON, and ``
 that JSON), ``bin2dcf``, ``validate``, ``simulate`` and ``map`` (one format); each CSV through
 ``allocate`` and ``allocate --into samples/plc.dcf`` (and sometimes ``map`` of what
 allocate wrote). ``--kind all`` (the default) takes dcf, container, csv in turn; ``both``
-dcf and container only. These are the real commands, run
+dcf and container only; ``network`` (or ``yaml``, ``cpj``) network files through
+``network check`` and ``network build`` (benchmarks/fuzz_network.py). These are the real commands, run
 in-process through click, with ``--debug`` so that an internal error surfaces as the
 exception it is. A *crash* is exit status 70 or any exception; the expected outcomes
 are exit 0 (ok), 1 (diagnostics) and 3 (unreadable input). A variant that runs longer

@@ -180,3 +180,26 @@ def test_build_then_a_cpj_naming_the_outputs_checks_clean(tmp_path):
             for r in res.load.rows if r.what.startswith("TPDO")][:2] == [
         ("TPDO1", "drive", ["master"]), ("TPDO1", "io", ["master"])]
     assert net.node(1).pdo(RPDO, 1).exists
+
+
+def test_json_and_sarif_reports_follow_validate_schemas(tmp_path):
+    import jsonschema
+
+    from dcf2bin.lint.report_schema import REPORT_SCHEMA, RULES_SCHEMA
+    yml = tmp_path / "net" / "check" / "bus.yml"
+    shutil.copytree(FIX.parent, tmp_path / "net")
+    runner = CliRunner()
+    for path in (str(FIX / "network.cpj"), str(yml)):
+        res = runner.invoke(check_cmd, [path, "-f", "json", "--max-load", "1"])
+        doc = json.loads(res.output)
+        jsonschema.validate(doc, REPORT_SCHEMA)
+        assert doc["summary"]["exit_code"] == res.exit_code == 0
+        assert doc["files"][0]["kind"] == ("cpj" if path.endswith(".cpj") else "yaml")
+        sarif = json.loads(runner.invoke(check_cmd, [path, "-f", "sarif"]).output)
+        assert sarif["version"] == "2.1.0"
+    rules = json.loads(runner.invoke(check_cmd, ["--list-rules", "-f", "json"]).output)
+    jsonschema.validate(rules, RULES_SCHEMA)
+    fams = {r["id"]: r["family"] for r in rules["rules"]}
+    assert (fams["NET055"], fams["NET010"], fams["NET101"], fams["NET220"]) == (
+        "network project (.cpj)", "network file", "network configuration",
+        "network as a whole")

@@ -127,32 +127,30 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
         return CheckResult(None, [d], [(path, "unreadable")])
     res = CheckResult(network, files=[(path, network.kind)])
     found = Diagnostics()
-    if len(network.nodes) > 127:
-        # more nodes than node-IDs: not one network. Say which node-IDs repeat, and do not
-        # configure thousands of nodes (a fuzzed file with 10,000 slaves)
-        from dcf2bin.network.rules import node_ids
-        found.extend(network.diagnostics)
-        node_ids(network, found)
-        res.diagnostics = [d for d in found if not d.rule or d.rule in active]
-        return res
-    if network.kind != "cpj" and not network.diagnostics.has_errors:
+    configured = network.kind == "cpj"        # a .cpj's nodes are their files as they are
+    if len(network.nodes) <= 127 and not configured and not network.diagnostics.has_errors:
+        # (more nodes than node-IDs is not one network: a fuzzed file with 10,000 slaves
+        # is not configured, its repeated node-IDs are the finding)
         from dcf2bin.network.configuration import configure
         configure(network)
+        configured = True
     found.extend(network.diagnostics)
-    files = Diagnostics()
-    _validate_files(network, files, res)
-    if network.nodes:
-        found.extend(files)
-        found.extend(run_rules(network))
-        from dcf2bin.network.load import estimate
-        res.load = estimate(network)
-        total = res.load.total
-        if total > max_load:
-            add(found, "NET260", f"the estimated bus load is {total:.1f} % at "
-                f"{network.bitrate // 1000} kbit/s, above {max_load:g} %",
-                network_where(network))
+    if not configured:
+        # the file could not be read as a network: the node-IDs are all that can be
+        # checked (the other rules would report what configuration never did)
+        from dcf2bin.network.rules import node_ids
+        node_ids(network, found)
     else:
-        found.extend(files)
+        _validate_files(network, found, res)
+        if network.nodes:
+            found.extend(run_rules(network))
+            from dcf2bin.network.load import estimate
+            res.load = estimate(network)
+            total = res.load.total
+            if total > max_load:
+                add(found, "NET260", f"the estimated bus load is {total:.1f} % at "
+                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %",
+                    network_where(network))
     res.diagnostics = [d for d in found if not d.rule or d.rule in active]
     return res
 

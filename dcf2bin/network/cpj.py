@@ -28,7 +28,7 @@ def _r(id, name, severity, description, hint=""):
     return NetRule(id, name, severity, description, hint, "network")
 
 
-RULES: dict[str, Rule] = {r.id: r for r in (
+RULES: dict[str, NetRule] = {r.id: r for r in (
     _r("NET050", "cpj-syntax", ERROR,
        "The .cpj project is not readable INI text (a bad line, a repeated section or key).",
        "a .cpj is INI text: [Topology] and Key=Value lines"),
@@ -116,7 +116,12 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             _add(diags, "NET053", f"[{sec.name}] {k.name}: node-ID {x} is outside 1…127",
                  Where(path, k.line))
             continue
-        nodes.setdefault(x, {})[m.group(2)] = (k.value, k.line)
+        keys = nodes.setdefault(x, {})
+        if m.group(2) in keys:               # Node1Present and Node01Present
+            _add(diags, "NET050", f"[{sec.name}] {k.name} repeats {keys[m.group(2)][2]} "
+                 f"(line {keys[m.group(2)][1]}; the first is used)", Where(path, k.line))
+            continue
+        keys[m.group(2)] = (k.value, k.line, k.name)
     folder = os.path.dirname(path)
     present = 0
     for x in sorted(nodes):
@@ -126,7 +131,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         _flag(diags, path, sec, keys, x, "refd")
         present += 1
         line = keys["present"][1]
-        node = Node(keys.get("name", (f"node{x}",))[0] or f"node{x}", x, SLAVE,
+        node = Node(keys["name"][0] if keys.get("name", ("",))[0] else f"node{x}", x, SLAVE,
                     where=Where(path, line))
         dcf = keys.get("dcfname")
         if dcf is None or not dcf[0]:
@@ -137,7 +142,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         try:
             node.device = model.load(node.file, node_id=x, data=read_node_file(node.file))
         except OSError as exc:
-            _add(diags, "NET055", f"Node{x}DCFName: cannot read '{dcf[0]}': "
+            _add(diags, "NET055", f"{dcf[2]}: cannot read '{dcf[0]}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
         own = _own_node_id(node.device)
@@ -201,7 +206,7 @@ def _flag(diags: Diagnostics, path: str, sec, keys, x: int, what: str) -> bool:
     """NodeXPresent / NodeXRefd: 0 or 1 (absent: 0)."""
     if what not in keys:
         return False
-    text, line = keys[what]
+    text, line = keys[what][:2]
     try:
         v = values.parse_int(values.split_numeric_comment(text)[0])
     except values.ValueProblem as exc:
@@ -209,7 +214,6 @@ def _flag(diags: Diagnostics, path: str, sec, keys, x: int, what: str) -> bool:
     else:
         why = f"'{text}' is neither 0 nor 1"
     if v not in (0, 1):
-        _add(diags, "NET052", f"[{sec.name}] {sec.keys[f'node{x}{what}'].name}: {why}",
-             Where(path, line))
+        _add(diags, "NET052", f"[{sec.name}] {keys[what][2]}: {why}", Where(path, line))
         return False
     return v == 1

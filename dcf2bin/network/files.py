@@ -16,7 +16,10 @@ MAX_SIZE = 64 << 20
 def read_node_file(path: str) -> bytes:
     """The bytes of the file at ``path``; OSError (with ``strerror``) when it is missing,
     not a regular file, or larger than MAX_SIZE."""
-    st = os.stat(path)
+    try:
+        st = os.stat(path)
+    except ValueError:                 # a NUL in the name
+        raise OSError(errno.EINVAL, "not a valid file name", path) from None
     if stat.S_ISDIR(st.st_mode):
         raise IsADirectoryError(errno.EISDIR, "Is a directory", path)
     if not stat.S_ISREG(st.st_mode):

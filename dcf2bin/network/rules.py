@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from dcf2bin.diagnostics import Diagnostics, Severity, Where
 from dcf2bin.lint.registry import Rule
-from dcf2bin.network.model import COB_EXTENDED, RPDO, TPDO, Network, Node, Pdo
+from dcf2bin.network.model import COB_EXTENDED, TPDO, Network, Node, Pdo
 
 ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 KIND = "network"
