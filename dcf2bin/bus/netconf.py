@@ -18,7 +18,6 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.bus import download as dl
 from dcf2bin.bus.scan import ENFORCED
-from dcf2bin.network.show import identity_of
 
 CONFIGURED, FAILED, SKIPPED = "configured", "failed", "skipped"
 PLC = "not written"          # a .cpj project's PLC: its container goes with its program
@@ -123,14 +122,18 @@ def identity_problems(sdo, node, identity: dict[int, int]) -> list[Problem]:
 
 def configure_slaves(net, network, options: Options, *, source: str,
                      plans: dict[int, dl.Plan] | None = None,
+                     identities: dict[int, dict[int, int]] | None = None,
                      progress: Callable[[Outcome], None] | None = None) -> list[Outcome]:
     """Configure every slave; one outcome per node, in node-ID order. ``plans``: each
     node's writes by node-ID (default: its D-18 list); a node without one is a PLC and is
-    not written. Without ``keep_going`` the first node that fails ends the run, the rest
-    are skipped."""
+    not written. ``identities``: what each node must be, 0x1F84…0x1F88 → value, by
+    node-ID (default: what the master enforces, ``Node.identity``). Without
+    ``keep_going`` the first node that fails ends the run, the rest are skipped."""
     nodes = sorted(network.slaves, key=lambda n: n.node_id)
     if plans is None:
         plans = {n.node_id: plan_of(n, source) for n in nodes}
+    if identities is None:
+        identities = {n.node_id: n.identity for n in nodes}
     outcomes = [Outcome(n.node_id, n.name, total=len(plans[n.node_id].writes)
                         if n.node_id in plans else 0) for n in nodes]
     stop = False
@@ -140,8 +143,8 @@ def configure_slaves(net, network, options: Options, *, source: str,
         if node.node_id not in plans:
             out.status = PLC
         else:
-            _configure_one(net, node, plans[node.node_id], identity_of(network, node), out,
-                           options, source)
+            _configure_one(net, node, plans[node.node_id], identities.get(node.node_id, {}),
+                           out, options, source)
         if progress is not None:
             progress(out)
         if out.status == FAILED and not options.keep_going:

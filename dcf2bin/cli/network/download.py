@@ -62,8 +62,11 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
             click.echo(_line(out))
 
     try:
+        from dcf2bin.network.show import identity_of
+        identities = {n.node_id: identity_of(network, n) for n in network.slaves}
         outcomes = netconf.configure_slaves(bus, network, options, source=network_file,
-                                            plans=plans, progress=progress)
+                                            plans=plans, identities=identities,
+                                            progress=progress)
     finally:
         link.close_network(bus)
     if not quiet:
@@ -138,9 +141,9 @@ def _summary(path: str, outcomes, keep_going: bool) -> str:
 
 
 def _dry(network, plans: dict) -> str:
-    from dcf2bin.bus.netconf import identity_of
     from dcf2bin.bus.scan import ENFORCED
     from dcf2bin.network import show
+    from dcf2bin.network.show import identity_of
     out = []
     for n in sorted(network.slaves, key=lambda n: n.node_id):
         if n.node_id not in plans:

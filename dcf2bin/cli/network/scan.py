@@ -51,7 +51,7 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     """
     from dcf2bin.bus import link
     from dcf2bin.bus import scan as sc
-    from dcf2bin.bus.netconf import identity_of
+    from dcf2bin.network.show import identity_of
     network = configured_network(network_file, quiet, "nothing scanned", net)
     expected = [sc.Expected(n.node_id, n.name, identity_of(network, n),
                             master=n.role == "master") for n in network.nodes]
