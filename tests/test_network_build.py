@@ -413,3 +413,16 @@ def _plc_values_of(data: bytes, tmp_path) -> dict[tuple[int, int], str]:
     p = tmp_path / "values.dcf"
     p.write_bytes(data)
     return _plc_values(p)
+
+
+def test_help_imports_no_yaml():
+    """dcf2bin --help and network --help stay light: the subcommands load when run."""
+    import subprocess
+    import sys
+    code = ("import sys\nfrom click.testing import CliRunner\nfrom dcf2bin.cli import main\n"
+            "r = CliRunner().invoke(main, ['network', '--help'])\n"
+            "print(r.exit_code, 'build' in r.output, sorted({m.split('.')[0] for m in "
+            "sys.modules} & {'yaml', 'canopen', 'construct', 'can'}))\n")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, check=True)
+    assert out.stdout == "0 True []\n"
