@@ -110,6 +110,15 @@ def test_concise_dcf_replays_the_write_list():
         (0x1017, 0, 50), (0x6060, 0, 8)]
 
 
+def test_concise_dcf_is_the_index_segment_of_the_schema():
+    from dcf2bin.container import BinContainer
+    from dcf2bin.network.concise import concise_dcf
+    net = configure(load_network(str(GOLDEN / "nodes" / "bus.yml")))
+    for s in net.slaves:
+        assert concise_dcf(s) == BinContainer(
+            entries=[(w.index, w.sub, w.data) for w in s.writes]).index_bytes()
+
+
 def test_slave_dcf_states_the_last_write_of_each_entry():
     res = build_network(str(GOLDEN / "flat" / "bus.yml"))
     drive = res.network.node(2)

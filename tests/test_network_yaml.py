@@ -65,14 +65,14 @@ def test_alias_bomb_is_stopped(tmp_path):
         lines.append(f"{cur}: &{cur} [" + ", ".join([f"*{prev}"] * 10) + "]")
     net = load(tmp_path, "\n".join(lines) + "\n")
     assert found(net, tmp_path) == [
-        "bus.yml:1: error: the YAML expands to more than 1000000 nodes (aliases repeating "
+        "bus.yml:6: error: the YAML expands to more than 1000000 nodes (aliases repeating "
         "aliases) [NET003]"]
 
 
 def test_recursive_alias(tmp_path):
     net = load(tmp_path, "master: &m\n  node_id: 1\n  self: *m\n")
     assert found(net, tmp_path) == [
-        "bus.yml:1: error: a recursive alias (the node contains itself) [NET003]"]
+        "bus.yml:3: error: a recursive alias (the node contains itself) [NET003]"]
 
 
 @pytest.mark.parametrize("text", ["[" * 100_000, "- " * 100_000,
@@ -81,6 +81,13 @@ def test_deep_nesting_is_refused_not_crashed(tmp_path, text):
     net = load(tmp_path, text)
     [msg] = found(net, tmp_path)
     assert msg.endswith(f"error: the YAML nests deeper than {MAX_DEPTH} levels [NET003]")
+
+
+def test_undefined_alias_and_two_documents(tmp_path):
+    assert found(load(tmp_path, "master: *nothing\n"), tmp_path) == [
+        "bus.yml:1: error: alias *nothing names no anchor before it [NET001]"]
+    assert found(load(tmp_path, MINIMAL + "---\n" + MINIMAL), tmp_path) == [
+        "bus.yml:6: error: more than one YAML document in the network file [NET001]"]
 
 
 def test_not_utf8_and_not_a_mapping(tmp_path):

@@ -70,9 +70,14 @@ def _errors_before_placing(diags: Diagnostics) -> bool:
 
 
 def _read_files(net: Network, diags: Diagnostics) -> None:
+    """Each node's file, read and modelled once per file: the nodes that share a file
+    get copies of its Device that differ in the node-ID ($NODEID values) only."""
+    import copy
+
     from dcf2bin import ini as ini_mod
     from dcf2bin import model
     parsed: dict[str, object] = {}
+    built: dict[str, object] = {}
     for node in net.nodes:
         if node.file is None:
             continue
@@ -83,12 +88,23 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
                 from dcf2bin.network.files import read_node_file  # not a FIFO, not /dev/zero
                 data = read_node_file(path)
                 parsed[path] = ini_mod.parse_bytes(data, path)
+                net.files[path] = data
             except OSError as exc:
                 parsed[path] = None
                 diags.error(f"cannot read {path}: {exc.strerror or exc}", where,
                             rule="NET010")
-        if parsed[path] is not None:
-            node.device = model.build(parsed[path], node_id=node.node_id)
+        if parsed[path] is None:
+            continue
+        base = built.get(path)
+        if base is None:
+            base = built[path] = model.build(parsed[path], node_id=node.node_id)
+            node.device = base
+            continue
+        dev = copy.copy(base)
+        dev.node_id, dev.node_id_from_cli = node.node_id, True
+        dev.encoded, dev._warned, dev._verdicts = {}, set(), {}
+        dev.problems = list(base.problems)
+        node.device = dev
 
 
 def _plc_pdos(mirrors, plc: nmt.PlcWriter) -> None:

@@ -202,7 +202,9 @@ class Network:
     master_where: Where | None = None  # the `master:` line: network-wide findings go there
     layout: str = "flat"               # "flat" (lely) or "nodes" (ros2_canopen)
     configured: bool = False
-    plc_dcf: bytes | None = None       # the PLC's file with the variables merged (D-15)
+    plc_plan: Any = None               # the variables allocate --into adds to the PLC's
+                                       # file (dcf2bin.plc.merge.Plan; D-15)
+    files: dict[str, bytes] = field(default_factory=dict, repr=False)  # path -> bytes read
 
     @property
     def master(self) -> Node | None:

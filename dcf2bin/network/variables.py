@@ -116,15 +116,17 @@ def _claim(name: str, key: tuple, where: Where, by_name: dict, with_dcf: bool,
 
 
 def place(net: Network, diags: Diagnostics) -> None:
-    """Allocate the variables into the PLC's file (``allocate --into``): net.plc_dcf,
+    """Allocate the variables into the PLC's file (``allocate --into``): net.plc_plan,
     each variable's PLC object, and the mirrors' mapping entries."""
     from dcf2bin.plc.allocate import AllocationError, Var
-    from dcf2bin.plc.merge import merge
+    from dcf2bin.plc.merge import plan
     master = net.master
     dev = master.device
     yaml_path = net.path
-    with open(dev.path, "rb") as f:
-        base = f.read()
+    base = net.files.get(dev.path)
+    if base is None:
+        with open(dev.path, "rb") as f:
+            base = f.read()
     order = ([v for v in net.variables if v.direction == "input"]
              + [v for v in net.variables if v.direction == "output"])
     fallback = net.node(order[0].node_id).where.line if order else None
@@ -132,12 +134,13 @@ def place(net: Network, diags: Diagnostics) -> None:
                      v.where.line if v.where and v.where.file == yaml_path else fallback)
                  for v in order]
     try:
-        text, placed, kept = merge(base, dev.path, variables, yaml_path)
+        edit, placed, kept = plan(base, dev.path, variables, yaml_path,
+                                  dev=dev if dev.path in net.files else None)
     except AllocationError as exc:
         for d in exc.diagnostics:
             diags.error(d.message, Where(d.file, d.line), rule="NET118")
         return
-    net.plc_dcf = text
+    net.plc_plan = edit
     spots = {p.var.name: (p.index, p.sub, p.offset) for p in placed}
     spots.update({v.name: (idx, sub, None) for v, idx, sub in kept})
     for v in net.variables:

@@ -40,9 +40,8 @@ def build_cmd(network, outdir, verbose, quiet, debug):
         say(f"network build: {n} error{'s' if n != 1 else ''}, nothing written")
         raise Failure(ExitCode.FINDINGS)
     net = res.network
-    for node in net.nodes:
-        if node.device is not None:
-            register_input(node.device.path)
+    for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
+        register_input(path)        # no output may overwrite a node's file
     try:
         os.makedirs(outdir, exist_ok=True)
     except OSError as exc:
