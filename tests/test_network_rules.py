@@ -22,10 +22,10 @@ import shutil
 import pytest
 
 from dcf2bin.diagnostics import Where
-from dcf2bin.network.check import check_network
+from dcf2bin.network.check import check_network, run_rules
 from dcf2bin.network.model import MASTER, RPDO, SLAVE, TPDO, Heartbeat, Mapped, Network, \
     Node, Pdo
-from dcf2bin.network.rules import RULES, run_rules
+from dcf2bin.network.rules import RULES
 
 FIX = pathlib.Path(__file__).parent / "fixtures" / "network" / "check"
 
