@@ -62,7 +62,7 @@ def run_rules(network: Network) -> Diagnostics:
     links = Links(network)
     rules_pdo.cob_ids(network, links, out)
     rules_pdo.mappings(network, links, out)
-    rules_pdo.written_twice(network, out)
+    rules_pdo.written_twice(network, links, out)
     rules_bus.services(network, out)
     rules_bus.sync(network, out)
     rules_bus.heartbeats(network, out)

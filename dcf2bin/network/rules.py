@@ -71,7 +71,8 @@ RULES: dict[str, Rule] = {r.id: r for r in (
        "An RPDO field has the position of a producer field but another data type.",
        "map objects of the same data type at each position"),
     _r("NET224", "object-written-by-two-rpdos", WARNING,
-       "One object is mapped by two RPDOs of one node: the later frame overwrites it.",
+       "One object is mapped by two RPDOs of one node, its values from different places: "
+       "the later frame overwrites the first.",
        "map each object in one RPDO only"),
     _r("NET230", "cob-id-restricted", ERROR,
        "A PDO's CAN-ID is one CiA 301 reserves (0x000, 0x001–0x07F, 0x101–0x180, "
