@@ -296,3 +296,13 @@ def test_NET224_not_for_one_value_sent_twice():
         "the later frame overwrites it [NET224]"]
     plc.device = None
     assert _diags(_net(plc, rtt)) == []
+
+
+def test_NET260_names_the_frames_of_unknown_rate(tmp_path):
+    # the PLC's TPDO mirroring the drive's RPDO1 is event-driven without timers: its rate
+    # is unknown and counts as 0 (the total is the estimate's; test_network_load checks
+    # the arithmetic)
+    assert yaml_check(tmp_path / "a", max_load=0) == [
+        "check/bus.yml:5: warning: the estimated bus load is 5.8 % at 500 kbit/s, above 0 % "
+        "(1 frame of unknown rate counted as 0) [NET260]"]
+    assert yaml_check(tmp_path / "b", max_load=5.9) == []

@@ -166,9 +166,11 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
             res.load = estimate(network)
             total = res.load.total
             if total > max_load:
+                n = len(res.load.unknown)
                 add(found, "NET260", f"the estimated bus load is {total:.1f} % at "
-                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %",
-                    network_where(network))
+                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %" + (
+                        f" ({n} frame{'s' if n > 1 else ''} of unknown rate counted as 0)"
+                        if n else ""), network_where(network))
     res.diagnostics = [d for d in found if not d.rule or d.rule in active]
     return res
 
