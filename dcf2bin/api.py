@@ -134,7 +134,7 @@ def to_dcf(source: Container, *, eds: str | os.PathLike | None = None,
     encoding), ``diagnostics`` (B2Dxxx warnings name what will not compile back, and
     the container's own warnings), ``roundtrip`` (compile with default options gives
     the container's bytes) and ``options`` (the compile options that give them
-    otherwise, e.g. ``["--select all"]``). ``eds``: the device's EDS, for exact types,
+    otherwise, e.g. ``["--entries all"]``). ``eds``: the device's EDS, for exact types,
     access and names; ``dcf_name`` goes into ``[FileInfo] FileName``.
     Raises ``ReadError`` when the bytes are no container.
 

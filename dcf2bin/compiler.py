@@ -191,7 +191,7 @@ def _nothing_to_write(dev: model.Device, opts: CompileOptions) -> Diagnostic:
     if opts.select == select_mod.AUTO:
         return Diagnostic(Severity.WARNING, "nothing is configured (no ParameterValue or "
                           "DownloadFile, no network variable): the container holds no entries",
-                          dev.path, rule="DCF009", hint="--select all also writes every "
+                          dev.path, rule="DCF009", hint="--entries all also writes every "
                           "DefaultValue (the device's defaults)")
     return Diagnostic(Severity.WARNING, "no entry has a value: the container holds no entries",
                       dev.path, rule="DCF009", hint="give the entries a ParameterValue")

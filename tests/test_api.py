@@ -272,7 +272,7 @@ def test_to_dcf_names_what_will_not_round_trip():
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
                      attributes=b"\x30\x70")
     res = dcf2bin.to_dcf(c, name="ro.bin")
-    assert (res.roundtrip, res.options) == (False, ["--select all"])
+    assert (res.roundtrip, res.options) == (False, ["--entries all"])
     assert [d.rule for d in res.diagnostics] == ["B2D004", "B2D010"]
     assert "FileName=container.dcf\n" in res.text
     assert dcf2bin.compile_path("ro.dcf", data=res.to_bytes(), select="all").data == \

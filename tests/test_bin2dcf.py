@@ -278,7 +278,7 @@ def test_prediction_with_options(c):
                 opts["container_version"] = int(o.split()[1])
             if o == "--no-process-image":
                 opts["process_image"] = False
-            if o == "--select all":
+            if o == "--entries all":
                 opts["select"] = "all"
         back = compile_text(res.to_bytes(), **opts)
         assert back.data == data
@@ -331,7 +331,7 @@ def test_version_and_missing_pi_name_the_options():
 
 
 def test_select_all_is_suggested_when_it_reproduces_the_container():
-    """Item 20: ro entries outside a PDO block come back only with --select all (SPEC §3.2);
+    """Item 20: ro entries outside a PDO block come back only with --entries all (SPEC §3.2);
     B2D010 says so, and the options name it."""
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
                      attributes=b"\x30\x70")
@@ -340,11 +340,11 @@ def test_select_all_is_suggested_when_it_reproduces_the_container():
         "write ro entries outside the PDO objects [B2D004]",
         "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
         "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub0 = 05 (attribute "
-        "0x70); compile gives the same bytes only with --select all [B2D010]",
+        "0x70); compile gives the same bytes only with --entries all [B2D010]",
     ]
     data = c.to_bytes()
     res = convert(data)
-    assert res.options == ["--select all"]
+    assert res.options == ["--entries all"]
     assert compile_text(res.to_bytes(), select="all").data == data
 
 
@@ -357,8 +357,8 @@ def test_select_all_suggestion_on_the_command_line(tmp_path):
         "compile does not write ro entries outside the PDO objects [B2D004]\n"
         f"{tmp_path / 'ro.bin'}:0x2C: warning: the DCF will not compile back to the same "
         "container: entry 1 is 0x1000sub0 = 95010000 (attribute 0x30), compile writes "
-        "nothing; compile gives the same bytes only with --select all [B2D010]\n"))
-    r = run("compile", tmp_path / "ro.dcf", "--select", "all", "-o", tmp_path / "back.bin")
+        "nothing; compile gives the same bytes only with --entries all [B2D010]\n"))
+    r = run("compile", tmp_path / "ro.dcf", "--entries", "all", "-o", tmp_path / "back.bin")
     assert r.exit_code == 0 and (tmp_path / "back.bin").read_bytes() == c.to_bytes()
 
 
@@ -371,13 +371,13 @@ def test_select_all_with_other_options():
     assert [d.format() for d in res.diagnostics if d.rule == dcfwriter.R_SUMMARY] == [
         "x.bin:0x3C: warning: the DCF will not compile back to the same container: entry 3 is "
         "0x1000sub0 = 91010F00 (attribute 0x30), compile writes nothing; compile gives the "
-        "same bytes only with --select all --container-version 3 --no-process-image [B2D010]"]
+        "same bytes only with --entries all --container-version 3 --no-process-image [B2D010]"]
     back = compile_text(res.to_bytes(), select="all", container_version=3, process_image=False)
     assert back.data == data
 
 
 def test_select_all_is_not_suggested_when_it_would_write_more():
-    """--select all would also write the implied sub 0 of 0x2000 (a DefaultValue): no hint."""
+    """--entries all would also write the implied sub 0 of 0x2000 (a DefaultValue): no hint."""
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 1, b"\x05")],
                      attributes=b"\x30\x70")
     data = c.to_bytes()
@@ -393,7 +393,7 @@ def test_select_all_is_not_suggested_when_it_would_write_more():
 @PROPS
 @given(dcf_texts())
 def test_containers_compiled_with_select_all(text):
-    """Containers compiled with --select all: bin2dcf's options are exactly what compiles
+    """Containers compiled with --entries all: bin2dcf's options are exactly what compiles
     them back, and the default-options prediction stays exact."""
     first = compile_text(text.encode("utf-8"), "gen.dcf", select="all")
     assume(first.ok)
@@ -401,7 +401,7 @@ def test_containers_compiled_with_select_all(text):
     back = compile_text(res.to_bytes())
     assert (back.data == first.data) == res.roundtrip
     if res.options:
-        again = compile_text(res.to_bytes(), select="all" if "--select all" in res.options
+        again = compile_text(res.to_bytes(), select="all" if "--entries all" in res.options
                              else "auto")
         assert again.data == first.data, [d.format() for d in res.diagnostics]
 
@@ -551,7 +551,8 @@ def test_default_output_never_clobbers_an_existing_dcf(tmp_path):
     r = run("bin2dcf", tmp_path / "plc.bin")
     assert r.exit_code == 2
     assert r.stderr == (f"dcf2bin: error: {tmp_path / 'plc.dcf'} exists (often the DCF this "
-                        "container was compiled from); choose the output with -o\n")
+                        "container was compiled from); name the output with -o to replace it, "
+                        "or give --force\n")
     assert (tmp_path / "plc.dcf").read_text() == "; the user's own DCF\n"
     (tmp_path / "plc.dcf").unlink()
     assert run("bin2dcf", tmp_path / "plc.bin").exit_code == 0

@@ -47,7 +47,7 @@ def nothing(src):
     """compile's warning for a container without entries (these files configure nothing)."""
     return [f"{src}: warning: nothing is configured (no ParameterValue or DownloadFile, no "
             "network variable): the container holds no entries [DCF009]",
-            "    hint: --select all also writes every DefaultValue (the device's defaults)"]
+            "    hint: --entries all also writes every DefaultValue (the device's defaults)"]
 
 
 def findings(r):   # validate prints its findings on standard output

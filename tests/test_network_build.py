@@ -394,3 +394,40 @@ def test_default_names():
     assert default_name("io1", 0x6000, 1) == "io1_6000_1"
     assert default_name("io1", 0x6411, 0xA) == "io1_6411_A"
     assert default_name("my-io.2", 0x2000, 0x10) == "my_io_2_2000_10"
+
+
+def test_0x1f22_takes_each_slaves_concise_dcf(tmp_path):
+    """When the PLC's file has 0x1F22, sub <node> = the slave's concise DCF (its .bin)."""
+    plc = (FIXTURES / "plc.dcf").read_text().replace(
+        "[1F80]", "[1F22]\nParameterName=Concise DCF\nObjectType=0x8\nDataType=0x000F\n"
+        "AccessType=rw\nPDOMapping=0\nCompactSubObj=127\n\n[1F80]")
+    got, res = build(tmp_path, SLAVE + "  heartbeat_producer: 100\n", plc=plc)
+    assert got == [] and res.ok
+    blob = res.outputs["io.bin"]
+    # count 1; 0x1017 sub 0, 2 bytes, 100
+    assert blob == bytes.fromhex("01000000" "1710" "00" "02000000" "6400")
+    v = _plc_values_of(res.outputs["master.dcf"], tmp_path)
+    assert v[(0x1F22, 5)] == blob.hex().upper()
+    out = tmp_path / "master.dcf"
+    out.write_bytes(res.outputs["master.dcf"])
+    r = compile_path(str(out))
+    assert r.ok, [d.format() for d in r.diagnostics]
+
+
+def _plc_values_of(data: bytes, tmp_path) -> dict[tuple[int, int], str]:
+    p = tmp_path / "values.dcf"
+    p.write_bytes(data)
+    return _plc_values(p)
+
+
+def test_help_imports_no_yaml():
+    """dcf2bin --help and network --help stay light: the subcommands load when run."""
+    import subprocess
+    import sys
+    code = ("import sys\nfrom click.testing import CliRunner\nfrom dcf2bin.cli import main\n"
+            "r = CliRunner().invoke(main, ['network', '--help'])\n"
+            "print(r.exit_code, 'build' in r.output, sorted({m.split('.')[0] for m in "
+            "sys.modules} & {'yaml', 'canopen', 'construct', 'can'}))\n")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, check=True)
+    assert out.stdout == "0 True []\n"

@@ -52,7 +52,7 @@ class _Predictor:
         entries_ok = first_diff is None and len(attrs) == len(actual)
         select_all = False
         if first_diff is not None and len(attrs) == len(actual):
-            # SPEC §3.2 --select all: group 2 takes every entry with a value, ro ones too
+            # SPEC §3.2 --entries all: group 2 takes every entry with a value, ro ones too
             select_all = self._first_difference(
                 creation + self._configuration(idxs, everything=True) + pdo) is None
         addresses, pi = layout
@@ -66,7 +66,7 @@ class _Predictor:
         if (entries_ok or select_all) and layout_ok and \
                 (pi_ok or (no_pi_ok and addresses is not None)):
             if select_all:
-                options.append("--select all")
+                options.append("--entries all")
             if not version_ok:
                 options.append(f"--container-version {c.version}")
             if not pi_ok:
@@ -135,7 +135,7 @@ class _Predictor:
     def _configuration(self, idxs: list[int], everything: bool
                        ) -> list[tuple[int, int, bytes, int]]:
         """D-8 group 2: configured, writable entries (every written entry is configured);
-        with ``everything`` (--select all) every entry with a value, of any access."""
+        with ``everything`` (--entries all) every entry with a value, of any access."""
         objs = self.objects
         exp = []
         for index in idxs:

@@ -28,8 +28,9 @@ def configure(net: Network) -> Network:
         return net               # configured: 10,000 fuzzed slaves took half a minute
     _read_files(net, diags)
     nodes = [n for n in net.nodes if n.device is not None]
+    shared: dict = {}
     for node in nodes:
-        pdos.from_file(node)
+        pdos.from_file(node, shared)
     for node in net.slaves:
         if node.device is not None:
             pdos.apply_yaml(node, diags)

@@ -51,40 +51,73 @@ def mapped_bits(dtype: dt.DataType | None) -> int | None:
     return 1 if dtype.kind == dt.BOOL else dtype.size * 8
 
 
-def from_file(node: Node) -> None:
-    """node.pdos from its file: every PDO communication object with its mapping."""
-    dev = node.device
+_BY_NODE = object()      # a value that uses $NODEID: worked out per node
+
+
+def _value(dev, index: int, sub: int, default):
+    e = dev.entry(index, sub)
+    if e is not None and e.value_text is not None and "$" in e.value_text:
+        return _BY_NODE
+    return entry_int(dev, index, sub, default)
+
+
+def _template(dev) -> list[tuple]:
+    """The PDOs of a file, their values worked out once for every node that uses the
+    file (a value with $NODEID is marked, and worked out per node)."""
     objects = dev.objects
+    out = []
     for kind, first in KINDS:
         for comm in range(first, first + 512):
             if comm not in objects:
                 continue
-            number = comm - first + 1
-            cob = entry_int(dev, comm, 1, COB_INVALID)
-            pdo = Pdo(node.node_id, kind, number, cob,
-                      transmission=entry_int(dev, comm, 2, 255),
-                      inhibit_time=entry_int(dev, comm, 3, 0) if kind == TPDO else 0,
-                      event_timer=entry_int(dev, comm, 5, 0),
-                      sync_start=entry_int(dev, comm, 6, 0) if kind == TPDO else 0,
-                      where=entry_where(dev, comm, 1), file_cob_id=cob)
-            pdo.mapping = _file_mapping(dev, comm + 0x200, pdo)
-            node.pdos.append(pdo)
-
-
-def _file_mapping(dev, mindex: int, pdo: Pdo) -> list[Mapped]:
-    if mindex not in dev.objects:
-        return []
-    n = entry_int(dev, mindex, 0, 0) or 0
-    out = []
-    for s in range(1, min(n, 64) + 1):
-        v = entry_int(dev, mindex, s, 0) or 0
-        where = entry_where(dev, mindex, s)
-        index, sub, bits = v >> 16, (v >> 8) & 0xFF, v & 0xFF
-        e = dev.entry(index, sub)
-        code = e.dtype.code if e is not None and e.dtype is not None else (
-            index if 1 <= index <= 7 else None)
-        out.append(Mapped(index, sub, bits, code, None, where))
+            values = (_value(dev, comm, 1, COB_INVALID), _value(dev, comm, 2, 255),
+                      _value(dev, comm, 3, 0) if kind == TPDO else 0,
+                      _value(dev, comm, 5, 0),
+                      _value(dev, comm, 6, 0) if kind == TPDO else 0)
+            mapping = []
+            mindex = comm + 0x200
+            if mindex in objects:
+                n = _value(dev, mindex, 0, 0)
+                if n is _BY_NODE:
+                    n = entry_int(dev, mindex, 0, 0)
+                for sub in range(1, min(n or 0, 64) + 1):
+                    mapping.append((sub, _value(dev, mindex, sub, 0),
+                                    entry_where(dev, mindex, sub)))
+            out.append((kind, comm - first + 1, comm, values, entry_where(dev, comm, 1),
+                        mapping))
     return out
+
+
+def from_file(node: Node, cache: dict | None = None) -> None:
+    """node.pdos from its file: every PDO communication object with its mapping.
+    ``cache``: a dict kept across the nodes of one network, so that the nodes sharing a
+    file read its PDOs once."""
+    dev = node.device
+    key = id(dev.objects)
+    tmpl = cache.get(key) if cache is not None else None
+    if tmpl is None:
+        tmpl = _template(dev)
+        if cache is not None:
+            cache[key] = tmpl
+    subs = (1, 2, 3, 5, 6)
+    defaults = (COB_INVALID, 255, 0, 0, 0)
+    for kind, number, comm, values, where, mapping in tmpl:
+        got = [entry_int(dev, comm, sub, d) if v is _BY_NODE else v
+               for v, sub, d in zip(values, subs, defaults)]
+        cob = got[0]
+        pdo = Pdo(node.node_id, kind, number, cob, transmission=got[1],
+                  inhibit_time=got[2], event_timer=got[3], sync_start=got[4],
+                  where=where, file_cob_id=cob)
+        for sub, v, mwhere in mapping:
+            if v is _BY_NODE:
+                v = entry_int(dev, comm + 0x200, sub, 0)
+            v = v or 0
+            index, msub, bits = v >> 16, (v >> 8) & 0xFF, v & 0xFF
+            e = dev.entry(index, msub)
+            code = e.dtype.code if e is not None and e.dtype is not None else (
+                index if 1 <= index <= 7 else None)
+            pdo.mapping.append(Mapped(index, msub, bits, code, None, mwhere))
+        node.pdos.append(pdo)
 
 
 def apply_yaml(node: Node, diags: Diagnostics) -> None:

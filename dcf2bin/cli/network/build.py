@@ -6,9 +6,9 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_input,
-                                register_input, say, write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.cli.common import (CONTEXT, emit, fail, guarded, read_input, register_input,
+                                say, stop_on_errors, write_output)
+from dcf2bin.diagnostics import ExitCode
 
 
 @click.command("build", context_settings=CONTEXT)
@@ -35,10 +35,7 @@ def build_cmd(network, outdir, verbose, quiet, debug):
         fail("cannot write: Not a directory", outdir, ExitCode.UNREADABLE)
     res = build_network(network, data=data)
     emit(res.diagnostics, quiet)
-    if not res.ok:
-        n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
-        say(f"network build: {n} error{'s' if n != 1 else ''}, nothing written")
-        raise Failure(ExitCode.FINDINGS)
+    stop_on_errors(res, "network build", "nothing written")
     net = res.network
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file
