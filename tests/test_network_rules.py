@@ -22,10 +22,10 @@ import shutil
 import pytest
 
 from dcf2bin.diagnostics import Where
-from dcf2bin.network.check import check_network
+from dcf2bin.network.check import check_network, run_rules
 from dcf2bin.network.model import MASTER, RPDO, SLAVE, TPDO, Heartbeat, Mapped, Network, \
     Node, Pdo
-from dcf2bin.network.rules import RULES, run_rules
+from dcf2bin.network.rules import RULES
 
 FIX = pathlib.Path(__file__).parent / "fixtures" / "network" / "check"
 
@@ -274,3 +274,35 @@ def test_docs_network_md_lists_every_check_rule():
     rows = [line for line in text.splitlines() if line.startswith("| `NET")]
     assert rows == [f"| `{r.id}` | {r.severity.value} | `{r.name}` | {r.description} |"
                     for table in (cpj.RULES, RULES) for r in table.values()]
+
+
+def test_NET224_not_for_one_value_sent_twice():
+    """A PLC variable mirrored from one slave object that the slave maps in two TPDOs (D-17
+    makes it one variable) is written by two PLC RPDOs with the same value: no NET224. A
+    master without dcf (its mirrors name the slaves' own objects) is not checked."""
+    t1 = Pdo(3, TPDO, 1, 0x183, mapping=[Mapped(0x2100, 0, 32, 0x07),
+                                          Mapped(0x2101, 0, 32, 0x07)], event_timer=100)
+    t5 = Pdo(3, TPDO, 5, 0x182, mapping=[Mapped(0x2101, 0, 32, 0x07)], event_timer=100)
+    r1 = Pdo(1, RPDO, 1, 0x183, mirror_of=t1, mapping=[Mapped(0xA200, 1, 32, 0x07),
+                                                       Mapped(0xA200, 2, 32, 0x07)])
+    r2 = Pdo(1, RPDO, 2, 0x182, mirror_of=t5, mapping=[Mapped(0xA200, 2, 32, 0x07)])
+    plc = Node("plc", 1, MASTER, where=Where("bus.yml", 1), pdos=[r1, r2], device=object())
+    rtt = Node("rtt1", 3, SLAVE, where=Where("bus.yml", 9), pdos=[t1, t5])
+    assert _diags(_net(plc, rtt)) == []
+    # the same RPDOs fed by two different objects: the later frame overwrites the first
+    t5.mapping = [Mapped(0x2100, 0, 32, 0x07)]
+    assert _diags(_net(plc, rtt)) == [
+        "bus.yml:1: warning: plc (node 1) RPDO2 maps 0xA200sub2, as RPDO1 at bus.yml:1 does: "
+        "the later frame overwrites it [NET224]"]
+    plc.device = None
+    assert _diags(_net(plc, rtt)) == []
+
+
+def test_NET260_names_the_frames_of_unknown_rate(tmp_path):
+    # the PLC's TPDO mirroring the drive's RPDO1 is event-driven without timers: its rate
+    # is unknown and counts as 0 (the total is the estimate's; test_network_load checks
+    # the arithmetic)
+    assert yaml_check(tmp_path / "a", max_load=0) == [
+        "check/bus.yml:5: warning: the estimated bus load is 5.8 % at 500 kbit/s, above 0 % "
+        "(1 frame of unknown rate counted as 0) [NET260]"]
+    assert yaml_check(tmp_path / "b", max_load=5.9) == []

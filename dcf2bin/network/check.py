@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, ExitCode, Severity
 from dcf2bin.network.model import MASTER, Network, Node
+from dcf2bin.network import rules_bus, rules_pdo
 from dcf2bin.network.rules import RULES as NET_RULES
-from dcf2bin.network.rules import add, network_where, run_rules
+from dcf2bin.network.rules import Links, add, network_where, node_ids
 
 UNREADABLE = ("IO001", "NET010", "NET055")     # an input that cannot be read: exit 3
 ALWAYS = ("IO001", "INT001")
@@ -48,6 +49,24 @@ class CheckResult:
         if any(d.severity in failing for d in self.diagnostics):
             return ExitCode.FINDINGS
         return ExitCode.OK
+
+
+def run_rules(network: Network) -> Diagnostics:
+    """Every rule of the network as a whole (D-19) over a configured network: node-IDs,
+    COB-IDs, mappings, services, SYNC, heartbeats. The findings of the network file, of
+    the configuration and of each node's file are not repeated here, nor the bus load
+    (:func:`check_network` adds it). ``network build`` runs this too, and writes nothing
+    when it finds an error."""
+    out = Diagnostics()
+    node_ids(network, out)
+    links = Links(network)
+    rules_pdo.cob_ids(network, links, out)
+    rules_pdo.mappings(network, links, out)
+    rules_pdo.written_twice(network, links, out)
+    rules_bus.services(network, out)
+    rules_bus.sync(network, out)
+    rules_bus.heartbeats(network, out)
+    return out
 
 
 def rule_table() -> dict:
@@ -138,7 +157,6 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
     if not configured:
         # the file could not be read as a network: the node-IDs are all that can be
         # checked (the other rules would report what configuration never did)
-        from dcf2bin.network.rules import node_ids
         node_ids(network, found)
     else:
         _validate_files(network, found, res)
@@ -148,9 +166,11 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
             res.load = estimate(network)
             total = res.load.total
             if total > max_load:
+                n = len(res.load.unknown)
                 add(found, "NET260", f"the estimated bus load is {total:.1f} % at "
-                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %",
-                    network_where(network))
+                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %" + (
+                        f" ({n} frame{'s' if n > 1 else ''} of unknown rate counted as 0)"
+                        if n else ""), network_where(network))
     res.diagnostics = [d for d in found if not d.rule or d.rule in active]
     return res
 

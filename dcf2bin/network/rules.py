@@ -7,7 +7,9 @@ kept from a file its comm sub 1 line, a PLC mirror the line of the slave PDO it 
 node its key line; a network-wide finding (bus load, SYNC, ``sync_window``) the ``master:``
 line.
 
-Nothing here reads files or prints; :func:`run_rules` returns the findings.
+Nothing here reads files or prints. This module holds the table and what every family
+shares (naming, the producer/consumer index) and the node-ID rules; ``rules_pdo`` and
+``rules_bus`` the others; :func:`dcf2bin.network.check.run_rules` runs them all.
 """
 from __future__ import annotations
 
@@ -69,7 +71,8 @@ RULES: dict[str, Rule] = {r.id: r for r in (
        "An RPDO field has the position of a producer field but another data type.",
        "map objects of the same data type at each position"),
     _r("NET224", "object-written-by-two-rpdos", WARNING,
-       "One object is mapped by two RPDOs of one node: the later frame overwrites it.",
+       "One object is mapped by two RPDOs of one node, its values from different places: "
+       "the later frame overwrites the first.",
        "map each object in one RPDO only"),
     _r("NET230", "cob-id-restricted", ERROR,
        "A PDO's CAN-ID is one CiA 301 reserves (0x000, 0x001–0x07F, 0x101–0x180, "
@@ -180,23 +183,6 @@ class Links:
 
 # -- the rules -------------------------------------------------------------------------------
 
-def run_rules(network: Network) -> Diagnostics:
-    """Every D-19 rule of the network as a whole over a configured network (the per-file
-    findings, the YAML's and the configuration's are not repeated here; the load estimate
-    is :func:`dcf2bin.network.check.load_finding`)."""
-    from dcf2bin.network import rules_bus, rules_pdo
-    out = Diagnostics()
-    node_ids(network, out)
-    links = Links(network)
-    rules_pdo.cob_ids(network, links, out)
-    rules_pdo.mappings(network, links, out)
-    rules_pdo.written_twice(network, out)
-    rules_bus.services(network, out)
-    rules_bus.sync(network, out)
-    rules_bus.heartbeats(network, out)
-    return out
-
-
 def add(out: Diagnostics, code: str, message: str, where: Where) -> None:
     r = RULES[code]
     out.add(r.severity, message, where, rule=code, hint=r.hint)
@@ -215,4 +201,4 @@ def node_ids(network: Network, out: Diagnostics) -> None:
                 f"{where_of(network, other)} has", where)
 
 
-__all__ = ["RULES", "Links", "run_rules"]
+__all__ = ["RULES", "Links", "NetRule", "add", "node_ids", "where_of"]

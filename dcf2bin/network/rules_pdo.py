@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import Diagnostics
-from dcf2bin.network.model import RPDO, TPDO, Network, Pdo
+from dcf2bin.network.model import MASTER, RPDO, TPDO, Network, Pdo
 from dcf2bin.network.rules import Links, add, cob, existing, key, name, where_of
 
 
@@ -80,15 +80,34 @@ def mappings(network: Network, links: Links, out: Diagnostics) -> None:
                 f"({_type_name(p.datatype)})", where)
 
 
-def written_twice(network: Network, out: Diagnostics) -> None:
+def _sources(links: Links, pdo: Pdo) -> dict[tuple[int, int], tuple | None]:
+    """Each object an RPDO writes -> where its value comes from: the producer's node and
+    the object it sends at the same bits (None: no producer, or no field there)."""
+    found = links.producer_of(pdo)
+    sent = {}
+    if found is not None:
+        pnode, prod = found
+        sent = {(at, bits): (pnode.node_id, m.index, m.sub) for at, bits, m in _fields(prod)}
+    return {(m.index, m.sub): sent.get((at, bits)) for at, bits, m in _fields(pdo)
+            if not m.is_dummy}
+
+
+def written_twice(network: Network, links: Links, out: Diagnostics) -> None:
+    """NET224: one object written by two RPDOs of a node with values from different
+    places. The same value twice is no conflict: a PLC variable that D-17 maps in the
+    mirrors of two PDOs of one slave object, or a slave object fed by two PLC PDOs that
+    send one variable."""
     for node in network.nodes:
-        first: dict[tuple[int, int], Pdo] = {}
+        if node.role == MASTER and node.device is None:
+            continue     # a master without dcf: its mirrors name the slaves' own objects
+        first: dict[tuple[int, int], tuple[Pdo, tuple | None]] = {}
         for pdo in node.pdos:
             if not pdo.exists or pdo.broken or pdo.kind != RPDO:
                 continue
-            for m in {(m.index, m.sub): m for m in pdo.mapping if not m.is_dummy}.values():
-                other = first.setdefault((m.index, m.sub), pdo)
-                if other is not pdo:
-                    add(out, "NET224", f"{name(node, pdo)} maps 0x{m.index:04X}sub{m.sub:X}, "
-                        f"as {other.label} at {where_of(network, node, other)} does: the "
-                        "later frame overwrites it", where_of(network, node, pdo))
+            for obj, source in _sources(links, pdo).items():
+                other, was = first.setdefault(obj, (pdo, source))
+                if other is pdo or (source is not None and source == was):
+                    continue
+                add(out, "NET224", f"{name(node, pdo)} maps 0x{obj[0]:04X}sub{obj[1]:X}, "
+                    f"as {other.label} at {where_of(network, node, other)} does: the "
+                    "later frame overwrites it", where_of(network, node, pdo))
