@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, guarded,
+                                quiet_option, write_output)
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -14,7 +15,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @bus_options
 @click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
               metavar="SECONDS", help="Seconds to wait for each SDO response.")
-@click.option("--retries", type=click.IntRange(0), default=2, show_default=True, metavar="N",
+@click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
               help="Times an unanswered SDO request is sent again.")
 @click.option("--dry-run", is_flag=True,
               help="Print each slave's identity check and SDO writes; touch no bus.")
@@ -27,10 +28,11 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="After a slave is configured, write \"save\" to its 0x1010 sub 1 (store "
               "all parameters).")
 @net_option
-@click.option("-q", "--quiet", is_flag=True, help="No progress lines and no summary; errors only.")
+@quiet_option("No progress lines and no summary.")
+@debug_option
 @guarded
 def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dry_run, verify,
-                 keep_going, save, net, quiet):
+                 keep_going, save, net, quiet, debug):
     """Configure every slave of a network by SDO, in node-ID order.
 
     Each slave's identity is checked first: its device type (0x1000) and 0x1018 sub 1...4

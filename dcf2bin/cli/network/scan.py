@@ -6,7 +6,8 @@ import json
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, write_output
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, format_option,
+                                guarded, output_option, quiet_option, write_output)
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, Where
@@ -25,15 +26,17 @@ COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
               "go out at the same time).")
 @click.option("--timeout", type=click.FloatRange(0.001), default=0.3, show_default=True,
               metavar="SECONDS", help="Seconds to wait for the SDO responses of one round.")
-@click.option("--retries", type=click.IntRange(0), default=0, show_default=True, metavar="N",
+@click.option("--retries", type=COUNT, default=0, show_default=True, metavar="N",
               help="Times an unanswered SDO request is sent again.")
-@click.option("-f", "--format", "fmt", type=click.Choice(["text", "json"]), default="text",
-              show_default=True, help="Output format.")
+@format_option(["text", "json"], "text", "text (a table) or json; the findings go to "
+               "standard error.")
+@output_option("The table or the JSON.")
 @net_option
-@click.option("-q", "--quiet", is_flag=True, help="No table; the findings only.")
+@quiet_option("No table; the findings that are errors.")
+@debug_option
 @guarded
-def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries, fmt, net,
-             quiet):
+def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries, fmt, output,
+             net, quiet, debug):
     """Find the nodes on the bus and compare them with a network.
 
     Listens for boot-up and heartbeat messages and asks every node-ID 1...127 for 0x1000
@@ -72,11 +75,11 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
         diags.append(Diagnostic(Severity.WARNING if f.kind == "unexpected" else Severity.ERROR,
                                 f.text, w.file, w.line))
     if fmt == "json":
-        write_output(_json(network_file, result, expected, findings, bound), "-", [],
-                     binary=False)
+        write_output(_json(network_file, result, expected, findings, bound), output,
+                     [network_file], binary=False)
     elif not quiet:
-        write_output(_text(network_file, result, expected, findings, bound), "-", [],
-                     binary=False)
+        write_output(_text(network_file, result, expected, findings, bound), output,
+                     [network_file], binary=False)
     emit(diags, quiet)
     if any(d.severity is Severity.ERROR for d in diags):
         raise Failure(ExitCode.FINDINGS)

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, check_input, emit, fail, guarded, say,
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, check_input, debug_option, emit,
+                                fail, format_option, guarded, output_option, quiet_option, say,
                                 write_output)
 from dcf2bin.diagnostics import ExitCode
 
@@ -36,25 +37,25 @@ def configured_network(path: str, quiet: bool, outcome: str, net: int | None = N
 
 def net_option(fn):
     """--net N: the network of a .cpj project."""
-    return click.option("--net", "net", type=click.IntRange(1), metavar="N",
+    return click.option("--net", "net", type=Integer(1), metavar="N",
                         help="For a .cpj project: its N-th network ([TopologyN]; default "
                         "the first, [Topology]).")(fn)
 
 
 @click.command("show", context_settings=CONTEXT)
 @click.argument("network_file", metavar="NETWORK", type=click.Path())
-@click.option("-f", "--format", "fmt", type=click.Choice(["text", "json", "svg", "html"]),
-              default="text", show_default=True, help="Output format.")
-@click.option("-o", "--output", default="-", metavar="FILE",
-              help="Output file ('-' = standard output, the default).")
+@format_option(["text", "json", "svg", "html"], "text",
+               "text or json (the tables), svg (the picture) or html (both).")
+@output_option()
 @click.option("--writes", "writes", is_flag=False, flag_value="all", default=None,
               metavar="[NODE]",
               help="Also the SDO writes that configure each slave (or only NODE, a name or "
               "node-ID): index, sub, name, value and why.")
 @net_option
-@click.option("-q", "--quiet", is_flag=True, help="Print errors only, no warnings.")
+@quiet_option("No warnings about the network file.")
+@debug_option
 @guarded
-def show_cmd(network_file, fmt, output, writes, net, quiet):
+def show_cmd(network_file, fmt, output, writes, net, quiet, debug):
     """Show what talks to what in a network (YAML network file or .cpj project).
 
     Per COB-ID the producer, consumers, bytes, rate and share of the estimated bus load;
