@@ -472,3 +472,14 @@ def test_master_heartbeat_consumer_false_and_explicit_times(tmp_path):
     res = build_network(str(tmp_path / "bus.yml"))
     assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
         (1, (5 << 16) | 450)]
+
+
+def test_nmt_entry_beyond_the_plc_objects_subs(tmp_path):
+    plc = (FIXTURES / "plc.dcf").read_text().replace(
+        "ParameterName=NMT slave assignment\nObjectType=0x8\nDataType=0x0007\n"
+        "AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj=127",
+        "ParameterName=NMT slave assignment\nObjectType=0x8\nDataType=0x0007\n"
+        "AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj=3")
+    got, res = build(tmp_path, SLAVE, plc=plc)
+    assert got == ["bus.yml:5: error: the PLC's file has no 0x1F81sub5 (slave assignment of "
+                   "io): that sub-index is missing [NET111]"]
