@@ -65,9 +65,13 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
     cache = {} if cache is None else cache
     cached = cache.get(id(ini))
     if cached is None or cached[0] is not ini or cached[1] is not data:
-        lines = _lines(data)
+        if merge_plan is not None and merge_plan.ends is not None:
+            lines, ends = merge_plan.lines, merge_plan.ends     # the same base, read once
+        else:
+            lines = _lines(data)
+            ends = section_ends(ini, lines)
         offsets = list(accumulate(map(len, lines), initial=0))
-        cached = (ini, data, lines, offsets, section_ends(ini, lines),
+        cached = (ini, data, lines, offsets, ends,
                   {id(sec): c for c, sec in ini.sections.items()},
                   "\r\n" if b"\r\n" in data else "\n")
         cache[id(ini)] = cached

@@ -90,6 +90,7 @@ class Plan:
     encoding: str
     placed: list[Placed]
     vars_path: str
+    ends: dict[str, int] | None = None    # section_ends of the base, as computed here
 
 
 def plan(base: bytes, base_path: str, variables: list[Var], vars_path: str, *, dev=None
@@ -220,7 +221,7 @@ def _plan_edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> Plan:
             tail.insert(0, f"[OptionalObjects]{nl}SupportedObjects={len(new_objects)}{nl}"
                         + "".join(e + nl for e in entries))
 
-    return Plan(lines, replace, after, tail, nl, encoding, placed, vars_path)
+    return Plan(lines, replace, after, tail, nl, encoding, placed, vars_path, last)
 
 
 def apply(base: bytes, edit: Plan) -> bytes:

@@ -18,16 +18,33 @@ SUBCOMMANDS = ("build", "check", "show", "download", "scan")
 
 
 class NetworkGroup(Group):
-    """Lists the subcommands whose modules exist; imports one when it is asked for."""
+    """Lists the subcommands whose modules exist; imports one when it is asked for (and
+    all of them when ``commands`` is read, as help and introspection do)."""
+
+    @property
+    def commands(self) -> dict:
+        for name in self.list_commands(None):
+            if name not in self._commands:
+                self._commands[name] = self._load(name)
+        return self._commands
+
+    @commands.setter
+    def commands(self, value) -> None:
+        self._commands = dict(value or {})
 
     def list_commands(self, ctx):
         return [name for name in SUBCOMMANDS
                 if importlib.util.find_spec(f"dcf2bin.cli.network.{name}") is not None]
 
     def get_command(self, ctx, name):
-        if name not in SUBCOMMANDS or \
-                importlib.util.find_spec(f"dcf2bin.cli.network.{name}") is None:
-            return None
+        if name not in self._commands:
+            if name not in self.list_commands(ctx):
+                return None
+            self._commands[name] = self._load(name)
+        return self._commands[name]
+
+    @staticmethod
+    def _load(name: str):
         module = importlib.import_module(f"dcf2bin.cli.network.{name}")
         return getattr(module, f"{name}_cmd")
 

@@ -6,22 +6,22 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, emit, fail, guarded, read_input, register_input,
-                                say, stop_on_errors, write_output)
+from dcf2bin.cli.common import (CONTEXT, debug_option, emit, fail, guarded, quiet_option,
+                                read_input, register_input, say, stop_on_errors,
+                                verbose_option, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 
 @click.command("build", context_settings=CONTEXT)
 @click.argument("network", metavar="NETWORK.yml", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", "outdir", required=True, metavar="DIR",
-              type=click.Path(),
-              help="Folder for the outputs (made when missing).")
-@click.option("-v", "--verbose", is_flag=True,
-              help="List every link and every PLC variable.")
-@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
-@click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
+@click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
+              help="Output folder (made when missing); its files are written atomically, "
+                   "never over an input.")
+@verbose_option("every link and every PLC variable, on standard error.")
+@quiet_option()
+@debug_option
 @guarded
-def build_cmd(network, outdir, verbose, quiet, debug):
+def build_cmd(network, output, verbose, quiet, debug):
     """Configure the network of NETWORK.yml and write, in DIR, the PLC's DCF
     (<master>.dcf) and per slave its concise DCF (<slave>.bin) and its DCF (<slave>.dcf).
 
@@ -31,8 +31,8 @@ def build_cmd(network, outdir, verbose, quiet, debug):
     """
     from dcf2bin.network import build_network
     data = read_input(network)
-    if os.path.exists(outdir) and not os.path.isdir(outdir):
-        fail("cannot write: Not a directory", outdir, ExitCode.UNREADABLE)
+    if os.path.exists(output) and not os.path.isdir(output):
+        fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
     res = build_network(network, data=data)
     emit(res.diagnostics, quiet)
     stop_on_errors(res, "network build", "nothing written")
@@ -40,17 +40,17 @@ def build_cmd(network, outdir, verbose, quiet, debug):
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file
     try:
-        os.makedirs(outdir, exist_ok=True)
+        os.makedirs(output, exist_ok=True)
     except OSError as exc:
-        fail(f"cannot write: {exc.strerror or exc}", outdir, ExitCode.UNREADABLE)
+        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
     for name, blob in res.outputs.items():
-        write_output(blob, os.path.join(outdir, name), [network], binary=True)
-    if verbose:
+        write_output(blob, os.path.join(output, name), [network], binary=True)
+    if verbose and not quiet:
         for line in describe(net):
             say(line)
     if not quiet:
         slaves = len(net.slaves)
-        say(f"network build: {len(res.outputs)} files in {outdir}: "
+        say(f"network build: {len(res.outputs)} files in {output}: "
             f"{net.master.name}.dcf and {slaves} slave{'s' if slaves != 1 else ''}, "
             f"{sum(1 for p in net.master.pdos if p.mirror_of)} links, "
             f"{len(net.variables)} variables")
