@@ -306,3 +306,11 @@ def test_NET260_names_the_frames_of_unknown_rate(tmp_path):
         "check/bus.yml:5: warning: the estimated bus load is 5.8 % at 500 kbit/s, above 0 % "
         "(1 frame of unknown rate counted as 0) [NET260]"]
     assert yaml_check(tmp_path / "b", max_load=5.9) == []
+
+
+def test_rule_names_are_unique_beside_validates():
+    """--select/--ignore take names: no network rule shares one with a validate rule."""
+    from dcf2bin.network.check import rule_table
+    table = rule_table()
+    names = [r.name for r in table.values()]
+    assert len(names) == len(set(names)) == len(table)

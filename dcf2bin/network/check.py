@@ -94,8 +94,9 @@ class SelectorError(ValueError):
 
 
 def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
-    """The active codes for ``select``/``ignore`` (codes, code prefixes such as ``NET2`` or
-    rule names; comma-separated strings or lists), as ``validate`` resolves its rules."""
+    """The active codes for ``select``/``ignore`` (codes, code prefixes such as ``NET2``,
+    rule names or ``ALL``; comma-separated strings or lists), as ``validate`` resolves its
+    rules."""
     table = table if table is not None else rule_table()
 
     def items(sel) -> list[str]:
@@ -105,6 +106,8 @@ def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
         return [p.strip() for s in sel for p in s.split(",") if p.strip()]
 
     def match(s: str) -> set[str]:
+        if s.upper() == "ALL":
+            return set(table)
         hits = {k for k, r in table.items() if k.startswith(s.upper()) or r.name == s.lower()}
         if not hits:
             raise SelectorError(f"'{s}' matches no rule code, code prefix or rule name "

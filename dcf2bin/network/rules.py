@@ -74,7 +74,7 @@ RULES: dict[str, Rule] = {r.id: r for r in (
        "One object is mapped by two RPDOs of one node, its values from different places: "
        "the later frame overwrites the first.",
        "map each object in one RPDO only"),
-    _r("NET230", "cob-id-restricted", ERROR,
+    _r("NET230", "network-cob-id-restricted", ERROR,
        "A PDO's CAN-ID is one CiA 301 reserves (0x000, 0x001–0x07F, 0x101–0x180, "
        "0x581–0x5FF, 0x601–0x67F, 0x6E0–0x6FF, 0x701–0x77F, 0x780–0x7FF).",
        "choose an ID in 0x181–0x57F or 0x680–0x6DF"),

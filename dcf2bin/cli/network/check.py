@@ -10,7 +10,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, guarded, write_output
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, format_option,
+                                guarded, output_option, quiet_option, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -18,26 +19,23 @@ FORMATS = ("text", "json", "sarif", "github")
 
 @click.command("check", context_settings=CONTEXT)
 @click.argument("network", required=False, type=click.Path(dir_okay=True))
-@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), default="text",
-              show_default=True, help="Output format.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              help="Write the report to this file (atomically) instead of stdout.")
+@format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
+@output_option("Default: standard output.")
 @click.option("--select", "select_", multiple=True, metavar="RULES",
-              help="Report only these rules: codes, code prefixes (NET2, DCF4) or names; "
-                   "comma-separated or repeated.")
+              help="Report only these rules: codes, code prefixes (NET2, DCF4), names, or "
+                   "ALL; comma-separated or repeated.")
 @click.option("--ignore", multiple=True, metavar="RULES",
               help="Do not report these rules (codes, prefixes or names).")
 @click.option("--strict", is_flag=True, help="Warnings fail the run too (exit 1).")
 @click.option("--max-load", type=click.FloatRange(0, 100), default=80.0, show_default=True,
               metavar="PERCENT", help="Warn when the estimated bus load is above this.")
-@click.option("--net", "net", type=click.IntRange(1), metavar="N",
+@click.option("--net", "net", type=Integer(1), metavar="N",
               help="For a .cpj project: check its N-th network ([TopologyN]; default the "
                    "first, [Topology]).")
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
-@click.option("-q", "--quiet", is_flag=True,
-              help="Text format: print errors only, and no summary line.")
-@click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
+@quiet_option("Text format: no summary line either.")
+@debug_option
 @guarded
 def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list_rules, hints,
               quiet, debug):
