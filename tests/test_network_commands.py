@@ -258,3 +258,35 @@ def test_download_cpj_dry_run_writes_each_dcf():
     assert [h.split(":")[0] for h in heads] == ["node 1 (plc)", "node 2 (io)", "node 3 (io3)"]
     assert heads[1].startswith("node 2 (io): checks 0x1000 = 0x000F0191, 0x1018 sub 1 = "
                                "0x000000AB, 0x1018 sub 2 = 0x00000401;")
+
+
+# -- a .cpj project: no master, each node its DCF -------------------------------------------
+
+CPJ_FILES = {1: "tests/fixtures/network/check/plc.dcf", 2: "tests/fixtures/network/check/io.dcf",
+             3: "tests/fixtures/network/check/io3.dcf"}
+
+
+def test_cpj_scan_and_download(bench):
+    from dcf2bin.bus.node import from_file
+    nodes = {}
+    for nid, path in CPJ_FILES.items():
+        node, errors = from_file(path, nid)
+        assert errors == []
+        nodes[nid] = bench.add(node)
+    nodes[3].sdo[0x1018][2].raw = 0x402               # io3 is another product than its DCF
+    r = run("network", "scan", CPJ, *bus(bench, "--listen", "0", "--timeout", TIMEOUT))
+    assert r.exit_code == 1
+    assert r.stderr == (f"{CPJ}:15: error: node 3 (io3): 0x1018 sub 2 (product code) is "
+                        "0x00000402, its DCF states 0x00000401\n")
+    r = run("network", "download", CPJ, "--verify", "--keep-going",
+            *bus(bench, "--timeout", TIMEOUT))
+    assert r.exit_code == 1
+    assert r.stderr == (f"{CPJ}:15: error: node 3 (io3): 0x1018 sub 2 (product code) is "
+                        "0x00000402, its DCF states 0x00000401: nothing written\n")
+    assert r.stdout.splitlines()[:4] == [
+        "node 1 (plc): identity checked, 36 entries written, read back equal",
+        "node 2 (io): identity checked, 25 entries written, read back equal",
+        "node 3 (io3): failed, nothing written",
+        f"{CPJ}: 2 configured, 1 failed, 0 skipped"]
+    # io's DCF reached it: its TPDO1 COB-ID and transmission type as the DCF states them
+    assert nodes[2].sdo[0x1800][1].raw == 0x182 and nodes[2].sdo[0x1800][2].raw == 1

@@ -92,8 +92,10 @@ def cpj_plan(node) -> tuple[dl.Plan | None, list]:
     return (dl.plan_from_result(res, node.file) if res.ok else None), list(res.diagnostics)
 
 
-def identity_problems(sdo, node, identity: dict[int, int]) -> list[Problem]:
-    """The identity entries the node does not hold as ``identity`` says (read by SDO)."""
+def identity_problems(sdo, node, identity: dict[int, int],
+                      from_file: bool = False) -> list[Problem]:
+    """The identity entries the node does not hold as ``identity`` says (read by SDO):
+    what the master enforces, or with ``from_file`` what the node's own DCF states."""
     from canopen import SdoAbortedError, SdoCommunicationError
     where = str(node.where) if node.where is not None else ""
     out = []
@@ -103,31 +105,34 @@ def identity_problems(sdo, node, identity: dict[int, int]) -> list[Problem]:
             continue
         index, sub, what = ENFORCED[key]
         entry = f"0x{index:04X}" + (f" sub {sub}" if index != 0x1000 else "")
+        expects = (f"its DCF states 0x{want:08X}" if from_file
+                   else f"the master expects 0x{want:08X} (0x{key:04X})")
         try:
             data = sdo.upload(index, sub)
         except SdoAbortedError as exc:
             out.append(Problem(f"{entry} ({what}) cannot be read: SDO abort 0x{exc.code:08X}: "
-                               f"{dl.abort_text(exc.code)}; the master expects 0x{want:08X}",
-                               where))
+                               f"{dl.abort_text(exc.code)}; {expects}: nothing written", where))
             continue
         except SdoCommunicationError:
             w = dl.Write(0, index, sub, b"", None, where)
             raise dl.NoAnswer(w, 0, sdo.MAX_RETRIES, sdo.RESPONSE_TIMEOUT) from None
         got = int.from_bytes(data[:4], "little")
         if got != want:
-            out.append(Problem(f"{entry} ({what}) is 0x{got:08X}, the master expects "
-                               f"0x{want:08X} (0x{key:04X}): nothing written", where))
+            out.append(Problem(f"{entry} ({what}) is 0x{got:08X}, {expects}: nothing written",
+                               where))
     return out
 
 
 def configure_slaves(net, network, options: Options, *, source: str,
                      plans: dict[int, dl.Plan] | None = None,
                      identities: dict[int, dict[int, int]] | None = None,
+                     from_file: bool = False,
                      progress: Callable[[Outcome], None] | None = None) -> list[Outcome]:
     """Configure every slave; one outcome per node, in node-ID order. ``plans``: each
     node's writes by node-ID (default: its D-18 list); a node without one is a PLC and is
     not written. ``identities``: what each node must be, 0x1F84…0x1F88 → value, by
-    node-ID (default: what the master enforces, ``Node.identity``). Without
+    node-ID (default: what the master enforces, ``Node.identity``; ``from_file``: what
+    each node's own DCF states, a .cpj project's nodes). Without
     ``keep_going`` the first node that fails ends the run, the rest are skipped."""
     nodes = sorted(network.slaves, key=lambda n: n.node_id)
     if plans is None:
@@ -144,7 +149,7 @@ def configure_slaves(net, network, options: Options, *, source: str,
             out.status = PLC
         else:
             _configure_one(net, node, plans[node.node_id], identities.get(node.node_id, {}),
-                           out, options, source)
+                           from_file, out, options, source)
         if progress is not None:
             progress(out)
         if out.status == FAILED and not options.keep_going:
@@ -152,12 +157,12 @@ def configure_slaves(net, network, options: Options, *, source: str,
     return outcomes
 
 
-def _configure_one(net, node, plan: dl.Plan, identity: dict[int, int], out: Outcome,
-                   options: Options, source: str) -> None:
+def _configure_one(net, node, plan: dl.Plan, identity: dict[int, int], from_file: bool,
+                   out: Outcome, options: Options, source: str) -> None:
     sdo = dl.sdo_client(net, node.node_id, timeout=options.timeout, retries=options.retries)
     out.status = FAILED
     try:
-        out.problems = identity_problems(sdo, node, identity)
+        out.problems = identity_problems(sdo, node, identity, from_file)
         if out.problems:
             return
         result = dl.execute(plan, sdo, keep_going=options.keep_going)

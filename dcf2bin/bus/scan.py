@@ -90,6 +90,12 @@ class Expected:
     name: str
     identity: dict[int, int] = field(default_factory=dict)
     master: bool = False
+    from_file: bool = False      # a .cpj node: the identity its own DCF states, no master
+
+    def expects(self, key: int, want: int) -> str:
+        if self.from_file:
+            return f"its DCF states 0x{want:08X}"
+        return f"the master expects 0x{want:08X} (0x{key:04X})"
 
 
 @dataclass
@@ -289,16 +295,17 @@ def compare(scan_: Scan, expected: list[Expected]) -> list[Finding]:
             if a.code is not None:
                 out.append(Finding("unread", node_id, e.name,
                                    f"{label}: {where} cannot be read: SDO abort "
-                                   f"0x{a.code:08X}: {abort_text(a.code)}; the master expects "
-                                   f"0x{want:08X} (0x{key:04X})", (index, sub), want,
-                                   None, a.code))
+                                   f"0x{a.code:08X}: {abort_text(a.code)}; "
+                                   f"{e.expects(key, want)}", (index, sub), want, None,
+                                   a.code))
             elif a.value is None:
                 out.append(Finding("unread", node_id, e.name,
-                                   f"{label}: {where} was not answered; the master expects "
-                                   f"0x{want:08X} (0x{key:04X})", (index, sub), want))
+                                   f"{label}: {where} was not answered; "
+                                   f"{e.expects(key, want)}", (index, sub), want))
             elif a.value != want:
                 out.append(Finding("mismatch", node_id, e.name,
-                                   f"{label}: {where} is 0x{a.value:08X}, the master expects "
-                                   f"0x{want:08X} (0x{key:04X}): it will not boot this node",
+                                   f"{label}: {where} is 0x{a.value:08X}, "
+                                   f"{e.expects(key, want)}"
+                                   + ("" if e.from_file else ": it will not boot this node"),
                                    (index, sub), want, a.value))
     return out

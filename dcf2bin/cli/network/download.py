@@ -68,6 +68,7 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
         identities = {n.node_id: identity_of(network, n) for n in network.slaves}
         outcomes = netconf.configure_slaves(bus, network, options, source=network_file,
                                             plans=plans, identities=identities,
+                                            from_file=network.kind == "cpj",
                                             progress=progress)
     finally:
         link.close_network(bus)

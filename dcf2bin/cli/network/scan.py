@@ -57,7 +57,8 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     from dcf2bin.network.show import identity_of
     network = configured_network(network_file, quiet, "nothing scanned", net)
     expected = [sc.Expected(n.node_id, n.name, identity_of(network, n),
-                            master=n.role == "master") for n in network.nodes]
+                            master=n.role == "master", from_file=network.kind == "cpj")
+                for n in network.nodes]
     bus = open_bus(interface, channel, bitrate)
     try:
         result = sc.scan(bus, listen=listen, timeout=timeout, retries=retries)
