@@ -9,7 +9,7 @@ A bus-style layout that stays readable from 3 nodes to 30 nodes and 200 PDOs:
 * the lane's label sits in the lane's own row, in a column left of the nodes: COB-ID,
   producer and PDO, bytes, rate and load share, then what it carries, wrapped onto as
   many lines as it needs (a lane grows, nothing is cut);
-* with many lanes the node boxes are drawn again under the last lane;
+* with many lanes the node boxes are drawn again every 25 lanes and under the last one;
 * heartbeats are left to the tables (one more lane per node would say little).
 
 Lanes never share a row and labels never leave their lane, so no two labels can overlap;
@@ -33,6 +33,7 @@ LABEL_W = 560            # the label column
 COL_W, BOX_W = 104, 92   # a node column and its box
 LANE_PAD = 6
 REPEAT_AFTER = 12        # lanes after which the node boxes are drawn again at the bottom
+REPEAT_EVERY = 25        # ... and between every REPEAT_EVERY lanes
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
            "#17becf", "#7f7f7f", "#bcbd22"]
 MASTER_FILL, SLAVE_FILL = "#dbe8f7", "#f2f2f2"
@@ -106,14 +107,14 @@ class Layout:
     nodes: list[tuple[Box, bool]]        # (box, master)
     columns: list[float]                 # x of each node's line
     lanes: list[Lane] = field(default_factory=list)
-    bottom_nodes: list[Box] = field(default_factory=list)
+    repeated_nodes: list[Box] = field(default_factory=list)   # rows of len(nodes) boxes
     label_right: float = 0
     lines_top: float = 0
     lines_bottom: float = 0
 
     def text_boxes(self) -> list[Box]:
         return [self.title, *(b for b, _ in self.nodes), *(ln.label for ln in self.lanes),
-                *self.bottom_nodes]
+                *self.repeated_nodes]
 
 
 def _node_lines(name: str, node_id: int) -> list[str]:
@@ -166,7 +167,14 @@ def layout(view: View) -> Layout:
     out = Layout(width, 0, title, nodes, columns, label_right=M + label_w)
     y = top + box_h + 12
     out.lines_top = top + box_h
-    for k, (head, lines) in zip(links, labels):
+    def node_row(y: float) -> float:
+        for b, _master in nodes:
+            out.repeated_nodes.append(Box(b.x, y, b.w, b.h, b.lines, b.font, "node"))
+        return y + box_h
+
+    for i, (k, (head, lines)) in enumerate(zip(links, labels)):
+        if i and i % REPEAT_EVERY == 0:
+            y = node_row(y + 8) + 8
         h = len(lines) * LINE + 2 * LANE_PAD
         label = Box(M + 4, y + LANE_PAD, max(text_width(t, FS) for t in lines),
                     len(lines) * LINE, lines, FS, "label")
@@ -179,10 +187,7 @@ def layout(view: View) -> Layout:
         y += h
     out.lines_bottom = y
     if len(out.lanes) > REPEAT_AFTER:
-        y += 12
-        for (b, _master), cx in zip(nodes, columns):
-            out.bottom_nodes.append(Box(b.x, y, b.w, b.h, b.lines, b.font, "node"))
-        y += box_h
+        y = node_row(y + 12)
     out.height = y + M
     return out
 
@@ -238,7 +243,7 @@ def to_svg(view: View) -> str:
                        f'height="{lane.h:.1f}" fill="#f4f6fa"/>')
     for cx in lay.columns:
         out.append(f'<line x1="{cx:.1f}" y1="{lay.lines_top:.1f}" x2="{cx:.1f}" '
-                   f'y2="{lay.lines_bottom + (12 if lay.bottom_nodes else 0):.1f}" '
+                   f'y2="{lay.lines_bottom + (12 if lay.repeated_nodes else 0):.1f}" '
                    'stroke="#b0b0b0" stroke-width="1"/>')
     for lane in lay.lanes:
         out.append(f'<g class="lane"><title>{_e(lane.title)}</title>')
@@ -262,8 +267,8 @@ def to_svg(view: View) -> str:
         out.append("</g>")
     for b, master in lay.nodes:
         out += _node(b, master)
-    for b, (_, master) in zip(lay.bottom_nodes, lay.nodes):
-        out += _node(b, master)
+    for k, b in enumerate(lay.repeated_nodes):
+        out += _node(b, lay.nodes[k % len(lay.nodes)][1])
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
