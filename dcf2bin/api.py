@@ -168,9 +168,9 @@ def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
     one string (comma-separated) or several; an unknown one raises ``ValueError``.
     An unreadable path is an ``IO001`` finding, not an exception.
 
-        >>> [(d.severity.value, d.line, d.rule) for d in validate("samples/plc.dcf",
-        ...                                                       select="DCF2")]
-        [('info', 69, 'DCF213')]
+        >>> [(d.severity.value, d.line, d.rule) for d in validate("samples/bench_plc.dcf",
+        ...                                                       select="DCF3")]
+        [('info', 243, 'DCF320')]
         >>> [d.rule for d in validate(["samples/bild8.bin"], select="CNT")]
         []
     """

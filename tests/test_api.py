@@ -199,9 +199,9 @@ def test_read_container_raises_with_the_offset():
     with pytest.raises(dcf2bin.ReadError) as info:
         dcf2bin.read_container(b"\x01\x02", name="short.bin")
     assert [d.format() for d in info.value.diagnostics] == [
-        "short.bin:0x0: error: truncated header: 2 bytes, a header needs 40 [CNT001]"]
-    assert str(info.value) == "short.bin:0x0: error: truncated header: 2 bytes, a header " \
-        "needs 40 [CNT001]"
+        "short.bin:0x0: error: 2 bytes: too short for the 40-byte header [CNT001]"]
+    assert str(info.value) == "short.bin:0x0: error: 2 bytes: too short for the 40-byte " \
+        "header [CNT001]"
     assert isinstance(info.value, ValueError)
 
 

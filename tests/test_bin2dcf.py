@@ -557,3 +557,57 @@ def test_default_output_never_clobbers_an_existing_dcf(tmp_path):
     (tmp_path / "plc.dcf").unlink()
     assert run("bin2dcf", tmp_path / "plc.bin").exit_code == 0
     assert (tmp_path / "plc.dcf").read_text().startswith("; DCF written by dcf2bin bin2dcf")
+
+
+# -- DIS-2 (D-12): the old-COB-ID write of a PDO block whose CAN-ID changes -------------------
+
+def test_dis2_old_cob_id_block_comes_back_with_its_default_value(tmp_path):
+    """samples/dis2_cobid.bin (compile --profile dis2) starts RPDO1's block with the COB-ID
+    the drive has, | 0xC0000000. bin2dcf gives comm sub 1 that DefaultValue, says in an
+    info and in the DCF that --profile dis2 gives the bytes back, and warns of nothing."""
+    binary = (SAMPLES / "dis2_cobid.bin").read_bytes()
+    r = run("bin2dcf", SAMPLES / "dis2_cobid.bin", "-o", tmp_path / "back.dcf")
+    assert r.exit_code == 0
+    assert r.stderr.splitlines() == [
+        f"{SAMPLES / 'dis2_cobid.bin'}: info: compile gives the same bytes with --profile "
+        "dis2: the PDO blocks first disable under the COB-ID the drive had (its "
+        "DefaultValue), as Metronix DIS-2 drives need [B2D010]"]
+    text = (tmp_path / "back.dcf").read_text()
+    assert "; compile it with --profile dis2 to get the container's bytes back.\n" in text
+    section = text[text.index("[1400sub1]"):text.index("[1600]")]
+    assert "DefaultValue=0x00000205\n" in section and "ParameterValue=0x40000301\n" in section
+    # TPDO1 keeps its CAN-ID (no old write): no DefaultValue of bin2dcf's making
+    tpdo = text[text.index("[1800sub1]"):text.index("[1801]")]
+    assert "DefaultValue" not in tpdo
+    r = run("compile", "--profile", "dis2", tmp_path / "back.dcf", "-o", tmp_path / "c.bin")
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "c.bin").read_bytes() == binary
+    res = dcfwriter.convert(read(binary)[0], "x.bin", dcf_name="x.dcf")
+    assert (res.roundtrip, res.options) == (False, ["--profile dis2"])
+    assert run("bin2dcf", "-q", SAMPLES / "dis2_cobid.bin", "-o", "-").stderr == ""
+
+
+def test_dis2_sample_without_a_cob_id_change_round_trips_with_default_options(tmp_path):
+    binary = (SAMPLES / "dis2.bin").read_bytes()
+    res = dcfwriter.convert(read(binary)[0], "dis2.bin", dcf_name="dis2.dcf")
+    assert (res.roundtrip, res.options, res.diagnostics) == (True, [], [])
+    assert "DefaultValue=0x" not in res.text.split("[1400sub1]")[1].split("[")[0]
+    assert compile_path("back.dcf", data=res.to_bytes()).data == binary
+
+
+def test_an_old_cob_id_write_that_dis2_would_not_make_is_still_a_warning():
+    """The same first write, but a mapping of 5 objects (DIS-2 allows 4): no profile
+    gives these bytes, so the verdict stays a warning and no DefaultValue is invented."""
+    c, _ = read((SAMPLES / "dis2_cobid.bin").read_bytes())
+    entries = list(c.entries)
+    i = next(k for k, e in enumerate(entries) if e[:2] == (0x1600, 0) and e[2] == b"\x01")
+    extra = [(0x1600, s, (0x60400010).to_bytes(4, "little")) for s in (2, 3, 4, 5)]
+    entries[i:i] = extra
+    entries[i + 4] = (0x1600, 0, b"\x05")
+    attrs = bytearray(c.attributes)
+    attrs[i:i] = b"\x70" * 4
+    c2 = BinContainer(entries=entries, attributes=bytes(attrs))
+    res = dcfwriter.convert(c2, "x.bin", dcf_name="x.dcf")
+    assert res.options == [] and not res.roundtrip
+    assert [(d.severity.value, d.rule) for d in res.diagnostics] == [("warning", "B2D010")]
+    assert "DefaultValue=0x00000205" not in res.text

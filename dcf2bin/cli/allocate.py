@@ -6,10 +6,9 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, fail, guarded, input_kind,
-                                output_option, quiet_option, read_input, verbose_option,
-                                write_output)
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.cli.common import (CONTEXT, debug_option, emit, fail, guarded, input_kind,
+                                output_option, quiet_option, read_input, stop_on_errors,
+                                verbose_option, write_output)
 
 
 @click.command("allocate", context_settings=CONTEXT)
@@ -52,7 +51,7 @@ def allocate_cmd(input, output, into, quiet, verbose, debug):
             text, placed, kept = merge(base, into, variables, name)
     except alloc.AllocationError as exc:
         emit(exc.diagnostics)
-        raise Failure(ExitCode.FINDINGS) from None
+        stop_on_errors(exc, name, "nothing written")
     write_output(text, output, [input] + ([into] if into else []), binary=False)
     if verbose and not quiet:
         for v, idx, sub in kept:

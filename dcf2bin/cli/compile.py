@@ -57,6 +57,8 @@ def _profile_choice():
 @click.option("--no-target-check", is_flag=True,
               help="Report what the target's DynBuildOd() would refuse as a warning and "
               "write the container anyway.")
+@click.option("--no-limit-check", is_flag=True,
+              help="Report a written value outside its LowLimit..HighLimit as a warning.")
 @target_stack_options
 @from_option(["dcf", "json"], "json = lossless dump.")
 @quiet_option()
@@ -71,9 +73,9 @@ def _profile_choice():
 @guarded
 def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                 no_process_image, pi_align, pi_size, address_base, container_version,
-                allow_external_files, profile, append, no_target_check, tx_cobs, rx_cobs,
-                granularity, no_bit_mapping, from_, quiet, verbose, fmt, c_name, c_decl,
-                debug):
+                allow_external_files, profile, append, no_target_check, no_limit_check, tx_cobs,
+                rx_cobs, granularity, no_bit_mapping, from_, quiet, verbose, fmt, c_name,
+                c_decl, debug):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
     out_format = fmt
@@ -98,6 +100,7 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                           allow_external_files=allow_external_files, profile=profile,
                           append=tuple(append),
                           target_check="warning" if no_target_check else "error",
+                          limit_check="warning" if no_limit_check else "error",
                           tx_cobs=tx_cobs, rx_cobs=rx_cobs, granularity=int(granularity),
                           bit_mapping=not no_bit_mapping)
     for path in append:
