@@ -431,3 +431,60 @@ def test_help_imports_no_yaml():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
                          text=True, check=True)
     assert out.stdout == "0 True []\n"
+
+
+def test_lely_master_without_dcf_mirrors_the_links_in_memory():
+    """A ros2_canopen file: no PLC file, so no naming or placement; the master still
+    mirrors every link (for network check) and the slaves get their write lists."""
+    net = configure(load_network(str(FIXTURES / "ros2_cia402_bus.yml")))
+    assert not net.diagnostics.has_errors
+    mirrors = [p for p in net.master.pdos if p.mirror_of is not None]
+    # per drive: TPDO1-2 configured, RPDO1-2 configured and RPDO3-4 kept from its file
+    assert len(mirrors) == 3 * 6
+    for m in mirrors:
+        src = m.mirror_of
+        assert m.cob_id == src.cob_id & 0x7FFFFFFF
+        assert [(e.bits, e.datatype) for e in m.mapping] == \
+            [(e.bits, e.datatype) for e in src.mapping]
+    d1 = net.node(2)
+    assert [w.index for w in d1.writes][-4:] == [0x60C2, 0x60C2, 0x6081, 0x6083]
+    assert d1.identity == {0x1F84: 0x00060192, 0x1F85: 0x1A3}
+
+
+def test_rpdo_inhibit_and_event_timer_go_to_the_plc_not_the_slave(tmp_path):
+    body = SLAVE + "  rpdo:\n    1:\n      inhibit_time: 50\n      event_timer: 20\n"
+    got, res = build(tmp_path, body)
+    assert got == []
+    tpdo = res.network.master.pdo("tpdo", 1)
+    assert (tpdo.inhibit_time, tpdo.event_timer, tpdo.cob_id) == (50, 20, 0x205)
+    v = _plc_values_of(res.outputs["master.dcf"], tmp_path)
+    assert (v[(0x1800, 3)], v[(0x1800, 5)]) == ("0x0032", "0x0014")
+    io = res.network.node(5)
+    assert [(w.index, w.sub) for w in io.writes if w.index == 0x1400] == [
+        (0x1400, 1), (0x1400, 1)]          # COB-ID invalid, then valid: nothing else
+
+
+def test_master_heartbeat_consumer_false_and_explicit_times(tmp_path):
+    got, res = build(tmp_path, SLAVE + "  heartbeat_producer: 100\n")
+    assert [h.time_ms for h in res.network.master.heartbeat_consumers] == [300]
+    (tmp_path / "bus.yml").write_text(
+        HEAD + "  heartbeat_consumer: false\n" + SLAVE + "  heartbeat_producer: 100\n")
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert res.ok and res.network.master.heartbeat_consumers == []
+    assert not any(w.index == 0x1016 for w in res.network.master.writes)
+    (tmp_path / "bus.yml").write_text(
+        HEAD + "  heartbeat_consumer: {io: 450}\n" + SLAVE + "  heartbeat_producer: 100\n")
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
+        (1, (5 << 16) | 450)]
+
+
+def test_nmt_entry_beyond_the_plc_objects_subs(tmp_path):
+    plc = (FIXTURES / "plc.dcf").read_text().replace(
+        "ParameterName=NMT slave assignment\nObjectType=0x8\nDataType=0x0007\n"
+        "AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj=127",
+        "ParameterName=NMT slave assignment\nObjectType=0x8\nDataType=0x0007\n"
+        "AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj=3")
+    got, res = build(tmp_path, SLAVE, plc=plc)
+    assert got == ["bus.yml:5: error: the PLC's file has no 0x1F81sub5 (slave assignment of "
+                   "io): that sub-index is missing [NET111]"]

@@ -47,9 +47,9 @@ CODES: list[tuple[str, str, str]] = [
     ("NET118", ERROR, "the PLC's file cannot take the variables ([DynamicChannels], a "
                       "range full)"),
     ("NET119", ERROR, "build needs the PLC's EDS/DCF as the master's dcf:"),
-    ("NET120", ERROR, "a node name that cannot be an output file name, or two nodes with "
-                      "one output file"),
-    ("NET121", ERROR, "the built PLC file does not compile"),
+    ("NET120", ERROR, "an output cannot be made: a node name that cannot be a file name, "
+                      "two nodes with one output file, an entry the file only implies "
+                      "(CompactPDO) with no section to state its value in"),
 ]
 
 BY_CODE = {c: (sev, text) for c, sev, text in CODES}

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import os
 
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import Diagnostics
 from dcf2bin.network import cobids, links, nmt, pdos, slaveconfig, variables
-from dcf2bin.network.model import COB_INVALID, RPDO, TPDO, Heartbeat, Network, Node
+from dcf2bin.network.model import TPDO, Heartbeat, Network, Node
 from dcf2bin.network.pdos import comm_index, entry_int, map_index
 
 
@@ -178,5 +178,3 @@ def _master_facts(master: Node) -> None:
     master.sync_cob_id = 0x80
     master.emcy_cob_id = 0x80 + master.node_id
 
-
-__all__ = ["configure", "COB_INVALID", "RPDO", "Where"]

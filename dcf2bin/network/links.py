@@ -62,7 +62,14 @@ def make_mirrors(net: Network, diags: Diagnostics) -> list[Pdo]:
         if master.device is not None and not _fits(master, m, pdo, diags):
             continue
         mirrors.append(m)
-        master.pdos.append(m)
+    # a mirror takes the place of the PLC file's PDO of its number (one that did not
+    # exist): master.pdos holds each PDO once, the PLC's own ones first
+    taken = {(m.kind, m.number): m for m in mirrors}
+    for p in master.pdos:
+        m = taken.get((p.kind, p.number))
+        if m is not None:
+            m.file_cob_id = p.file_cob_id
+    master.pdos[:] = [p for p in master.pdos if (p.kind, p.number) not in taken] + mirrors
     return mirrors
 
 

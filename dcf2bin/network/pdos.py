@@ -121,8 +121,8 @@ def from_file(node: Node, cache: dict | None = None) -> None:
 
 
 def apply_yaml(node: Node, diags: Diagnostics) -> None:
-    """The YAML's rpdo/tpdo entries on the node's PDOs (COB-IDs to assign are marked with
-    ``cob_id = None`` in ``pending``; see cobids)."""
+    """The YAML's rpdo/tpdo entries on the node's PDOs: enabled, an explicit cob_id, the
+    other subs, the mapping (COB-IDs to assign are left to ``cobids.assign``)."""
     for (kind, number), pc in sorted(node.pdo_config.items(),
                                      key=lambda kv: (kv[0][0] != RPDO, kv[0][1])):
         pdo = node.pdo(kind, number)

@@ -5,8 +5,9 @@ into :class:`YMap`/:class:`YSeq`, merge keys (``<<``) and aliases resolved.
 A repeated key in one mapping is an error naming both lines (``safe_load`` would keep the
 last silently). An alias shares the node of its anchor; the size it stands for is
 counted, so an alias bomb ("billion laughs") is stopped at :data:`MAX_NODES`; a recursive
-alias and nesting deeper than :data:`MAX_DEPTH` are errors too. Scalars become the Python values ``safe_load`` gives (YAML 1.1: ``0b1100``
-is 12, ``010`` is 8, ``yes`` is True).
+alias and nesting deeper than :data:`MAX_DEPTH` are errors too. Scalars become the
+Python values ``safe_load`` gives (YAML 1.1: ``0b1100`` is 12, ``010`` is 8, ``yes`` is
+True).
 """
 from __future__ import annotations
 
