@@ -48,7 +48,8 @@ __all__ = ["BinContainer", "CompileError", "CompileOptions", "CompileResult", "D
            "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
            "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
            "read_container", "to_dcf", "validate",
-           "BuildResult", "Network", "build_network", "configure_network", "load_network"]
+           "BuildResult", "Network", "build_network", "check_network", "configure_network",
+           "load_network"]
 
 Container = bytes | str | os.PathLike | BinContainer
 
@@ -227,6 +228,28 @@ def build_network(path: str | os.PathLike, outdir: str | os.PathLike | None = No
     from dcf2bin.network.build import build_network as _build
     return _build(os.fspath(path), None if outdir is None else os.fspath(outdir),
                   data=data)
+
+
+def check_network(path: str | os.PathLike, *, select: str | Iterable[str] | None = None,
+                  ignore: str | Iterable[str] | None = None, max_load: float = 80.0,
+                  net: int | None = None):
+    """Check a network file -- a lely/ros2_canopen ``bus.yml`` or a CiA 306-3 ``.cpj``
+    project -- as a whole (``dcf2bin network check``). Returns a result with
+    ``network`` (the configured network: nodes, PDOs, variables), ``diagnostics`` (every
+    finding: the network file's, each node's file as ``validate`` reads it, the NET2xx
+    rules between nodes), ``load`` (the bus-load estimate, per COB-ID), ``ok`` and
+    ``exit_code(strict)``.
+
+    ``select``/``ignore`` pick rules as ``validate``'s do (``"NET2"``, ``"NET210"``,
+    ``"cob-id-produced-twice"``); an unknown one raises ``ValueError``. ``net`` picks the
+    ``[TopologyN]`` of a ``.cpj``. A file that cannot be read is an ``IO001`` finding.
+
+        >>> res = check_network("tests/fixtures/network/check/network.cpj", max_load=3)
+        >>> [(d.line, d.rule) for d in res.diagnostics], round(res.load.total, 3)
+        ([(3, 'NET260')], 3.625)
+    """
+    from dcf2bin.network.check import check_network as _check
+    return _check(os.fspath(path), select=select, ignore=ignore, max_load=max_load, net=net)
 
 
 # -- helpers ---------------------------------------------------------------------------------

@@ -33,4 +33,6 @@ def build_network(path: str, outdir: str | None = None, *, data: bytes | None = 
     return _build(path, outdir, data=data)
 
 
-__all__ = ["Network", "build_network", "configure", "load_network"]
+__all__ = ["Network", "build_network", "check_network", "configure", "load_network"]
+
+from dcf2bin.network.check import check_network  # noqa: E402  (network check's)

@@ -153,7 +153,7 @@ class _Builder:
         yaml = self.yaml
         tag = ev.tag
         value = ev.value
-        if tag is None and ev.implicit[0] and _PLAIN_INT.fullmatch(value):
+        if tag is None and ev.implicit[0] and len(value) < 100 and _PLAIN_INT.fullmatch(value):
             return int(value, 16) if value[1:2] == "x" else int(value)
         if tag is None or tag == "!":
             tag = self.resolver.resolve(yaml.ScalarNode, ev.value, ev.implicit)
