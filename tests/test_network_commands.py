@@ -15,8 +15,8 @@ pytestmark = pytest.mark.usefixtures("at_root")
 
 NETWORK = "tests/fixtures/network_show/bus.yml"
 CPJ = "tests/fixtures/network/check/network.cpj"
-FOLDER = "tests/fixtures/network_show"
-FILES = {2: f"{FOLDER}/io.dcf", 3: f"{FOLDER}/device.eds", 5: f"{FOLDER}/ai.eds"}
+FILES = {2: "tests/fixtures/network/check/io.dcf", 3: "samples/device.eds",
+         5: "tests/fixtures/network/IoX4_8AI.eds"}            # the files bus.yml names
 
 
 def slaves(bench, ids=(2, 3, 5)):

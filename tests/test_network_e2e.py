@@ -25,9 +25,9 @@ pytestmark = [pytest.mark.usefixtures("at_root"),
                                  reason="needs dcf2bin.dynod")]
 
 NETWORK = "tests/fixtures/network_show/bus.yml"
-FOLDER = "tests/fixtures/network_show"
 PLC_ID = 16
-SLAVES = {2: f"{FOLDER}/io.dcf", 3: f"{FOLDER}/device.eds", 5: f"{FOLDER}/ai.eds"}
+SLAVES = {2: "tests/fixtures/network/check/io.dcf", 3: "samples/device.eds",
+          5: "tests/fixtures/network/IoX4_8AI.eds"}           # the files bus.yml names
 
 
 def frames_on(net, *cob_ids):
