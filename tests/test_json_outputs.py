@@ -137,3 +137,27 @@ def test_readme_lists_every_json_output():
     section = readme.split("### JSON outputs", 1)[1].split("\n### ", 1)[0]
     for name, fmt in schemas.FORMATS.items():
         assert f"| `{fmt}` | `dcf2bin/schemas/{name}.json` |" in section, name
+
+
+# -- the network commands -----------------------------------------------------------------
+
+NETWORK = ROOT / "tests" / "fixtures" / "network_show" / "bus.yml"
+
+
+@pytest.mark.parametrize("extra", [(), ("--writes",)])
+def test_network_show_json_matches_its_schema(extra):
+    r = run("network", "show", NETWORK, "-f", "json", *extra)
+    assert r.exit_code == 0, r.stderr
+    doc = check("network-show", r.stdout)
+    assert all(INDEX.match(v["index"]) for v in doc["variables"])
+    assert (doc["slaves"][0]["writes"] is None) == (extra == ())
+
+
+def test_network_check_json_is_the_validate_format():
+    r = run("network", "check", NETWORK, "-f", "json")
+    assert r.stdout, r.stderr
+    check("validate", r.stdout)
+    r = run("network", "check", "--list-rules", "-f", "json")
+    assert r.exit_code == 0, r.stderr
+    doc = check("rules", r.stdout)
+    assert any(rule["id"].startswith("NET") for rule in doc["rules"])
