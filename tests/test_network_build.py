@@ -488,3 +488,35 @@ def test_nmt_entry_beyond_the_plc_objects_subs(tmp_path):
     got, res = build(tmp_path, SLAVE, plc=plc)
     assert got == ["bus.yml:5: error: the PLC's file has no 0x1F81sub5 (slave assignment of "
                    "io): that sub-index is missing [NET111]"]
+
+
+def test_heartbeat_times_are_rounded_down_from_the_decimal_multiplier():
+    """D-16: every time multiplied by the multiplier is rounded down to whole ms — of the
+    decimal product the YAML states (100 ms x 0.29 is 29 ms, though 100 * 0.29 is
+    28.999999999999996 in binary floating point)."""
+    from dcf2bin.network.slaveconfig import times
+    assert times(100, 0.29) == 29
+    assert times(100, 0.57) == 57
+    assert times(7, 2.7) == 18            # 18.9: rounded down
+    assert times(33, 1.5) == 49
+    assert times(30000, 2.18) == 65400
+
+
+def test_plc_0x1016_per_slave_multiplier_and_mapping(tmp_path):
+    """0x1016 subs 1, 2, ... in node-ID order, (node-ID << 16) | time x the slave's own
+    multiplier (else options'), rounded down; a {slave: ms} mapping gives the time."""
+    def slave(name, nid, extra=""):
+        return f"{name}:\n  dcf: mini.eds\n  node_id: {nid}\n" + extra
+    body = (slave("c", 9, "  heartbeat_producer: 33\n  heartbeat_multiplier: 1.5\n")
+            + slave("a", 3, "  heartbeat_producer: 7\n") + slave("b", 4)
+            + slave("d", 10, "  heartbeat_producer: 100\n"))
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text("options:\n  heartbeat_multiplier: 2.7\n" + HEAD + body)
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
+        (1, 0x00030012), (2, 0x00090031), (3, 0x000A010E)]   # 18, 49, 270 ms
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {d: 500, a: 40}\n" + body)
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
+        (1, 0x00030028), (2, 0x00090031), (3, 0x000A01F4)]
