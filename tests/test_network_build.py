@@ -520,3 +520,19 @@ def test_plc_0x1016_per_slave_multiplier_and_mapping(tmp_path):
     res = build_network(str(tmp_path / "bus.yml"))
     assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
         (1, 0x00030028), (2, 0x00090031), (3, 0x000A01F4)]
+
+
+def test_master_consumer_time_of_the_mapping_over_65535_is_an_error(tmp_path):
+    """D-17: a consumer time over 65535 ms is an error, never truncated — also one the
+    {slave: ms} mapping gives (70000 ms once became (5 << 16) | 70000 = 0x00051170)."""
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {io: 70000}\n" + SLAVE
+                                      + "  heartbeat_producer: 100\n")
+    res = build_network(str(tmp_path / "bus.yml"))
+    errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+              if d.severity.value == "error"]
+    assert errors == ["bus.yml:5: error: heartbeat_consumer: 70000 is outside 0..65535 "
+                      "[NET004]"]
+    assert not any(w.index == 0x1016 and w.value == 0x00051170
+                   for w in res.network.master.writes)

@@ -56,7 +56,7 @@ RANGES = {
     "serial_number": (0, 0xFFFFFFFF), "software_version": (0, 0xFFFFFFFF),
     "transmission": (0, 0xFF), "inhibit_time": (0, 0xFFFF), "event_timer": (0, 0xFFFF),
     "event_deadline": (0, 0xFFFF), "sync_start": (0, 0xFF), "index": (0, 0xFFFF),
-    "sub_index": (0, 0xFF),
+    "sub_index": (0, 0xFF), "heartbeat_consumer": (0, 0xFFFF),   # {slave: ms}: 16 bits
 }
 
 
