@@ -328,3 +328,12 @@ def test_bad_cob_ids_are_one_error_each(tmp_path, value, message):
     errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
               if d.severity.value == "error"]
     assert errors == [f"bus.yml:8: error: {message} [NET004]"]
+
+
+def test_a_tab_that_indents_is_named(tmp_path):
+    """YAML indents with spaces only; libyaml's words for a tab ("found character that
+    cannot start any token") get the reason added, at the tab's line."""
+    net = load(tmp_path, "master:\n\tnode_id: 1\nio:\n  dcf: io.eds\n  node_id: 5\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:2: error: YAML syntax: while scanning for the next token: found character "
+        "that cannot start any token (a tab: YAML indents with spaces) [NET001]"]
