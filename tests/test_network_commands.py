@@ -316,3 +316,14 @@ def test_a_node_file_that_cannot_be_read_is_exit_3(tmp_path, command, dcf):
     assert f"{bus_yml}:4: error: cannot read {tmp_path / dcf}: {why} [NET010]" in text
     assert "Traceback" not in text
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("command", [("check",), ("show",), ("download", "--dry-run"),
+                                     ("build", "-o", "OUT")])
+def test_a_directory_as_the_network_file_is_exit_3(tmp_path, command):
+    """README's table: a directory given as an input is exit 3 (build said 2, a usage
+    error, where the other network commands said 3)."""
+    args = [a.replace("OUT", str(tmp_path / "out")) for a in command]
+    r = run("network", args[0], str(tmp_path), *args[1:])
+    assert r.exit_code == 3, r.stdout + r.stderr
+    assert f"{tmp_path}: error: cannot read: Is a directory" in r.stdout + r.stderr

@@ -13,7 +13,7 @@ from dcf2bin.diagnostics import ExitCode, Severity
 
 
 @click.command("build", context_settings=CONTEXT)
-@click.argument("network", metavar="NETWORK.yml", type=click.Path(dir_okay=False))
+@click.argument("network", metavar="NETWORK.yml", type=click.Path())
 @click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
               help="Output folder (made when missing); its files are written atomically, "
                    "never over an input.")
