@@ -536,3 +536,16 @@ def test_master_consumer_time_of_the_mapping_over_65535_is_an_error(tmp_path):
                       "[NET004]"]
     assert not any(w.index == 0x1016 and w.value == 0x00051170
                    for w in res.network.master.writes)
+
+
+def test_master_mapping_names_a_slave_without_heartbeat(tmp_path):
+    """D-19: monitoring a node whose producer time is 0 is an error — also when the
+    master's {slave: ms} mapping asks for it (it was dropped without a word)."""
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {io: 500}\n" + SLAVE)
+    res = build_network(str(tmp_path / "bus.yml"))
+    errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+              if d.severity.value == "error"]
+    assert errors == ["bus.yml:5: error: master (node 1) monitors io (node 5), which "
+                      "produces no heartbeat (producer time 0) [NET251]"]
