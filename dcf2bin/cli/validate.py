@@ -51,12 +51,16 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
 @click.option("-q", "--quiet", is_flag=True,
               help="Text format: print errors only, and no summary line.")
+@click.option("-j", "--jobs", type=click.IntRange(1), metavar="N",
+              help="Check up to N files at a time, in this process and N-1 worker processes "
+                   "(default: one per usable CPU core; 1: one after the other). The report "
+                   "is the same.")
 @click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
                  pi_size, pi_align, address_base, allow_external_files, no_target_check,
                  tx_cobs, rx_cobs, granularity, no_bit_mapping, stdin_filename, hints,
-                 quiet, debug):
+                 quiet, jobs, debug):
     """Lint DCF/EDS files and binary containers: every problem, with rule ids.
 
     PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
@@ -90,7 +94,10 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
                    allow_external_files=allow_external_files, active=active, strict=strict,
                    target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                    granularity=int(granularity), bit_mapping=not no_bit_mapping)
-    result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename)
+    if jobs is None:
+        from dcf2bin.lint.parallel import usable_cores
+        jobs = usable_cores()
+    result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename, jobs=jobs)
     diags = result.diagnostics
     code = result.exit_code(strict)
     table = {r.id: r.as_dict() for r in rules}

@@ -99,27 +99,47 @@ def _kind_of(path: str, data: bytes) -> str:
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
-        stdin_name: str = "<stdin>") -> RunResult:
+        stdin_name: str = "<stdin>", jobs: int = 1) -> RunResult:
+    """Lint every input of ``paths`` (see ``discover``); with ``jobs`` > 1 the files are
+    checked in that many worker processes (``parallel``), with the same results in the
+    same order."""
     result = RunResult()
+    files: list[tuple[int, str]] = []          # (place in result.files, path) to lint
     for path, error in discover(paths):
         shown = stdin_name if path == "-" else path
-        if error is None:
-            try:
-                if path == "-":
-                    data = stdin if stdin is not None else b""
-                else:
-                    with open(path, "rb") as f:
-                        data = f.read()
-            except OSError as exc:
-                error = exc.strerror or str(exc)
         if error is not None:
-            rule = RULES["IO001"]
-            message = error if error is NOTHING_FOUND else f"cannot read: {error}"
-            result.files.append(FileResult(shown, KIND_UNREADABLE, [Diagnostic(
-                Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)]))
-            continue
-        result.files.append(lint_bytes(shown, data, opts))
+            result.files.append(_unreadable(shown, error))
+        elif path == "-":
+            result.files.append(lint_bytes(shown, stdin if stdin is not None else b"", opts))
+        else:
+            files.append((len(result.files), path))
+            result.files.append(None)  # type: ignore[arg-type]
+    if jobs > 1 and len(files) > 1:
+        from dcf2bin.lint.parallel import lint_paths
+        done = lint_paths([(p, p) for _, p in files], opts, jobs)
+    else:
+        done = [lint_path(p, p, opts) for _, p in files]
+    for (at, _), res in zip(files, done):
+        result.files[at] = res
     return result
+
+
+def lint_path(path: str, shown: str, opts: Options) -> FileResult:
+    """Read and lint the file ``path`` (named ``shown`` in the diagnostics); an unreadable
+    file is one IO001 finding."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        return _unreadable(shown, exc.strerror or str(exc))
+    return lint_bytes(shown, data, opts)
+
+
+def _unreadable(shown: str, error: str) -> FileResult:
+    rule = RULES["IO001"]
+    message = error if error is NOTHING_FOUND else f"cannot read: {error}"
+    return FileResult(shown, KIND_UNREADABLE, [Diagnostic(
+        Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)])
 
 
 def lint_bytes(name: str, data: bytes, opts: Options | None = None,

@@ -1,0 +1,133 @@
+"""Validate many files in worker processes (``dcf2bin validate -j N``).
+
+Each worker reads and lints whole files with the same ``runner.lint_path`` the serial
+run calls, so a file's diagnostics do not depend on where it was checked; the results
+are put back in argument order, and the report, the per-rule cap of the text format,
+the summary line and the exit code are computed by the caller over the merged list, as
+for ``-j 1``.
+
+The design is safe under every start method (the work is a module-level function of
+picklable arguments; nothing relies on state inherited from the parent). It uses
+'forkserver' where the platform has it: the server imports dcf2bin's reader and rules
+once, and each worker is a fork of that clean process, not of the caller (which may
+hold threads or open files). Elsewhere 'spawn'.
+"""
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import threading
+from multiprocessing.connection import wait
+
+from dcf2bin.lint.context import Options
+from dcf2bin.lint.runner import FileResult, lint_path
+
+# imported once in the fork server, so that each worker starts with them loaded
+_PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2bin.ini", "dcf2bin.model",
+            "dcf2bin.layout", "dcf2bin.select", "dcf2bin.compiler", "dcf2bin.dynod"]
+
+
+def usable_cores() -> int:
+    """The CPUs this process may run on (the default of ``--jobs``)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):      # not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _context():
+    methods = multiprocessing.get_all_start_methods()
+    if "forkserver" in methods:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(_PRELOAD)
+        return ctx
+    return multiprocessing.get_context("spawn")
+
+
+def _take(counter, n: int) -> int | None:
+    """The next position in the task list, or None when every task is taken."""
+    with counter.get_lock():
+        k = counter.value
+        if k >= n:
+            return None
+        counter.value = k + 1
+        return k
+
+
+def _worker(tasks, opts: Options, counter, conn) -> None:
+    # Ctrl-C reaches the whole process group: the parent stops and reports; the workers
+    # must not each print a KeyboardInterrupt traceback.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        while (k := _take(counter, len(tasks))) is not None:
+            i, path, shown = tasks[k]
+            conn.send((i, lint_path(path, shown, opts)))
+    finally:
+        conn.close()
+
+
+def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int) -> list[FileResult]:
+    """Lint every (path, shown name) in ``items``, ``jobs`` files at a time: in this
+    process and ``jobs - 1`` worker processes; the results in the order of ``items``.
+
+    The tasks are taken from one shared counter, the largest files first (so that no one
+    is left with a big file at the end). This process lints from the start, while the
+    workers are still being started; a worker that dies leaves its file to this process,
+    which lints whatever has no result at the end (so a crash is reported as with -j 1).
+    """
+    n = len(items)
+    jobs = min(jobs, n)
+    if jobs <= 1:
+        return [lint_path(path, shown, opts) for path, shown in items]
+
+    def size(path: str) -> int:
+        try:
+            return os.stat(path).st_size
+        except OSError:
+            return 0
+
+    order = sorted(range(n), key=lambda i: -size(items[i][0]))
+    tasks = [(i, items[i][0], items[i][1]) for i in order]
+    out: list[FileResult | None] = [None] * n
+    ctx = _context()
+    counter = ctx.Value("q", 0)
+    pipes = [ctx.Pipe(duplex=False) for _ in range(jobs - 1)]
+    procs = [ctx.Process(target=_worker, args=(tasks, opts, counter, w), daemon=True)
+             for _, w in pipes]
+
+    def collect() -> None:
+        # in a thread: starting a process waits for the fork server to be ready, and a
+        # worker's result must not wait in a full pipe while this process lints
+        readers = []
+        for p, (r, w) in zip(procs, pipes):
+            try:
+                p.start()
+            except Exception:  # noqa: BLE001 - e.g. no more processes: this one does the work
+                r.close()
+            else:
+                readers.append(r)
+            w.close()
+        while readers:
+            for r in wait(readers):
+                try:
+                    i, res = r.recv()
+                except (EOFError, OSError):
+                    readers.remove(r)
+                    r.close()
+                else:
+                    out[i] = res
+
+    thread = threading.Thread(target=collect, name="dcf2bin-validate-jobs", daemon=True)
+    thread.start()
+    while (k := _take(counter, n)) is not None:
+        i, path, shown = tasks[k]
+        out[i] = lint_path(path, shown, opts)
+    thread.join()
+    for p in procs:
+        if p.pid is not None:
+            p.join()
+    for i, res in enumerate(out):
+        if res is None:                      # its worker died: lint it here
+            out[i] = lint_path(items[i][0], items[i][1], opts)
+    return out  # type: ignore[return-value]
