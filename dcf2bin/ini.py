@@ -58,7 +58,8 @@ class Section:
             values = {}
         self._values = values       # None: built from ``rest`` when first asked for
         self._keys = keys
-        self._text = text           # the file's text; the section's header line starts at _at
+        self._text = text           # the file's text (or its ASCII bytes); the section's
+                                    # header line starts at _at
         self._at = at
         self.param_name = param_name
         self.rest = rest
@@ -81,8 +82,13 @@ class Section:
         if self._keys is None:
             keys: dict[str, Key] = {}
             text = self._text or ""
-            end = text.find("\n[", self._at)
-            lines = text[self._at:end if end >= 0 else len(text)].split("\n")
+            if isinstance(text, bytes):           # the file's bytes, ASCII: see parse_bytes
+                end = text.find(b"\n[", self._at)
+                own = text[self._at:end if end >= 0 else len(text)].decode("ascii")
+            else:
+                end = text.find("\n[", self._at)
+                own = text[self._at:end if end >= 0 else len(text)]
+            lines = own.split("\n")
             for i, raw in enumerate(lines[1:], self.line + 1):   # after the header line
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
@@ -185,7 +191,10 @@ def parse_bytes(data: bytes, path: str) -> IniFile:
         message, line, hint = problem
         return _rejected(path, message, line, hint)
     text, encoding = decode_bytes(data)
-    return parse_text(text, path, encoding)
+    # An ASCII file's bytes are its text, offset for offset: the sections point into the
+    # bytes (which the caller holds anyway) for the lines they look up on demand, and
+    # the decoded copy is freed after parsing.
+    return parse_text(text, path, encoding, data if len(text) == len(data) else None)
 
 
 def _rejected(path: str, message: str, line: int, hint: str,
@@ -200,11 +209,13 @@ def read(path: str) -> IniFile:
         return parse_bytes(f.read(), path)
 
 
-def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
+def parse_text(text: str, path: str, encoding: str = "utf-8",
+               source: bytes | None = None) -> IniFile:
     """Parse INI text. A fast path handles clean files; anything unusual (a bad line,
     a duplicate, a comment after a header) goes through the exact line-by-line
-    reader, which reports every problem with its line."""
-    fast = _parse_fast(text, path, encoding)
+    reader, which reports every problem with its line. ``source``: the bytes ``text``
+    was decoded from, when they are ASCII (the same characters at the same offsets)."""
+    fast = _parse_fast(text, path, encoding, source)
     if fast is not None:
         parsed = fast
     else:
@@ -225,7 +236,8 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     return parsed
 
 
-def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
+def _parse_fast(text: str, path: str, encoding: str,
+                source: bytes | None = None) -> IniFile | None:
     """The common case, a clean file, one section at a time instead of one line at a time.
 
     The text is cut at every line that starts with '[' (a header: INI has no other
@@ -245,6 +257,7 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             nl = "\r\n"                        # every line ends in CRLF
         else:
             text = text.replace("\r\n", "\n")   # mixed line ends
+            source = None                      # other offsets than the bytes
     sep, close = nl + "[", "]" + nl
     n_sep = len(sep)
     chunks = text.split(sep)                   # each a section, from just after its '['
@@ -260,6 +273,8 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
     lines: dict[str, tuple] = {}               # see _body_values
+    n_name = len(_NAME_KEY)
+    src = text if source is None else source
     for chunk in chunks:
         name, sep_found, body = chunk.partition(close)
         if not sep_found:                      # the last line of the file is a header
@@ -271,9 +286,17 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None                    # text after a header, or a broken header
             if name.strip() != name.strip(" \t"):
                 return None                    # other blanks: canonical_section's business
+            name = name.strip(" \t")
         # the names differ between the sub-sections of an array: cut their values out,
         # and the rest, with those lines left empty, is the template
-        pname, rest = _cut(body, _NAME_KEY, nl)
+        if body[:n_name] == _NAME_KEY:         # the first line, as configurators write it
+            j = body.find(nl, n_name)
+            if j < 0:
+                pname, rest = body[n_name:].strip(" \t"), _NAME_KEY
+            else:
+                pname, rest = body[n_name:j].strip(" \t"), _NAME_KEY + body[j:]
+        else:
+            pname, rest = _cut(body, _NAME_KEY, nl)
         denotation = None
         if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
             denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
@@ -282,7 +305,6 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             shape = shapes[rest] = _body_values(rest, nl, lines)
             if shape is None:
                 return None
-        name = name.strip(" \t")
         canon = name.lower()
         if (len(canon) > 8 and canon[7] == "0") or not canon:
             canon = canonical_section(name)
@@ -290,7 +312,7 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, text, at - 1, pname, shape,
+        sections[canon] = Section(name, line, None, None, src, at - 1, pname, shape,
                                   denotation)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
