@@ -98,11 +98,24 @@ class Section:
         return self._keys
 
     def has(self, key: str) -> bool:
-        return key in self.values
+        if self._values is None:         # from the template, without building ``values``
+            return key in self.rest     # the names' lines are in it, with empty values
+        return key in self._values
 
     def get(self, key: str) -> str | None:
         """The value of ``key`` (lower case), or None when absent or empty."""
-        return self.values.get(key) or None
+        if self._values is None:         # from the template, without building ``values``
+            if key == "parametername" and self.param_name is not None:
+                return self.param_name or None
+            if key == "denotation" and self.denotation is not None:
+                return self.denotation or None
+            return self.rest.get(key) or None
+        return self._values.get(key) or None
+
+    def key_names(self):
+        """The lower-case key names, in file order (``values.keys()``, without building
+        ``values`` for a section read through a shared template)."""
+        return (self.rest if self._values is None else self._values).keys()
 
     def line_of(self, key: str) -> int:
         if key not in self.values:
