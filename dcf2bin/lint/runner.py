@@ -7,6 +7,7 @@ one check becomes an INT001 diagnostic (exit 70) and the others still run.
 """
 from __future__ import annotations
 
+import gc
 import os
 import traceback
 from dataclasses import dataclass, field
@@ -149,10 +150,20 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     opts = opts or Options()
     kind = kind or _kind_of(name, data)
     res = FileResult(name, kind)
-    if kind == KIND_BIN:
-        _Run(res, opts).container(data)
-    else:
-        _Run(res, opts).dcf(data)
+    # As in a compile: a large file makes hundreds of thousands of small objects and no
+    # reference cycles worth collecting; the cyclic GC would only rescan them, more often
+    # the larger the file (a cost that grows faster than the file). The caller's setting
+    # is restored.
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        if kind == KIND_BIN:
+            _Run(res, opts).container(data)
+        else:
+            _Run(res, opts).dcf(data)
+    finally:
+        if was_enabled:
+            gc.enable()
     return res
 
 
@@ -227,8 +238,6 @@ class _Run:
     def target_dcf(self, dev, sel, lay) -> None:
         """TGT0xx on a DCF: the container ``compile`` would write, checked as compile checks
         it (SPEC §8.1); nothing when compile would stop on other errors first."""
-        import gc
-
         from dcf2bin import compiler
         if compiler.blocked(dev, sel):
             return
@@ -238,14 +247,8 @@ class _Run:
             address_base=o.address_base, allow_external_files=o.allow_external_files,
             profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
             granularity=o.granularity, bit_mapping=o.bit_mapping)
-        was_enabled = gc.isenabled()
-        gc.disable()        # as compile_path: no reference cycles worth a full rescan here
-        try:
-            found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
-                                          opts)
-        finally:
-            if was_enabled:
-                gc.enable()
+        found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
+                                      opts)        # the cyclic GC is off: see lint_bytes
         for d in found:
             self.core.append(self._core(d, d.rule))
 
