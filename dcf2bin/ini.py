@@ -45,14 +45,14 @@ class Section:
     the values that were cut out (None: that line is not cut out of the template).
     The model builds such entries once. The exact reader leaves them None.
     """
-    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
+    __slots__ = ("_name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
                  "denotation")
 
-    def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
+    def __init__(self, name: str | None, line: int, values: dict[str, str] | None = None,
                  keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
                  param_name: str | None = None, rest: dict[str, str] | None = None,
                  denotation: str | None = None):
-        self.name = name            # as written
+        self._name = name           # as written; None: read from the header when asked
         self.line = line
         if values is None and rest is None:
             values = {}
@@ -64,6 +64,22 @@ class Section:
         self.param_name = param_name
         self.rest = rest
         self.denotation = denotation
+
+    @property
+    def name(self) -> str:
+        """The section's name as written (blanks around it trimmed)."""
+        if self._name is None:              # the fast reader's: from its header line
+            text, at = self._text or "", self._at
+            if isinstance(text, bytes):
+                name = text[at + 1:text.find(b"]", at + 1)].decode("ascii")
+            else:
+                name = text[at + 1:text.find("]", at + 1)]
+            self._name = name.strip(" \t")
+        return self._name
+
+    @name.setter
+    def name(self, value: str) -> None:
+        self._name = value
 
     @property
     def values(self) -> dict[str, str]:
@@ -325,7 +341,8 @@ def _parse_fast(text: str, path: str, encoding: str,
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, src, at - 1, pname, shape,
+        # the name as written is read again from the header line when a message needs it
+        sections[canon] = Section(None, line, None, None, src, at - 1, pname, shape,
                                   denotation)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
