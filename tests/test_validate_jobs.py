@@ -39,7 +39,22 @@ def test_more_jobs_than_cores_and_argument_order():
     assert f"in {len(files)} files" in serial[1].splitlines()[-1]
 
 
-def test_unreadable_inputs_and_stdin_keep_their_place(tmp_path):
+@pytest.fixture
+def always_parallel(monkeypatch):
+    """Workers even for a few small files (normally checked in this process alone)."""
+    monkeypatch.setattr(parallel, "MIN_PARALLEL_BYTES", 0)
+
+
+def test_little_input_is_checked_here(monkeypatch):
+    def no_workers(*args, **kwargs):
+        raise AssertionError("a worker process was started")
+    monkeypatch.setattr(parallel, "_context", no_workers)
+    files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
+    assert parallel.lint_paths([(p, p) for p in files], Options(), 2) == [
+        runner.lint_path(p, p, Options()) for p in files]
+
+
+def test_unreadable_inputs_and_stdin_keep_their_place(tmp_path, always_parallel):
     empty = tmp_path / "empty"
     empty.mkdir()
     args = [SAMPLES / "plc.dcf", tmp_path / "missing.dcf", "-", empty,
@@ -77,7 +92,7 @@ def test_worker_lints_every_task_it_takes_and_sends_it_back():
     assert got[1].kind == runner.KIND_UNREADABLE
 
 
-def test_lint_paths_keeps_the_order_of_its_items():
+def test_lint_paths_keeps_the_order_of_its_items(always_parallel):
     files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
     items = [(p, p) for p in files]
     assert parallel.lint_paths(items, Options(), 2) == [

@@ -28,6 +28,19 @@ _PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2
             "dcf2bin.layout", "dcf2bin.select", "dcf2bin.compiler", "dcf2bin.dynod"]
 
 
+# Less input than this is checked in this process alone: a worker is ready about 0.1 s
+# after it is asked for (the fork server starts a Python and imports dcf2bin), and by then
+# this process has checked about a megabyte (a pre-commit run of a few files, say).
+MIN_PARALLEL_BYTES = 1 << 20
+
+
+def _size(path: str) -> int:
+    try:
+        return os.stat(path).st_size
+    except OSError:
+        return 0
+
+
 def usable_cores() -> int:
     """The CPUs this process may run on (the default of ``--jobs``)."""
     try:
@@ -78,16 +91,10 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int) -> list[F
     """
     n = len(items)
     jobs = min(jobs, n)
-    if jobs <= 1:
+    sizes = [_size(path) for path, _ in items] if jobs > 1 else []
+    if jobs <= 1 or sum(sizes) < MIN_PARALLEL_BYTES:
         return [lint_path(path, shown, opts) for path, shown in items]
-
-    def size(path: str) -> int:
-        try:
-            return os.stat(path).st_size
-        except OSError:
-            return 0
-
-    order = sorted(range(n), key=lambda i: -size(items[i][0]))
+    order = sorted(range(n), key=lambda i: -sizes[i])
     tasks = [(i, items[i][0], items[i][1]) for i in order]
     out: list[FileResult | None] = [None] * n
     ctx = _context()
