@@ -278,11 +278,13 @@ def _parse_fast(text: str, path: str, encoding: str,
     this return None, and the exact reader takes the file.
     """
     nl = "\n"
+    lfs = None                                 # the number of line ends (counted once)
     if "\r" in text:
         crlf = text.count("\r\n")
         if text.count("\r") != crlf:
             return None                        # a lone CR: let the exact reader deal with it
-        if crlf == text.count("\n"):
+        lfs = text.count("\n")
+        if crlf == lfs:
             nl = "\r\n"                        # every line ends in CRLF
         else:
             text = text.replace("\r\n", "\n")   # mixed line ends
@@ -346,7 +348,9 @@ def _parse_fast(text: str, path: str, encoding: str,
                                   denotation)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
-    return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
+    if lfs is None:
+        lfs = text.count("\n")
+    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1)
 
 
 # The two keys whose values are names, cut out of a section's template, as configurators
