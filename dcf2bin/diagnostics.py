@@ -1,6 +1,7 @@
 """Diagnostics as data (rule, severity, where, message) and the exit codes.
 
-One function per output format renders them (see report.py); nothing here prints.
+The one text form of a diagnostic (``format_text``) is here; every other output format is
+rendered by report.py, which builds on this module. Nothing here prints.
 """
 from __future__ import annotations
 
@@ -44,14 +45,66 @@ class Diagnostic:
 
     @property
     def location(self) -> str:
-        """``file:line``, ``file:0xOFFSET`` or ``file`` (report.location)."""
-        from dcf2bin.report import location
+        """``file:line``, ``file:0xOFFSET`` or ``file`` (``location``)."""
         return location(self)
 
     def format(self) -> str:
-        """The one text form, ``file:line: severity: message [RULE]`` (report.format_text)."""
-        from dcf2bin.report import format_text
+        """The one text form, ``file:line: severity: message [RULE]`` (``format_text``)."""
         return format_text(self)
+
+
+# -- the one text form of one diagnostic ------------------------------------------------------
+# Here, beside the type, so that Diagnostic.format() needs nothing above it; report.py (every
+# other output format) builds on these and re-exports them.
+
+_COLOURS = {Severity.ERROR: "\x1b[31m", Severity.WARNING: "\x1b[33m", Severity.INFO: "\x1b[36m"}
+
+
+def escape(text: str, *, controls: bool = True) -> str:
+    """A file name (or a message naming one) as printable text, the same in every format.
+
+    Python hands over the bytes of a name that is not UTF-8 as lone surrogates
+    (surrogateescape); each becomes ``\\xNN`` for its byte, and so does a control
+    character (a newline in a name would break a line-based report). Never raises."""
+    if text.isprintable() and text.isascii():
+        return text
+    out = []
+    for ch in text:
+        o = ord(ch)
+        if 0xDC80 <= o <= 0xDCFF:
+            out.append(f"\\x{o - 0xDC00:02x}")
+        elif 0xD800 <= o <= 0xDFFF:
+            out.append(f"\\u{o:04x}")
+        elif controls and (o < 0x20 or 0x7F <= o < 0xA0):
+            out.append(f"\\x{o:02x}")
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def location(d: Diagnostic) -> str:
+    """``file:line`` (text files) or ``file:0xOFFSET`` (containers) or ``file``.
+
+    The column is not part of the text form: compile and validate do not always know it
+    for the same finding, and one finding must print the same everywhere (json, sarif and
+    github carry the column where it is known)."""
+    loc = escape(d.file) if d.file else "<input>"
+    if d.line is not None:
+        loc += f":{d.line}"
+    elif d.offset is not None:
+        loc += f":0x{d.offset:X}"
+    return loc
+
+
+def format_text(d: Diagnostic, colour: bool = False) -> str:
+    """The one text form of a diagnostic: ``file:line: severity: message [RULE]``."""
+    sev = d.severity.value
+    if colour:
+        sev = f"{_COLOURS[d.severity]}{sev}\x1b[0m"
+    text = f"{location(d)}: {sev}: {escape(d.message)}"
+    if d.rule:
+        text += f" [{d.rule}]"
+    return text
 
 
 @dataclass(slots=True)

@@ -19,14 +19,14 @@ import sys
 from typing import Iterable, Sequence, TextIO
 from urllib.parse import quote
 
-from dcf2bin.diagnostics import Diagnostic, Severity
+# The one text form of one diagnostic lives with the data type (diagnostics.py), so that
+# Diagnostic.format() needs no import from here; re-exported for the callers of report.*.
+from dcf2bin.diagnostics import Diagnostic, Severity, escape, format_text, location  # noqa: F401
 
 JSON_FORMAT = "dcf2bin-validate"
 JSON_VERSION = 1
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
 INFORMATION_URI = "https://github.com/dcf2bin/dcf2bin/blob/main/docs/validate.md"
-
-_COLOURS = {Severity.ERROR: "\x1b[31m", Severity.WARNING: "\x1b[33m", Severity.INFO: "\x1b[36m"}
 
 
 def use_colour(stream: TextIO) -> bool:
@@ -38,28 +38,6 @@ def use_colour(stream: TextIO) -> bool:
 
 # -- names ------------------------------------------------------------------------------------
 
-def escape(text: str, *, controls: bool = True) -> str:
-    """A file name (or a message naming one) as printable text, the same in every format.
-
-    Python hands over the bytes of a name that is not UTF-8 as lone surrogates
-    (surrogateescape); each becomes ``\\xNN`` for its byte, and so does a control
-    character (a newline in a name would break a line-based report). Never raises."""
-    if text.isprintable() and text.isascii():
-        return text
-    out = []
-    for ch in text:
-        o = ord(ch)
-        if 0xDC80 <= o <= 0xDCFF:
-            out.append(f"\\x{o - 0xDC00:02x}")
-        elif 0xD800 <= o <= 0xDFFF:
-            out.append(f"\\u{o:04x}")
-        elif controls and (o < 0x20 or 0x7F <= o < 0xA0):
-            out.append(f"\\x{o:02x}")
-        else:
-            out.append(ch)
-    return "".join(out)
-
-
 def _msg(text: str) -> str:
     return escape(text, controls=False)
 
@@ -69,31 +47,6 @@ def _msg(text: str) -> str:
 # At most this many diagnostics of one rule in one file are printed in the text form; one
 # line then says how many more were left out (json and sarif keep every one).
 CAP = 20
-
-
-def location(d: Diagnostic) -> str:
-    """``file:line`` (text files) or ``file:0xOFFSET`` (containers) or ``file``.
-
-    The column is not part of the text form: compile and validate do not always know it
-    for the same finding, and one finding must print the same everywhere (json, sarif and
-    github carry the column where it is known)."""
-    loc = escape(d.file) if d.file else "<input>"
-    if d.line is not None:
-        loc += f":{d.line}"
-    elif d.offset is not None:
-        loc += f":0x{d.offset:X}"
-    return loc
-
-
-def format_text(d: Diagnostic, colour: bool = False) -> str:
-    """The one text form of a diagnostic: ``file:line: severity: message [RULE]``."""
-    sev = d.severity.value
-    if colour:
-        sev = f"{_COLOURS[d.severity]}{sev}\x1b[0m"
-    text = f"{location(d)}: {sev}: {escape(d.message)}"
-    if d.rule:
-        text += f" [{d.rule}]"
-    return text
 
 
 def left_out(file: str, rule: str, n: int, cap: int = CAP) -> str:

@@ -8,13 +8,19 @@ r"""``dcf2bin validate``: lint DCF/EDS files and binary containers.
 
 Modules: ``registry`` (rule ids, names, severities; ``@rule``), ``context`` (what a
 check sees), ``runner`` (files, directories, stdin, exit code), one ``rules_*``
-module per family, and ``core_rules`` for the ids the core reports itself.
+module per family, and ``core_rules`` for the ids the core reports itself. This
+``__init__`` imports every rule module (the list below), which registers its rules.
 """
 from __future__ import annotations
 
 from dcf2bin.lint.context import Options
 from dcf2bin.lint.registry import RULES, Rule, SelectorError, all_rules, resolve
 from dcf2bin.lint.runner import FileResult, RunResult, lint_bytes, run
+
+# The one list of rule modules: importing one registers its rules in registry.RULES. It sits
+# above both the registry and the rule modules (a new rules_* module is added here).
+from dcf2bin.lint import (core_rules, rules_container, rules_nv, rules_od,  # noqa: F401,E402
+                          rules_pdo, rules_syntax, rules_target, rules_values)
 
 __all__ = ["Options", "RULES", "Rule", "SelectorError", "all_rules", "resolve", "FileResult",
            "RunResult", "lint_bytes", "run"]

@@ -11,6 +11,10 @@ description and a short hint. Two kinds exist:
   selected and documented, but they have no function here (the checks are not
   duplicated).
 
+This module imports no rule module: the rule modules import it (for ``@rule``, ``core``
+and the severities) and the package ``__init__`` imports every rule module once, so the
+table is full before anything in ``dcf2bin.lint`` is used.
+
 Id families: DCF0xx syntax and file structure, DCF1xx object dictionary, DCF2xx
 values, DCF3xx network variables and process image, DCF4xx PDOs, CNT0xx containers,
 plus IO001/INT001 for unreadable inputs and internal errors (always on).
@@ -106,7 +110,6 @@ def core(id: str, name: str, severity: Severity, description: str, *, hint: str 
 
 
 def all_rules() -> list[Rule]:
-    _load()
     return [RULES[k] for k in sorted(RULES, key=_sort_key)]
 
 
@@ -128,7 +131,6 @@ def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[s
 
     Raises SelectorError for a selector that matches no rule.
     """
-    _load()
 
     def match(sel: str) -> set[str]:
         s = sel.strip()
@@ -153,17 +155,3 @@ def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[s
         active -= match(s)
     active |= {r.id for r in RULES.values() if r.always}
     return active
-
-
-_loaded = False
-
-
-def _load() -> None:
-    """Import the rule modules (they register themselves)."""
-    global _loaded
-    if _loaded:
-        return
-    _loaded = True
-    from dcf2bin.lint import (core_rules, rules_container, rules_nv, rules_od,  # noqa: F401
-                              rules_pdo, rules_syntax, rules_values)
-    from dcf2bin.lint import rules_target  # noqa: F401

@@ -146,7 +146,6 @@ def _unreadable(shown: str, error: str) -> FileResult:
 def lint_bytes(name: str, data: bytes, opts: Options | None = None,
                kind: str | None = None) -> FileResult:
     """Lint one input given as bytes; ``name`` is used in the diagnostics."""
-    registry._load()
     opts = opts or Options()
     kind = kind or _kind_of(name, data)
     res = FileResult(name, kind)

@@ -1,0 +1,161 @@
+"""The lossless JSON form of a container (SPEC.md §4): its constants and rule ids, its JSON
+Schema (``JSON_SCHEMA``, explained in docs/dump.md), container -> document (``to_dict``,
+``to_json``) and ``JsonProblem``, the one error a document that is not a valid dump raises.
+"""
+from __future__ import annotations
+
+import json
+
+from dcf2bin import schema
+from dcf2bin.container import BinContainer
+from dcf2bin.dump.binary import header_of
+
+
+FORMAT = "dcf2bin-container"
+SCHEMA_VERSION = 1
+CANONICAL, STORED = "canonical", "stored"
+
+RULE_JSON_SYNTAX = "JSN001"   # not JSON at all
+RULE_JSON = "JSN002"          # JSON that is not a valid dump
+RULE_JSON_HEADER = "JSN003"   # canonical layout: a stale header field (recomputed)
+
+PIPARAM_FIELDS = list(schema.PIPARAM_FIELDS)
+HEADER_FIELDS = list(schema.HEADER_FIELDS)
+_DWORD, _WORD = 0xFFFFFFFF, 0xFFFF
+_HEADER_MAX = {name: (_WORD if name in ("version", "segment_count") else _DWORD)
+               for name in HEADER_FIELDS}
+_ADDR_PER_LINE = 16
+
+# JSON Schema (draft 2020-12) of the document ``to_dict`` writes; docs/dump.md explains it.
+_HEX = {"type": "string", "pattern": "^([0-9A-Fa-f]{2})*$"}
+_U32 = {"type": "integer", "minimum": 0, "maximum": _DWORD}
+JSON_SCHEMA = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "$id": "https://dcf2bin.invalid/schema/dcf2bin-container-1.json",
+    "title": "dcf2bin lossless container dump",
+    "type": "object",
+    "required": ["format", "schema_version", "entries"],
+    "additionalProperties": False,
+    "properties": {
+        "format": {"const": FORMAT},
+        "schema_version": {"const": SCHEMA_VERSION},
+        "layout": {"enum": [CANONICAL, STORED]},
+        "header": {
+            "type": "object", "additionalProperties": False,
+            "required": HEADER_FIELDS,
+            "properties": {name: {"type": "integer", "minimum": 0, "maximum": mx}
+                           for name, mx in _HEADER_MAX.items()},
+        },
+        "entries": {
+            "type": "array",
+            "items": {
+                "type": "object", "additionalProperties": False,
+                "required": ["index", "subindex", "data", "attribute"],
+                "properties": {
+                    "index": {"type": "string", "pattern": "^0x[0-9A-Fa-f]{1,4}$"},
+                    "subindex": {"type": "integer", "minimum": 0, "maximum": 255},
+                    "data": _HEX,
+                    "attribute": {"oneOf": [{"type": "null"}, {
+                        "type": "string", "pattern": "^0x[0-9A-Fa-f]{1,2}$"}]},
+                },
+            },
+        },
+        "extra_attributes": _HEX,
+        "addresses": {"oneOf": [{"type": "null"}, {
+            "type": "array", "items": {"type": "integer", "minimum": 0, "maximum": _WORD}}]},
+        "pi_parameters": {"oneOf": [
+            {"type": "null"},
+            {"type": "object", "additionalProperties": False, "required": PIPARAM_FIELDS,
+             "properties": {name: _U32 for name in PIPARAM_FIELDS}},
+            {"type": "object", "additionalProperties": False, "required": ["raw"],
+             "properties": {"raw": _HEX}},
+        ]},
+        "gaps": {"type": "array", "items": {
+            "type": "object", "additionalProperties": False, "required": ["offset", "data"],
+            "properties": {"offset": _U32, "data": _HEX}}},
+    },
+}
+
+
+# -- container -> JSON ----------------------------------------------------------------------
+
+def to_dict(c: BinContainer) -> dict:
+    """The lossless document as Python data (key order is the documented one)."""
+    h = header_of(c)
+    attrs = c.attributes or b""
+    n = len(c.entries)
+    entries = []
+    for i, (index, sub, data) in enumerate(c.entries):
+        entries.append({"index": f"0x{index:04X}", "subindex": sub, "data": data.hex().upper(),
+                        "attribute": f"0x{attrs[i]:02X}" if i < len(attrs) else None})
+    if c.raw_piparam is not None:
+        pi = {"raw": c.raw_piparam.hex().upper()}
+    elif c.pi is not None:
+        pi = dict(zip(PIPARAM_FIELDS, c.pi))
+    else:
+        pi = None
+    return {
+        "format": FORMAT,
+        "schema_version": SCHEMA_VERSION,
+        "layout": STORED if c.header is not None else CANONICAL,
+        "header": {k: h[k] for k in HEADER_FIELDS},
+        "entries": entries,
+        "extra_attributes": attrs[n:].hex().upper(),
+        "addresses": list(c.addresses) if c.addresses is not None else None,
+        "pi_parameters": pi,
+        "gaps": [{"offset": off, "data": data.hex().upper()} for off, data in c.gaps],
+    }
+
+
+def to_json(c: BinContainer) -> str:
+    """``to_dict`` as stable, diff-friendly JSON text: one entry per line."""
+    return format_json(to_dict(c))
+
+
+def format_json(doc: dict) -> str:
+    d = json.dumps
+    out = ["{"]
+    keys = list(doc)
+    for k_i, key in enumerate(keys):
+        value = doc[key]
+        comma = "," if k_i < len(keys) - 1 else ""
+        if key == "header" and isinstance(value, dict):
+            out.append('  "header": {')
+            items = list(value.items())
+            for i, (hk, hv) in enumerate(items):
+                out.append(f"    {d(hk)}: {d(hv)}{',' if i < len(items) - 1 else ''}")
+            out.append(f"  }}{comma}")
+        elif key in ("entries", "gaps") and isinstance(value, list) and value:
+            out.append(f"  {d(key)}: [")
+            last = len(value) - 1
+            for i, item in enumerate(value):
+                out.append(f"    {d(item)}{',' if i < last else ''}")
+            out.append(f"  ]{comma}")
+        elif key == "addresses" and isinstance(value, list) and value:
+            out.append('  "addresses": [')
+            rows = [value[i:i + _ADDR_PER_LINE] for i in range(0, len(value), _ADDR_PER_LINE)]
+            for i, row in enumerate(rows):
+                out.append("    " + ", ".join(str(v) for v in row)
+                           + ("," if i < len(rows) - 1 else ""))
+            out.append(f"  ]{comma}")
+        else:
+            out.append(f"  {d(key)}: {d(value)}{comma}")
+    out.append("}")
+    return "\n".join(out) + "\n"
+
+
+# -- the error of a document that is not a valid dump ---------------------------------------
+
+class JsonProblem(Exception):
+    """A document that is not a valid dump; ``path`` is a tuple of keys/indexes."""
+
+    def __init__(self, path: tuple, message: str):
+        super().__init__(message)
+        self.path = path
+
+
+def path_text(path: tuple) -> str:
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out or "(document)"

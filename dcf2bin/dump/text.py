@@ -1,0 +1,283 @@
+"""The readable text report of a container (``report``): header notes, segments as tables,
+values shown by type (from the EDS when given, else guessed from the index range).
+"""
+from __future__ import annotations
+
+import functools
+import json
+
+from dcf2bin import datatypes as dt, schema, values
+from dcf2bin.container import BinContainer
+from dcf2bin.dump.binary import entry_offsets, header_of
+from dcf2bin.dump.eds import EdsInfo
+from dcf2bin.layout import table_channel
+
+
+_SEGMENT_TITLES = {"index": "index segment", "address": "PI address segment",
+                   "extinfo": "extended info segment", "piparam": "PI parameter segment"}
+_DATA_SHOWN = 16     # bytes of data shown before "..." unless --full
+
+
+_FLAGS = [dt.attr_flags(a) for a in range(256)]
+
+
+def nv_type(index: int, sub: int, size: int, eds: EdsInfo | None = None):
+    """The DataType of a network variable: the EDS's, else its CiA 405 range's, if the size fits."""
+    if not 0xA000 <= index <= 0xAFFF or sub == 0:
+        return None
+    if eds is not None:
+        t = eds.dtype(index, sub)
+        if t is not None and t.size == size:
+            return t
+    return _range_type(index, size)
+
+
+@functools.lru_cache(maxsize=4096)
+def _range_type(index: int, size: int):
+    ch = table_channel(index)
+    if ch is not None and ch.dtype.size == size:
+        return ch.dtype
+    return None
+
+
+def value_text(index: int, sub: int, data: bytes, attr: int | None,
+               eds: EdsInfo | None = None, full: bool = False) -> str:
+    """The decoded value where the type (EDS, CiA 405 range) or attribute and size say how."""
+    size = len(data)
+    t = eds.dtype(index, sub) if eds is not None else None
+    if t is not None and t.size is not None and t.size != size:
+        t = None
+    if t is None:
+        t = nv_type(index, sub, size)
+    if t is None and attr is not None:
+        kinds = attr & dt.ATTR_TYPE_MASK
+        if kinds == dt.ATTR_BOOLEAN and size == 1:
+            t = dt.BOOLEAN
+        elif kinds == dt.ATTR_VSTRING:
+            t = dt.VISIBLE_STRING
+        elif kinds == dt.ATTR_NUMERIC and size in dt.UNSIGNED_BY_SIZE:
+            t = dt.UNSIGNED_BY_SIZE[size]
+    if t is None:
+        return ""
+    if t.kind == dt.BOOL:
+        return {0: "FALSE", 1: "TRUE"}.get(data[0], f"0x{data[0]:02X}") if size == 1 else ""
+    if t.kind in (dt.VSTRING, dt.USTRING):
+        text = values.to_python(t, data)
+        shown = json.dumps(text, ensure_ascii=False)
+        if not full and len(shown) > 34:
+            shown = shown[:30] + '..."'
+        return shown
+    if t.kind in (dt.OSTRING, dt.DOMAIN):
+        return ""
+    try:
+        v = values.to_python(t, data)
+    except values.ValueProblem:
+        return ""
+    if t.kind == dt.REAL:
+        return values.decode(t, data) or repr(v)
+    if t.kind == dt.SINT or size <= 2:
+        return str(v)
+    text = f"0x{v:0{2 * size}X}"
+    if size == 4 and sub >= 1 and (0x1600 <= index <= 0x17FF or 0x1A00 <= index <= 0x1BFF):
+        text += f" = {v >> 16:04X}sub{(v >> 8) & 0xFF:X}, {v & 0xFF} bits"
+    elif size == 4 and sub == 1 and (0x1400 <= index <= 0x15FF or 0x1800 <= index <= 0x19FF):
+        text += f" = COB-ID 0x{v & 0x1FFFFFFF:X}{', invalid' if v & 0x80000000 else ''}"
+    return text
+
+
+def _short_hex(data: bytes, full: bool) -> str:
+    if full or len(data) <= _DATA_SHOWN:
+        return data.hex().upper()
+    return data[:_DATA_SHOWN - 4].hex().upper() + "..." + data[-2:].hex().upper()
+
+
+def nv_keys(c: BinContainer) -> list[tuple[int, int]]:
+    """Network variables in index-segment order, first occurrence (SPEC §3.4)."""
+    seen = set()
+    out = []
+    for index, sub, _ in c.entries:
+        if 0xA000 <= index <= 0xAFFF and sub >= 1 and (index, sub) not in seen:
+            seen.add((index, sub))
+            out.append((index, sub))
+    return out
+
+
+def header_notes(c: BinContainer, h: dict[str, int], nvs: int) -> dict[str, str]:
+    """Where the header disagrees with the segments (or with D-5...D-7): field -> note."""
+    notes: dict[str, str] = {}
+    if h["version"] != 1:
+        notes["version"] = "not the default 1"
+    present = sum(1 for name in schema.SEGMENTS if h[f"{name}_size"])
+    if h["segment_count"] != present:
+        notes["segment_count"] = f"{present} segments are present"
+    # read() checked that every segment's bytes are what its header slot says
+    canon = schema.HEADER_SIZE + sum(h[f"{name}_size"] for name in schema.SEGMENTS)
+    if h["total_size"] != canon:
+        notes["total_size"] = f"header + segments = {canon}; {h['total_size'] - canon} bytes " \
+                              "belong to no segment"
+    spans = sorted((h[f"{n}_offset"], n) for n in schema.SEGMENTS if h[f"{n}_size"])
+    order = [n for _, n in spans]
+    if order != [n for n in schema.SEGMENTS if n in order]:
+        notes["order"] = "segments are not in the header's order"
+    for name in schema.SEGMENTS:
+        if not h[f"{name}_size"] and h[f"{name}_offset"]:
+            notes[f"{name}_offset"] = "an empty segment should have offset 0"
+    n = len(c.entries)
+    if len(c.attributes or b"") != n:
+        notes["extinfo_size"] = f"{_count(len(c.attributes or b''), 'attribute byte')} for " \
+                                f"{_count(n, 'entry', 'entries')}"
+    if c.raw_piparam is not None:
+        notes["piparam_size"] = "a PI parameter segment has 20 bytes"
+    n_addr = len(c.addresses or [])
+    if n_addr != nvs:
+        notes["address_size"] = f"{_count(n_addr, 'address', 'addresses')} for " \
+                                f"{_count(nvs, 'network variable')}"
+    return notes
+
+
+def _count(n: int, one: str, many: str | None = None) -> str:
+    return f"{n} {one if n == 1 else (many or one + 's')}"
+
+
+def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
+           full: bool = False) -> str:
+    """The readable text report (``dcf2bin dump --format text``)."""
+    h = header_of(c)
+    size = h["total_size"]
+    nvs = nv_keys(c)
+    notes = header_notes(c, h, len(nvs))
+    out: list[str] = []
+    w = out.append
+    layout = "canonical layout" if c.header is None else "stored layout (not canonical)"
+    w(f"{name}: binary DCF segment container, {size} bytes, {layout}")
+    w("")
+    w(f"Header ({schema.HEADER_SIZE} bytes)")
+
+    def note(key: str) -> str:
+        return f"  ! {notes[key]}" if key in notes else ""
+
+    w(f"  0x00  total size     {h['total_size']:<10}{note('total_size')}".rstrip())
+    w(f"  0x04  version        {h['version']:<10}{note('version')}".rstrip())
+    w(f"  0x06  segment count  {h['segment_count']:<10}{note('segment_count')}".rstrip())
+    for i, seg in enumerate(schema.SEGMENTS):
+        off, sz = h[f"{seg}_offset"], h[f"{seg}_size"]
+        msg = note(f"{seg}_offset") or note(f"{seg}_size")
+        span = f"bytes {off}..{off + sz - 1}" if sz else "absent"
+        w(f"  0x{8 + 8 * i:02X}  {_SEGMENT_TITLES[seg]:<22} offset {off:<6} size {sz:<6} "
+          f"{span}{msg}".rstrip())
+    if "order" in notes:
+        w(f"  ! {notes['order']}")
+
+    # -- index segment
+    attrs = c.attributes or b""
+    offsets = entry_offsets(c, h)
+    n = len(c.entries)
+    w("")
+    w(f"Index segment: {n} entr{'y' if n == 1 else 'ies'}")
+    if n:
+        rows = []
+        counts: dict[tuple[int, int], int] = {}
+        for index, sub, _ in c.entries:
+            counts[(index, sub)] = counts.get((index, sub), 0) + 1
+        seen: dict[tuple[int, int], int] = {}
+        for i, (index, sub, data) in enumerate(c.entries):
+            attr = attrs[i] if i < len(attrs) else None
+            key = (index, sub)
+            seen[key] = seen.get(key, 0) + 1
+            rep = f"{seen[key]}/{counts[key]}" if counts[key] > 1 else ""
+            rows.append((str(i + 1), f"0x{offsets[i]:X}", f"0x{index:04X}", str(sub),
+                         str(len(data)), _short_hex(data, full),
+                         value_text(index, sub, data, attr, eds, full),
+                         f"0x{attr:02X}" if attr is not None else "-",
+                         _FLAGS[attr] if attr is not None else "-", rep))
+        head = ("#", "offset", "index", "sub", "size", "data", "value", "attr", "flags", "write")
+        out.extend(_table(head, rows, right={0, 3, 4}))
+    if len(attrs) > n:
+        w(f"  ! {_count(len(attrs) - n, 'attribute byte')} without an entry: "
+          f"{_short_hex(attrs[n:], full)}")
+
+    # -- process image
+    w("")
+    addrs = c.addresses
+    if addrs is None:
+        w(f"PI address segment: absent ({_count(len(nvs), 'network variable')})")
+    else:
+        w(f"PI address segment: {_count(len(addrs), 'address', 'addresses')}, "
+          f"{_count(len(nvs), 'network variable')}"
+          + ("  ! they should match" if "address_size" in notes else ""))
+        pi = c.pi
+        first: dict[tuple[int, int], bytes] = {}
+        for index, sub, d in c.entries:
+            first.setdefault((index, sub), d)
+        rows = []
+        for k in range(max(len(addrs), len(nvs))):
+            a = addrs[k] if k < len(addrs) else None
+            key = nvs[k] if k < len(nvs) else None
+            area, off = _area_of(a, pi) if a is not None else ("", "")
+            data = first[key] if key is not None else None
+            t = nv_type(key[0], key[1], len(data), eds) if key is not None else None
+            rows.append((str(k + 1),
+                         f"0x{a:04X}" if a is not None else "-", area, str(off),
+                         f"0x{key[0]:04X}" if key else "-", str(key[1]) if key else "-",
+                         str(len(data)) if data is not None else "-",
+                         t.name if t is not None else "-",
+                         eds.name(*key) if eds is not None and key else ""))
+        if rows:
+            head = ("#", "address", "area", "offset", "index", "sub", "size", "type", "name")
+            out.extend(_table(head, rows, right={0, 3, 5, 6}))
+
+    w("")
+    if c.raw_piparam is not None:
+        w(f"PI parameter segment: {len(c.raw_piparam)} bytes (expected 20): "
+          f"{_short_hex(c.raw_piparam, full)}")
+    elif c.pi is None:
+        w("PI parameter segment: absent")
+    else:
+        total, in_off, in_size, out_off, out_size = c.pi
+        w("PI parameter segment")
+        pnotes = _pi_notes(c.pi)
+        w(f"  complete size  {total:<8}{pnotes.get('total', '')}".rstrip())
+        for label, off, sz, key in (("input area ", in_off, in_size, "input"),
+                                    ("output area", out_off, out_size, "output")):
+            span = f"bytes {off}..{off + sz - 1}" if sz else "empty"
+            w(f"  {label}    offset {off:<6} size {sz:<6} {span}{pnotes.get(key, '')}")
+
+    if c.gaps:
+        w("")
+        w("Bytes in no segment")
+        for off, data in c.gaps:
+            w(f"  0x{off:X}  {len(data)} bytes  {_short_hex(data, full)}")
+    return "\n".join(out) + "\n"
+
+
+def _pi_notes(pi) -> dict[str, str]:
+    total, in_off, in_size, out_off, out_size = pi
+    notes = {}
+    end = max(in_off + in_size, out_off + out_size)
+    if total < end:
+        notes["total"] = f"  ! the areas end at {end}"
+    if in_size and out_size and in_off < out_off + out_size and out_off < in_off + in_size:
+        notes["output"] = "  ! overlaps the input area"
+    elif out_size and out_off % 8 and out_off >= in_off + in_size:
+        notes["output"] = "  (not 8-aligned: --pi-align?)"
+    return notes
+
+
+def _area_of(addr: int, pi) -> tuple[str, int | str]:
+    if pi is None:
+        return "", ""
+    _, in_off, in_size, out_off, out_size = pi
+    if in_off <= addr < in_off + in_size:
+        return "input", addr - in_off
+    if out_off <= addr < out_off + out_size:
+        return "output", addr - out_off
+    return "outside", ""
+
+
+def _table(head: tuple, rows: list[tuple], right: set[int]) -> list[str]:
+    widths = [len(h) for h in head]
+    for col, cells in enumerate(zip(*rows)):
+        widths[col] = max(widths[col], max(map(len, cells)))
+    fmt = "  " + "  ".join(f"{{{i}:{'>' if i in right else '<'}{w}}}"
+                           for i, w in enumerate(widths))
+    return [fmt.format(*head).rstrip()] + [fmt.format(*r).rstrip() for r in rows]

@@ -1,0 +1,85 @@
+"""Steps 1 and 2 of the DynBuildOd emulation: structure (0xA1) and PI memory (0xA0).
+"""
+from __future__ import annotations
+
+from dcf2bin.dynod import codes as C
+from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
+from dcf2bin.indexes import NV_FIRST, NV_LAST
+
+
+class _StructureStep:
+    """Steps 1 and 2 of ``_Engine``: the container's structure (0xA1) and the placement of the
+    network variables in the PI memory (0xA0).
+    """
+
+    def structure(self) -> None:
+        c = self.c
+        entries = c.entries
+        n = len(entries)
+        if c.attributes is not None and len(c.attributes) != n:
+            raise _Fail(C.INVALID_CONFIG, f"the extended info segment has {len(c.attributes)} "
+                                          f"attribute bytes for {n} index entries")
+        # first occurrence of each network variable (SPEC §3.4): built in C -- a dict from
+        # the reversed keys keeps, for every key, the smallest position
+        keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else -1
+                for index, sub, _ in entries]
+        firsts = dict(zip(reversed(keys), range(n - 1, -1, -1)))
+        firsts.pop(-1, None)
+        first = self.nv_first
+        first.extend(sorted(firsts.values()))
+        addrs = c.addresses or None
+        if addrs is not None and len(addrs) != len(first):
+            raise _Fail(C.INVALID_CONFIG, f"the PI address segment holds {len(addrs)} "
+                                          f"addresses for {len(first)} network variables")
+        if c.raw_piparam is not None:
+            raise _Fail(C.INVALID_CONFIG, f"the PI parameter segment has {len(c.raw_piparam)} "
+                                          "bytes, not 20")
+        pi = c.pi
+        if pi is not None:
+            total, in_off, in_size, out_off, out_size = pi
+            if in_off + in_size > total:
+                raise _Fail(C.INVALID_CONFIG, f"the input area [{in_off}, {in_off + in_size}) "
+                                              f"lies beyond the PI size {total}")
+            if out_off + out_size > total:
+                raise _Fail(C.INVALID_CONFIG, f"the output area [{out_off}, "
+                                              f"{out_off + out_size}) lies beyond the PI size "
+                                              f"{total}")
+        if addrs is None:
+            return
+        if self.opts.address_base == "area" and pi is not None:
+            image = [a + (pi[1] if entries[p][0] < _OUTPUT_FIRST else pi[3])
+                     for a, p in zip(addrs, first)]
+        else:
+            image = list(addrs)
+        self.image = image
+        sizes = [len(entries[p][2]) for p in first]
+        total = pi[0] if pi is not None else None
+        # variable by variable in address order: beyond the image, then overlapping an
+        # earlier one; a byte map of the image answers "is any of these bytes taken?" in C
+        taken = bytearray(max(a + z for a, z in zip(image, sizes)) if image else 0)
+        find = taken.find
+        ones = b"\x01" * 16
+        for i, a in enumerate(image):
+            z = sizes[i]
+            e = a + z
+            if total is not None and e > total:
+                raise _Fail(C.INVALID_CONFIG, f"network variable at PI address {a} with "
+                                              f"{z} bytes ends beyond the PI size {total}",
+                            first[i])
+            if z:
+                if find(1, a, e) >= 0:
+                    self.overlap(i, image, sizes)
+                taken[a:e] = ones[:z] if z <= 16 else b"\x01" * z
+
+    def overlap(self, i: int, image: list[int], sizes: list[int]) -> None:
+        a, e = image[i], image[i] + sizes[i]
+        for j in range(i):
+            b, f = image[j], image[j] + sizes[j]
+            if sizes[j] and b < e and a < f:
+                q = self.first_entry(j)
+                raise _Fail(C.INVALID_CONFIG,
+                            f"PI bytes {a}..{e - 1} overlap those of "
+                            f"0x{q[0]:04X}sub{q[1]:X} ({b}..{f - 1})", self.nv_first[i])
+
+    def first_entry(self, i: int) -> tuple:
+        return self.c.entries[self.nv_first[i]]

@@ -1,0 +1,120 @@
+"""The data of the model: ``Entry`` (one sub-object), ``Obj`` (one object) and ``Problem`` (a
+diagnostic tagged with the object/entry it touches). Every one keeps its file:line.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from dcf2bin import datatypes as dt, ini as ini_mod
+from dcf2bin.diagnostics import Diagnostic, Where
+from dcf2bin.indexes import is_pdo_mapping
+
+
+@dataclass(slots=True)
+class Problem:
+    """A diagnostic about the model, tagged with the object/entry it touches.
+
+    ``compile`` turns an error into a warning when it touches nothing it writes.
+    """
+    diagnostic: Diagnostic
+    index: int | None = None
+    sub: int | None = None   # None: the whole object
+
+
+@dataclass(slots=True, eq=False)
+class Entry:
+    index: int
+    sub: int
+    name: str = ""
+    dtype: dt.DataType | None = None
+    access: str | None = None
+    pdo_mapping: bool = False
+    obj_flags: int = 0
+    default: str | None = None
+    param: str | None = None
+    download_file: str | None = None
+    low: str | None = None
+    high: str | None = None
+    denotation: str | None = None
+    where: Where | None = None               # the section (or the object's, for compact subs)
+    lines: dict[str, int] | None = None      # key -> line, where not the section's own
+    implicit: bool = False                   # created by the tool (sub 0, CompactPDO)
+    section: ini_mod.Section | None = None
+
+    @property
+    def configured(self) -> bool:
+        """SPEC §1: an entry is configured when it has a ParameterValue or a DownloadFile."""
+        return self.param is not None or self.download_file is not None
+
+    @property
+    def value_text(self) -> str | None:
+        """The text of the effective value (ParameterValue, else DefaultValue)."""
+        return self.param if self.param is not None else self.default
+
+    @property
+    def has_value(self) -> bool:
+        return self.param is not None or self.download_file is not None or self.default is not None
+
+    def has_key(self, key: str) -> bool:
+        return bool(self.lines and key in self.lines) or (
+            self.section is not None and self.section.has(key))
+
+    def key_where(self, key: str) -> Where:
+        w = self.where or Where("")
+        if self.lines and key in self.lines:
+            return Where(w.file, self.lines[key])
+        if self.section is not None and self.section.has(key):
+            return Where(w.file, self.section.line_of(key))
+        return w
+
+    @property
+    def value_where(self) -> Where:
+        for key in ("parametervalue", "downloadfile", "defaultvalue"):
+            if self.has_key(key):
+                return self.key_where(key)
+        return self.where or Where("")
+
+    @property
+    def label(self) -> str:
+        return f"0x{self.index:04X}sub{self.sub:X}"
+
+
+@dataclass(slots=True, eq=False)
+class Obj:
+    index: int
+    name: str = ""
+    object_type: int = dt.OT_VAR
+    entries: dict[int, Entry] = field(default_factory=dict)
+    where: Where | None = None
+    section: ini_mod.Section | None = None
+    compact: int = 0           # CompactSubObj
+    sub_number: int | None = None
+    implicit: bool = False     # created from CompactPDO
+    complex: bool = False      # ARRAY/RECORD
+
+    def sorted_entries(self) -> list[Entry]:
+        return [self.entries[k] for k in sorted(self.entries)]
+
+
+def unstated_mapping_count(obj: Obj) -> tuple[Where, str] | None:
+    """A PDO mapping object with sub-entries whose sub 0 gives no value (no sub 0 section,
+    or one without DefaultValue/ParameterValue: Elmo EDS files write only HighLimit=8)
+    does not say how many objects it maps; the model's sub 0 is then the highest subindex
+    present (SPEC §1). Returns where to say so and the message (DCF419), else None.
+    ``compile`` refuses to write a PDO block from such a count (README, choices)."""
+    if not is_pdo_mapping(obj.index) or obj.implicit or obj.compact or len(obj.entries) < 2:
+        return None
+    e0 = obj.entries.get(0)
+    if e0 is None:
+        return None
+    highest = max(obj.entries)
+    if e0.implicit:
+        what = f"PDO mapping 0x{obj.index:04X} has no sub 0"
+    elif e0.section is not None and not any(
+            e0.section.values.get(k) for k in ("parametervalue", "defaultvalue", "downloadfile")):
+        what = f"{e0.label} has no DefaultValue or ParameterValue"
+    else:
+        return None
+    return (e0.where or obj.where or Where(""),
+            f"{what}: the number of mapped objects is not given (the highest subindex "
+            f"present, {highest}, would be taken)")
