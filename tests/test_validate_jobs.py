@@ -50,7 +50,7 @@ def test_little_input_is_checked_here(monkeypatch):
         raise AssertionError("a worker process was started")
     monkeypatch.setattr(parallel, "_context", no_workers)
     files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
-    assert parallel.lint_paths([(p, p) for p in files], Options(), 2) == [
+    assert parallel.lint_paths([(p, p) for p in files], Options(), 2, runner.lint_path) == [
         runner.lint_path(p, p, Options()) for p in files]
 
 
@@ -84,7 +84,7 @@ def test_worker_lints_every_task_it_takes_and_sends_it_back():
     tasks = [(1, files[1], "b"), (0, files[0], "a")]
     counter = ctx.Value("q", 0)
     r, w = ctx.Pipe(duplex=False)
-    parallel._worker(tasks, Options(), counter, w)
+    parallel._worker(tasks, Options(), counter, w, runner.lint_path)
     got = dict(r.recv() for _ in tasks)
     assert counter.value == 2
     assert got[0] == runner.lint_path(files[0], "a", Options())
@@ -95,5 +95,5 @@ def test_worker_lints_every_task_it_takes_and_sends_it_back():
 def test_lint_paths_keeps_the_order_of_its_items(always_parallel):
     files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
     items = [(p, p) for p in files]
-    assert parallel.lint_paths(items, Options(), 2) == [
+    assert parallel.lint_paths(items, Options(), 2, runner.lint_path) == [
         runner.lint_path(p, p, Options()) for p in files]

@@ -1,7 +1,7 @@
 """Validate many files in worker processes (``dcf2bin validate -j N``).
 
-Each worker reads and lints whole files with the same ``runner.lint_path`` the serial
-run calls, so a file's diagnostics do not depend on where it was checked; the results
+Each worker reads and lints whole files with the same function the serial run calls
+(``runner.lint_path``, passed in: this module does not import the runner), so a file's diagnostics do not depend on where it was checked; the results
 are put back in argument order, and the report, the per-rule cap of the text format,
 the summary line and the exit code are computed by the caller over the merged list, as
 for ``-j 1``.
@@ -20,8 +20,12 @@ import signal
 import threading
 from multiprocessing.connection import wait
 
+from typing import Callable, TypeVar
+
 from dcf2bin.lint.context import Options
-from dcf2bin.lint.runner import FileResult, lint_path
+
+R = TypeVar("R")
+Lint = Callable[[str, str, Options], R]    # (path, shown name, options) -> its result
 
 # imported once in the fork server, so that each worker starts with them loaded
 _PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2bin.ini", "dcf2bin.model",
@@ -68,21 +72,24 @@ def _take(counter, n: int) -> int | None:
         return k
 
 
-def _worker(tasks, opts: Options, counter, conn) -> None:
+def _worker(tasks, opts: Options, counter, conn, lint: Lint) -> None:
     # Ctrl-C reaches the whole process group: the parent stops and reports; the workers
     # must not each print a KeyboardInterrupt traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         while (k := _take(counter, len(tasks))) is not None:
             i, path, shown = tasks[k]
-            conn.send((i, lint_path(path, shown, opts)))
+            conn.send((i, lint(path, shown, opts)))
     finally:
         conn.close()
 
 
-def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int) -> list[FileResult]:
-    """Lint every (path, shown name) in ``items``, ``jobs`` files at a time: in this
+def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
+               lint: Lint) -> list[R]:
+    """``lint`` every (path, shown name) in ``items``, ``jobs`` files at a time: in this
     process and ``jobs - 1`` worker processes; the results in the order of ``items``.
+    ``lint`` is a module-level function (``runner.lint_path``): the workers receive it
+    by name.
 
     The tasks are taken from one shared counter, the largest files first (so that no one
     is left with a big file at the end). This process lints from the start, while the
@@ -93,14 +100,14 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int) -> list[F
     jobs = min(jobs, n)
     sizes = [_size(path) for path, _ in items] if jobs > 1 else []
     if jobs <= 1 or sum(sizes) < MIN_PARALLEL_BYTES:
-        return [lint_path(path, shown, opts) for path, shown in items]
+        return [lint(path, shown, opts) for path, shown in items]
     order = sorted(range(n), key=lambda i: -sizes[i])
     tasks = [(i, items[i][0], items[i][1]) for i in order]
-    out: list[FileResult | None] = [None] * n
+    out: list[R | None] = [None] * n
     ctx = _context()
     counter = ctx.Value("q", 0)
     pipes = [ctx.Pipe(duplex=False) for _ in range(jobs - 1)]
-    procs = [ctx.Process(target=_worker, args=(tasks, opts, counter, w), daemon=True)
+    procs = [ctx.Process(target=_worker, args=(tasks, opts, counter, w, lint), daemon=True)
              for _, w in pipes]
 
     def collect() -> None:
@@ -129,12 +136,12 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int) -> list[F
     thread.start()
     while (k := _take(counter, n)) is not None:
         i, path, shown = tasks[k]
-        out[i] = lint_path(path, shown, opts)
+        out[i] = lint(path, shown, opts)
     thread.join()
     for p in procs:
         if p.pid is not None:
             p.join()
     for i, res in enumerate(out):
         if res is None:                      # its worker died: lint it here
-            out[i] = lint_path(items[i][0], items[i][1], opts)
+            out[i] = lint(items[i][0], items[i][1], opts)
     return out  # type: ignore[return-value]

@@ -117,7 +117,7 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
             result.files.append(None)  # type: ignore[arg-type]
     if jobs > 1 and len(files) > 1:
         from dcf2bin.lint.parallel import lint_paths
-        done = lint_paths([(p, p) for _, p in files], opts, jobs)
+        done = lint_paths([(p, p) for _, p in files], opts, jobs, lint_path)
     else:
         done = [lint_path(p, p, opts) for _, p in files]
     for (at, _), res in zip(files, done):
