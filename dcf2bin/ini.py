@@ -58,8 +58,8 @@ class Section:
             values = {}
         self._values = values       # None: built from ``rest`` when first asked for
         self._keys = keys
-        self._text = text           # the file's text (or its ASCII bytes); the section's
-                                    # header line starts at _at
+        self._text = text           # the file's text (or its bytes, see parse_bytes); the
+                                    # section's header line starts at _at
         self._at = at
         self.param_name = param_name
         self.rest = rest
@@ -71,7 +71,7 @@ class Section:
         if self._name is None:              # the fast reader's: from its header line
             text, at = self._text or "", self._at
             if isinstance(text, bytes):
-                name = text[at + 1:text.find(b"]", at + 1)].decode("ascii")
+                name = text[at + 1:text.find(b"]", at + 1)].decode("latin-1")
             else:
                 name = text[at + 1:text.find("]", at + 1)]
             self._name = name.strip(" \t")
@@ -98,9 +98,9 @@ class Section:
         if self._keys is None:
             keys: dict[str, Key] = {}
             text = self._text or ""
-            if isinstance(text, bytes):           # the file's bytes, ASCII: see parse_bytes
+            if isinstance(text, bytes):           # the file's bytes: see parse_bytes
                 end = text.find(b"\n[", self._at)
-                own = text[self._at:end if end >= 0 else len(text)].decode("ascii")
+                own = text[self._at:end if end >= 0 else len(text)].decode("latin-1")
             else:
                 end = text.find("\n[", self._at)
                 own = text[self._at:end if end >= 0 else len(text)]
@@ -220,9 +220,11 @@ def parse_bytes(data: bytes, path: str) -> IniFile:
         message, line, hint = problem
         return _rejected(path, message, line, hint)
     text, encoding = decode_bytes(data)
-    # An ASCII file's bytes are its text, offset for offset: the sections point into the
-    # bytes (which the caller holds anyway) for the lines they look up on demand, and
-    # the decoded copy is freed after parsing.
+    # When the text has as many characters as the file has bytes, each byte is one
+    # character (ASCII read as UTF-8, or Latin-1), and Latin-1 decodes any slice of the
+    # bytes to the same characters: the sections point into the bytes (which the caller
+    # holds anyway) for the lines they look up on demand, and the decoded copy is freed
+    # after parsing.
     return parse_text(text, path, encoding, data if len(text) == len(data) else None)
 
 
@@ -243,7 +245,7 @@ def parse_text(text: str, path: str, encoding: str = "utf-8",
     """Parse INI text. A fast path handles clean files; anything unusual (a bad line,
     a duplicate, a comment after a header) goes through the exact line-by-line
     reader, which reports every problem with its line. ``source``: the bytes ``text``
-    was decoded from, when they are ASCII (the same characters at the same offsets)."""
+    was decoded from, when Latin-1 decodes them to ``text`` (ASCII, or a Latin-1 file)."""
     fast = _parse_fast(text, path, encoding, source)
     if fast is not None:
         parsed = fast
