@@ -27,7 +27,8 @@ SUFFIXES = (".dcf", ".eds", ".ini", ".bin")
 
 
 def inputs() -> list[Path]:
-    roots = [REPO / "samples", REPO / "tests" / "fixtures", REPO.parent / "shared" / "corpus" / "files"]
+    roots = [REPO / "samples", REPO / "tests" / "fixtures",
+             REPO.parent / "shared" / "corpus" / "files"]
     files = []
     for root in roots:
         if root.is_dir():

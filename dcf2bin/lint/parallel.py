@@ -1,10 +1,10 @@
 """Validate many files in worker processes (``dcf2bin validate -j N``).
 
 Each worker reads and lints whole files with the same function the serial run calls
-(``runner.lint_path``, passed in: this module does not import the runner), so a file's diagnostics do not depend on where it was checked; the results
-are put back in argument order, and the report, the per-rule cap of the text format,
-the summary line and the exit code are computed by the caller over the merged list, as
-for ``-j 1``.
+(``runner.lint_path``, passed in: this module does not import the runner), so a file's
+diagnostics do not depend on where it was checked; the results are put back in argument
+order, and the report, the per-rule cap of the text format, the summary line and the exit
+code are computed by the caller over the merged list, as for ``-j 1``.
 
 The design is safe under every start method (the work is a module-level function of
 picklable arguments; nothing relies on state inherited from the parent). It uses
@@ -28,8 +28,10 @@ R = TypeVar("R")
 Lint = Callable[[str, str, Options], R]    # (path, shown name, options) -> its result
 
 # imported once in the fork server, so that each worker starts with them loaded
-_PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2bin.ini", "dcf2bin.model",
-            "dcf2bin.layout", "dcf2bin.select", "dcf2bin.compiler", "dcf2bin.dynod"]
+# (dcf2bin.cli too: a worker imports the caller's main module, dcf2bin.__main__)
+_PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2bin.ini",
+            "dcf2bin.model", "dcf2bin.layout", "dcf2bin.select", "dcf2bin.compiler",
+            "dcf2bin.dynod"]
 
 
 # Less input than this is checked in this process alone: a worker is ready about 0.1 s
