@@ -91,18 +91,21 @@ class _StructureStep:
 
 
 def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
-    """True when no variable ends beyond ``total`` and none overlaps another, told in C
-    for the common case of addresses in ascending order (a compiled PLC's). False means
-    "maybe": the loop over the byte map finds which variable fails, and says it as the
-    target would."""
+    """True when no variable ends beyond ``total`` and none overlaps another, told in C.
+    False means "maybe": the loop over the byte map finds which variable fails, and says
+    it as the target would."""
     if not image:
         return True
     ends = list(map(add, image, sizes))
     if total is not None and max(ends) > total:
         return False
+    starts = image
     if not all(map(le, image, image[1:])):
-        return False                # not in address order: let the loop decide
+        # in address order (a compiled PLC's addresses are a few ascending runs, one per
+        # type and direction, which the sort merges in linear time)
+        order = sorted(range(len(image)), key=image.__getitem__)
+        starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
     # in address order, a variable overlaps an earlier one when it starts before the
     # furthest end so far (a variable of 0 bytes may count as overlapping: "maybe")
     reach = accumulate(ends, max)
-    return not any(map(lt, image[1:], reach))
+    return not any(map(lt, starts[1:], reach))
