@@ -52,9 +52,9 @@ SMALL_COMPILE_S = 0.1
 SCALING_SPREAD = 0.25
 
 
-def child_env() -> dict[str, str]:
+def child_env(repo: Path) -> dict[str, str]:
     env = dict(os.environ)
-    env["PYTHONPATH"] = str(REPO) + os.pathsep + env.get("PYTHONPATH", "")
+    env["PYTHONPATH"] = str(repo) + os.pathsep + env.get("PYTHONPATH", "")
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPYCACHEPREFIX"] = str(OUT / "pycache")
     env.pop("DCF2BIN_DEBUG", None)
@@ -112,9 +112,9 @@ def ensure_file(n: int) -> Path:
 
 # -- scaling, in one process ---------------------------------------------------------------------
 
-def scaling(sizes: list[int], repeat: int) -> list[dict]:
+def scaling(sizes: list[int], repeat: int, repo: Path) -> list[dict]:
     """In this process (imports done first): compile_path and lint_bytes per size."""
-    sys.path.insert(0, str(REPO))
+    sys.path.insert(0, str(repo))
     import gc
 
     from dcf2bin.compiler import compile_path
@@ -159,8 +159,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--skip-alternatives", action="store_true",
                     help="do not run canopen and dcfchk")
     ap.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
+    ap.add_argument("--repo", type=Path, default=REPO,
+                    help="the dcf2bin checkout to measure (default: this one; e.g. ../main "
+                         "for the figures before a change)")
     args = ap.parse_args(argv)
-    env = child_env()
+    repo = args.repo.resolve()
+    env = child_env(repo)
     big = ensure_file(args.size)
     binf = OUT / f"plc_{args.size}.bin"
     r = args.repeat
@@ -174,7 +178,9 @@ def main(argv: list[str] | None = None) -> int:
         if chk:
             # dcfchk warns about [DynamicChannels] (CiA 306-3) and exits 1: still a full check
             res["dcfchk"] = measure(chk + [str(big)], r, env, ok=(0, 1))
-    if CORPUS.is_dir():
+    help_text = subprocess.run(dcf2bin("validate", "--help"), env=env, capture_output=True,
+                               text=True).stdout
+    if CORPUS.is_dir() and "--jobs" in help_text:
         res["corpus-j1"] = measure(dcf2bin("validate", "-j", "1", str(CORPUS)), r, env,
                                    ok=(0, 1))
         res["corpus-j2"] = measure(dcf2bin("validate", "-j", "2", str(CORPUS)), r, env,
@@ -186,14 +192,14 @@ def main(argv: list[str] | None = None) -> int:
     res["map"] = measure(dcf2bin("map", str(big)), r, env)
     res["simulate"] = measure(dcf2bin("simulate", str(binf)), r, env)
     res["version"] = measure(dcf2bin("--version"), r, env)
-    res["compile-small"] = measure(dcf2bin("compile", str(REPO / "samples" / "plc.dcf"), "-o",
+    res["compile-small"] = measure(dcf2bin("compile", str(repo / "samples" / "plc.dcf"), "-o",
                                            str(OUT / "plc_small.bin")), r, env)
     sizes = [int(s) for s in args.scaling.split(",") if s]
-    rows = scaling(sizes, max(3, r))
+    rows = scaling(sizes, max(3, r), repo)
 
     c, v = res["compile"], res["validate"]
     print(f"\nissue 22, whole processes, median of {r}, {args.size:,} variables "
-          f"({big.stat().st_size / MIB:.2f} MiB)\n")
+          f"({big.stat().st_size / MIB:.2f} MiB), dcf2bin from {repo}\n")
     print("| command | dcf2bin | alternative | ratio | target |")
     print("|---|---|---|---|---|")
 
