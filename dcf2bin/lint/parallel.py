@@ -106,9 +106,12 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
     order = sorted(range(n), key=lambda i: -sizes[i])
     tasks = [(i, items[i][0], items[i][1]) for i in order]
     out: list[R | None] = [None] * n
-    ctx = _context()
-    counter = ctx.Value("q", 0)
-    pipes = [ctx.Pipe(duplex=False) for _ in range(jobs - 1)]
+    try:
+        ctx = _context()
+        counter = ctx.Value("q", 0)
+        pipes = [ctx.Pipe(duplex=False) for _ in range(jobs - 1)]
+    except OSError:         # no shared memory or no pipes here (a sandbox): one process
+        return [lint(path, shown, opts) for path, shown in items]
     procs = [ctx.Process(target=_worker, args=(tasks, opts, counter, w, lint), daemon=True)
              for _, w in pipes]
 
