@@ -4,6 +4,7 @@ an optimisation changed nothing a user sees.
 
     python benchmarks/same_output.py record out/before.json   # before the change
     python benchmarks/same_output.py compare out/before.json  # after it: exit 1 on a difference
+    python benchmarks/same_output.py record out/main.json --repo ../main   # another checkout
 
 Files: every DCF/EDS/INI/BIN under samples/, tests/fixtures/ and ../shared/corpus/files
 (when present), and generated DCFs of 6,000 variables (plain and with Denotation=). Per file:
@@ -21,27 +22,28 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
-sys.path.insert(0, str(REPO))
-sys.path.insert(0, str(HERE))
+CORPUS = REPO.parent / "shared" / "corpus" / "files"
 SUFFIXES = (".dcf", ".eds", ".ini", ".bin")
 
 
-def inputs() -> list[Path]:
-    roots = [REPO / "samples", REPO / "tests" / "fixtures",
-             REPO.parent / "shared" / "corpus" / "files"]
+def inputs(repo: Path) -> list[tuple[str, Path]]:
+    """(name in the record, path): the same names for any checkout."""
+    roots = [("samples", repo / "samples"), ("fixtures", repo / "tests" / "fixtures"),
+             ("corpus", CORPUS)]
     files = []
-    for root in roots:
+    for name, root in roots:
         if root.is_dir():
-            files += sorted(p for p in root.rglob("*") if p.is_file()
-                            and p.suffix.lower() in SUFFIXES)
+            files += sorted((f"{name}/{p.relative_to(root)}", p) for p in root.rglob("*")
+                            if p.is_file() and p.suffix.lower() in SUFFIXES)
     out = HERE / "out"
     out.mkdir(exist_ok=True)
+    sys.path.insert(0, str(HERE))
     import gen_dcf
     for denot in (False, True):
         p = out / f"same_6000{'_denotations' if denot else ''}.dcf"
         if not p.exists():
             p.write_bytes(gen_dcf.generate(6000, denotations=denot).encode("ascii"))
-        files.append(p)
+        files.append((f"generated/{p.name}", p))
     return files
 
 
@@ -51,7 +53,9 @@ def digest(data: bytes | str) -> str:
     return hashlib.sha256(data).hexdigest()[:16]
 
 
-def one(path: Path) -> dict:
+def one(path: Path, repo: Path) -> dict:
+    """The digests of what compile and validate make of ``path`` (the checkout's own path
+    in them written as <repo>, so that two checkouts compare)."""
     from dcf2bin import __version__, compiler, report
     from dcf2bin.lint import Options, all_rules, run
     rec = {}
@@ -61,7 +65,8 @@ def one(path: Path) -> dict:
                 warnings.simplefilter("ignore")
                 res = compiler.compile_path(str(path))
             rec["compile"] = digest((res.data or b"") + "\0".join(
-                d.format() for d in res.diagnostics).encode())
+                d.format() for d in res.diagnostics).replace(str(HERE / "out"), "<out>")
+                .replace(str(repo), "<repo>").encode())
         except Exception as exc:  # noqa: BLE001 - recorded, compared
             rec["compile"] = f"raised {type(exc).__name__}: {exc}"
     result = run([str(path)], Options())
@@ -69,17 +74,21 @@ def one(path: Path) -> dict:
     text = report.json_report(result.diagnostics, [(f.path, f.kind) for f in result.files],
                               table, exit_code=int(result.exit_code()),
                               tool_version=__version__)
-    rec["validate"] = digest(text)
+    rec["validate"] = digest(text.replace(str(HERE / "out"), "<out>").replace(str(repo),
+                                                                               "<repo>"))
     return rec
 
 
 def main(argv: list[str]) -> int:
+    repo = REPO
+    if len(argv) == 4 and argv[2] == "--repo":
+        repo, argv = Path(argv[3]).resolve(), argv[:2]
     if len(argv) != 2 or argv[0] not in ("record", "compare"):
         print(__doc__)
         return 2
+    sys.path.insert(0, str(repo))
     mode, record = argv
-    got = {str(p.relative_to(REPO.parent) if p.is_relative_to(REPO.parent) else p): one(p)
-           for p in inputs()}
+    got = {name: one(p, repo) for name, p in inputs(repo)}
     if mode == "record":
         Path(record).write_text(json.dumps(got, indent=1, sort_keys=True))
         print(f"recorded {len(got)} files in {record}")

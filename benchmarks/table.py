@@ -54,7 +54,9 @@ SCALING_SPREAD = 0.25
 
 def child_env(repo: Path) -> dict[str, str]:
     env = dict(os.environ)
-    env["PYTHONPATH"] = str(repo) + os.pathsep + env.get("PYTHONPATH", "")
+    # only the checkout measured (python -m puts the working directory first on the path:
+    # the children run in benchmarks/out, which has no dcf2bin package)
+    env["PYTHONPATH"] = str(repo)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPYCACHEPREFIX"] = str(OUT / "pycache")
     env.pop("DCF2BIN_DEBUG", None)
@@ -179,7 +181,7 @@ def main(argv: list[str] | None = None) -> int:
             # dcfchk warns about [DynamicChannels] (CiA 306-3) and exits 1: still a full check
             res["dcfchk"] = measure(chk + [str(big)], r, env, ok=(0, 1))
     help_text = subprocess.run(dcf2bin("validate", "--help"), env=env, capture_output=True,
-                               text=True).stdout
+                               text=True, cwd=OUT).stdout
     if CORPUS.is_dir() and "--jobs" in help_text:
         res["corpus-j1"] = measure(dcf2bin("validate", "-j", "1", str(CORPUS)), r, env,
                                    ok=(0, 1))

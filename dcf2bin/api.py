@@ -128,7 +128,7 @@ def to_dcf(source: Container, *, eds: str | os.PathLike | None = None,
     encoding), ``diagnostics`` (B2Dxxx warnings name what will not compile back, and
     the container's own warnings), ``roundtrip`` (compile with default options gives
     the container's bytes) and ``options`` (the compile options that give them
-    otherwise, e.g. ``["--select all"]``). ``eds``: the device's EDS, for exact types,
+    otherwise, e.g. ``["--entries all"]``). ``eds``: the device's EDS, for exact types,
     access and names; ``dcf_name`` goes into ``[FileInfo] FileName``.
     Raises ``ReadError`` when the bytes are no container.
 
@@ -162,9 +162,9 @@ def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
     one string (comma-separated) or several; an unknown one raises ``ValueError``.
     An unreadable path is an ``IO001`` finding, not an exception.
 
-        >>> [(d.severity.value, d.line, d.rule) for d in validate("samples/plc.dcf",
-        ...                                                       select="DCF2")]
-        [('info', 69, 'DCF213')]
+        >>> [(d.severity.value, d.line, d.rule) for d in validate("samples/bench_plc.dcf",
+        ...                                                       select="DCF3")]
+        [('info', 243, 'DCF320')]
         >>> [d.rule for d in validate(["samples/bild8.bin"], select="CNT")]
         []
     """

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from dcf2bin import layout as layout_mod
 from dcf2bin import model
 from dcf2bin import select as select_mod
+from dcf2bin import values
 from dcf2bin.container import BinContainer
 from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity
 
@@ -44,6 +45,8 @@ class CompileOptions:
     rx_cobs: int | None = None
     granularity: int = 64
     bit_mapping: bool = True
+    # a written value outside LowLimit..HighLimit (DCF212): "error" or "warning"
+    limit_check: str = "error"
 
 
 @dataclass
@@ -120,6 +123,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         if (d.rule, d.line) not in reported:
             diags.append(Diagnostic(Severity.WARNING, d.message + " (not written by compile)",
                                     d.file, d.line, d.column, d.offset, d.rule, d.hint))
+    diags.extend(value_checks(dev, sel.wrote, limit_errors=opts.limit_check == "error"))
     extra = []
     for path in opts.append:
         from dcf2bin.writes import ExtraWritesError, load_extra_writes
@@ -141,6 +145,94 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         if any(d.severity is Severity.ERROR for d in found):
             return Result(None, diags, dev, None, lay)
     return Result(data, diags, dev, c, lay, sel, extra)
+
+
+# -- LowLimit/HighLimit and 0x-prefixed hex (validate's DCF210-212, DCF218) ------------------
+_LIMITS = (("lowlimit", "LowLimit"), ("highlimit", "HighLimit"))
+_HEX_CODES = (0x0A, 0x0F)                                    # OCTET_STRING, DOMAIN
+
+
+def value_checks(dev: model.Device, written, limit_errors: bool = True) -> list[Diagnostic]:
+    """What validate says of the values beyond DCF200, in its words: a DefaultValue or
+    ParameterValue outside LowLimit..HighLimit (DCF212) -- an error where ``written(index,
+    sub)`` says the entry's effective value is written (a warning with ``limit_errors``
+    False), a warning "(not written by compile)" elsewhere; a limit that is no value of
+    the type (DCF210) or LowLimit above HighLimit (DCF211), warnings (limits are never
+    written; the check cannot be made); an OCTET_STRING/DOMAIN value with a 0x prefix
+    (DCF218, a warning). Only entries with a limit or of those two types are looked at
+    (one test per entry otherwise)."""
+    found: dict[tuple[str, int | None], list] = {}   # (rule, line) -> [message, written]
+    node_id, enc = dev.node_id, dev.encoding
+
+    def add(rule: str, line: int | None, message: str, is_written: bool) -> None:
+        old = found.get((rule, line))   # CompactSubObj: one line for N entries
+        if old is None:
+            found[(rule, line)] = [message, is_written]
+        elif is_written:
+            old[1] = True
+
+    for obj in dev.objects.values():
+        for e in obj.entries.values():
+            dtype = e.dtype
+            if e.low is None and e.high is None and (dtype is None or dtype.size is not None):
+                continue   # the common case: no limits, a fixed-size type
+            if dtype is None or e.implicit:
+                continue
+            texts = []
+            if e.param is not None:
+                texts.append(("parametervalue", "ParameterValue", e.param, True))
+            if e.default is not None:
+                texts.append(("defaultvalue", "DefaultValue", e.default,
+                              e.param is None and e.download_file is None))
+            some = written(e.index, e.sub)
+            if dtype.code in _HEX_CODES:
+                for key, shown, text, eff in texts:
+                    if values.hex_prefix(text) and values.hex_problem(dtype, text) is None:
+                        add("DCF218", e.key_where(key).line,
+                            f"{e.label} {shown}: {values.hex_prefix_problem(dtype)}",
+                            eff and some)
+                continue
+            if dtype.size is None:
+                continue   # limits on a string or DOMAIN: validate's DCF217
+            limits = []
+            for (key, shown), text in zip(_LIMITS, (e.low, e.high)):
+                number = None
+                if text is not None:
+                    try:
+                        number = values.as_number(dtype, text, node_id, encoding=enc)
+                    except values.ValueProblem as exc:
+                        add("DCF210", e.key_where(key).line,
+                            f"{e.label} {shown}: {values.clip(str(exc))}", some)
+                limits.append(number)
+            low, high = limits
+            message = values.inverted_limits(e.label, e.low, low, e.high, high)
+            if message is not None:
+                add("DCF211", e.key_where("lowlimit").line, message, some)
+                continue
+            if low is None and high is None:
+                continue
+            for key, shown, text, eff in texts:
+                try:
+                    v = values.as_number(dtype, text, node_id, encoding=enc)
+                except values.ValueProblem:
+                    continue   # DCF200
+                message = None if v is None else values.limit_problem(
+                    e.label, shown, text, v, e.low, low, e.high, high)
+                if message is not None:
+                    add("DCF212", e.key_where(key).line, message, eff and some)
+    out = []
+    for (rule, line), (message, is_written) in found.items():
+        hint = ""
+        if not is_written:
+            severity, message = Severity.WARNING, message + " (not written by compile)"
+        elif rule == "DCF212" and limit_errors:
+            severity, hint = Severity.ERROR, ("change the value or the limits; "
+                                              "--no-limit-check makes this a warning")
+        else:
+            severity = Severity.WARNING
+        out.append(Diagnostic(severity, message, dev.path, line, rule=rule, hint=hint))
+    out.sort(key=lambda d: d.line or 0)
+    return out
 
 
 def container_of(dev: model.Device, sel, lay, opts: CompileOptions, extra=()) -> BinContainer:
@@ -191,7 +283,7 @@ def _nothing_to_write(dev: model.Device, opts: CompileOptions) -> Diagnostic:
     if opts.select == select_mod.AUTO:
         return Diagnostic(Severity.WARNING, "nothing is configured (no ParameterValue or "
                           "DownloadFile, no network variable): the container holds no entries",
-                          dev.path, rule="DCF009", hint="--select all also writes every "
+                          dev.path, rule="DCF009", hint="--entries all also writes every "
                           "DefaultValue (the device's defaults)")
     return Diagnostic(Severity.WARNING, "no entry has a value: the container holds no entries",
                       dev.path, rule="DCF009", hint="give the entries a ParameterValue")

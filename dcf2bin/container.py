@@ -15,6 +15,10 @@ from dcf2bin import schema
 from dcf2bin.diagnostics import Diagnostic, Severity
 
 
+# the segments as messages name them (validate's CNT rules use the same words)
+_NAMES = {"index": "index", "address": "PI address", "extinfo": "extended info",
+          "piparam": "PI parameter"}
+
 class ContainerError(Exception):
     """A container that cannot be read; names the byte offset."""
 
@@ -103,17 +107,17 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
 
     n = len(data)
     if n < schema.HEADER_SIZE:
-        raise ContainerError(f"truncated header: {n} bytes, a header needs "
-                             f"{schema.HEADER_SIZE}", 0, "CNT001")
+        raise ContainerError(f"{n} bytes: too short for the {schema.HEADER_SIZE}-byte header",
+                             0, "CNT001")
     values = schema.HEADER.unpack_from(data, 0)
     h = dict(zip(schema.HEADER_FIELDS, values))
     total = h["total_size"]
     if total > n:
-        raise ContainerError(f"truncated container: header says {total} bytes, file has {n}", 0,
+        raise ContainerError(f"header says {total} bytes, the file has {n} (truncated)", 0,
                              "CNT002")
     if total < schema.HEADER_SIZE:
-        raise ContainerError(f"header says the container has {total} bytes, less than the "
-                             f"{schema.HEADER_SIZE}-byte header", 0, "CNT002")
+        raise ContainerError(f"header says {total} bytes, less than the header itself", 0,
+                             "CNT002")
     if total < n:
         raise ContainerError(f"{n - total} trailing bytes after the container's total size "
                              f"{total}", total, "CNT003")
@@ -123,17 +127,17 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
         field_off = 8 + 8 * i
         if size == 0:
             if off != 0:
-                warn(f"empty {name} segment has offset {off} (expected 0)", field_off, "CNT007")
+                warn(f"empty {_NAMES[name]} segment has offset {off}", field_off, "CNT007")
             continue
         if off < schema.HEADER_SIZE or off + size > total:
-            raise ContainerError(f"{name} segment [{off}, {off + size}) lies outside the "
+            raise ContainerError(f"{_NAMES[name]} segment [{off}, {off + size}) lies outside the "
                                  f"container [40, {total})", field_off, "CNT004")
         spans.append((off, off + size, name))
     spans.sort()
     for (s1, e1, a), (s2, e2, b) in zip(spans, spans[1:]):
         if s2 < e1:
-            raise ContainerError(f"{b} segment at {s2} overlaps {a} segment [{s1}, {e1})", s2,
-                                 "CNT005")
+            raise ContainerError(f"{_NAMES[b]} segment [{s2}, {e2}) overlaps the {_NAMES[a]} "
+                                 f"segment [{s1}, {e1})", s2, "CNT005")
     present = len(spans)
     if h["segment_count"] != present:
         warn(f"header counts {h['segment_count']} segments, {present} are present", 6, "CNT006")
@@ -165,8 +169,8 @@ def read(data: bytes) -> tuple[BinContainer, list[Diagnostic]]:
     if pos < total:
         c.gaps.append((pos, bytes(data[pos:total])))
     if c.gaps:
-        warn(f"{sum(len(g) for _, g in c.gaps)} bytes between segments are not part of any "
-             "segment", c.gaps[0][0], "CNT008")
+        warn(f"{sum(len(g) for _, g in c.gaps)} bytes between segments belong to no segment",
+             c.gaps[0][0], "CNT008")
     order = [s[2] for s in spans]
     if order != [s for s in schema.SEGMENTS if s in order]:
         warn("segments are not in the header's order", spans[0][0], "CNT008")

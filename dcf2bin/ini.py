@@ -12,8 +12,9 @@ from dataclasses import dataclass
 from dcf2bin.diagnostics import Diagnostics, Where
 
 # "[1018sub01]" and "[1018sub1]" are the same section (SPEC §1): canonical form
-# is lower case with the subindex in hex without leading zeros.
-_SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]{1,2})")
+# is lower case with the subindex in hex without leading zeros. More than 2 digits
+# ("[1018sub001]", lint DCF061) is that section too, so a repeat is a duplicate.
+_SUB_RE = re.compile(r"([0-9a-f]{4})sub([0-9a-f]+)")
 
 
 def canonical_section(name: str) -> str:

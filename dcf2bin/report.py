@@ -26,7 +26,6 @@ from dcf2bin.diagnostics import Diagnostic, Severity, escape, format_text, locat
 JSON_FORMAT = "dcf2bin-validate"
 JSON_VERSION = 1
 SARIF_SCHEMA = "https://json.schemastore.org/sarif-2.1.0.json"
-INFORMATION_URI = "https://github.com/dcf2bin/dcf2bin/blob/main/docs/validate.md"
 
 
 def use_colour(stream: TextIO) -> bool:
@@ -58,12 +57,14 @@ def left_out(file: str, rule: str, n: int, cap: int = CAP) -> str:
 def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool = False,
                cap: int | None = CAP) -> list[str]:
     """Lines of the text form, at most ``cap`` per rule and file (then one line saying how
-    many were left out)."""
+    many were left out); with ``hints``, each hint once per rule and file, after the
+    first finding that has it."""
     diags = list(diags)
     total: dict = {}
     for d in diags:
         total[(d.file, d.rule)] = total.get((d.file, d.rule), 0) + 1
     seen: dict = {}
+    hinted: set = set()
     out = []
     for d in diags:
         key = (d.file, d.rule)
@@ -71,7 +72,8 @@ def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool
         if cap is not None and n > cap:
             continue
         out.append(format_text(d, colour))
-        if hints and d.hint:
+        if hints and d.hint and (key, d.hint) not in hinted:
+            hinted.add((key, d.hint))
             out.append(f"    hint: {escape(d.hint)}")
         if cap is not None and n == cap and total[key] > cap:
             out.append(left_out(d.file, d.rule, total[key] - cap, cap))
@@ -205,8 +207,9 @@ def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_cod
         "$schema": SARIF_SCHEMA,
         "version": "2.1.0",
         "runs": [{
+            # no "informationUri" (optional in SARIF 2.1.0): dcf2bin has no public URL
             "tool": {"driver": {"name": "dcf2bin", "version": tool_version,
-                                "informationUri": INFORMATION_URI, "rules": driver_rules}},
+                                "rules": driver_rules}},
             "columnKind": "unicodeCodePoints",
             "results": results,
             "invocations": [{"executionSuccessful": int(exit_code) in (0, 1),

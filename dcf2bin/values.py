@@ -30,7 +30,8 @@ from .datatypes import (BOOL, BY_CODE, DOMAIN, OSTRING, REAL, SINT, TIME, UINT, 
                         VSTRING, DataType)
 
 __all__ = ["ValueProblem", "NeedsNodeId", "uses_nodeid", "parse_int", "eval_int",
-           "split_numeric_comment", "encode", "zero", "decode", "to_python"]
+           "split_numeric_comment", "hex_prefix", "hex_problem", "hex_prefix_problem",
+           "as_number", "limit_problem", "inverted_limits", "encode", "zero", "decode", "to_python"]
 
 
 class ValueProblem(Exception):
@@ -258,24 +259,54 @@ def _unquote(text: str) -> str:
 
 def _encode_hex(dtype: DataType, text: str) -> bytes:
     # SPEC §1: OCTET_STRING and DOMAIN are hex byte pairs without 0x; blanks may stand
-    # between pairs (not inside one). "" is the empty value.
+    # between pairs (not inside one). "" is the empty value. Sevcon's DriveWizard writes
+    # them with a 0x prefix: the bytes are those after it (lint warns, see hex_prefix).
     t = text.strip(_BLANKS)
     if t == '""':
         return b""
+    body = t[2:] if hex_prefix(t) else t
     try:
-        if t.isascii() and "\n" not in t and "\r" not in t and "\f" not in t and "\v" not in t:
-            return bytes.fromhex(t)
+        if body.isascii() and "\n" not in body and "\r" not in body and "\f" not in body \
+                and "\v" not in body:
+            return bytes.fromhex(body)
     except ValueError:
         pass
     name = dtype.name
-    if t[:2] in ("0x", "0X"):
-        raise ValueProblem(f"{name} value must be hex byte pairs without 0x: '{_q(t)}'")
-    for ch in t:
+    if t[:2] in ("0x", "0X") and body is t:
+        raise ValueProblem(f"{name} value '{_q(t)}' has no hex byte pairs after 0x")
+    for ch in body:
         if ch not in _BLANKS and ch not in "0123456789abcdefABCDEF":
             raise ValueProblem(f"invalid character '{ch}' in {name} value '{_q(t)}'")
-    if sum(ch not in _BLANKS for ch in t) % 2:
+    if sum(ch not in _BLANKS for ch in body) % 2:
         raise ValueProblem(f"odd number of hex digits in {name} value '{_q(t)}'")
     raise ValueProblem(f"a blank splits a hex byte pair in {name} value '{_q(t)}'")
+
+
+_HEX_DIGITS = frozenset("0123456789abcdefABCDEF")
+
+
+def hex_prefix(text: str) -> bool:
+    """True when an OCTET_STRING/DOMAIN value text starts with ``0x``/``0X`` directly
+    followed by a hex digit (``0x0102``): CiA 306 writes these without the prefix, Sevcon
+    DriveWizard with it; ``encode`` takes the bytes after it, and lint warns."""
+    t = text.lstrip(_BLANKS)
+    return t[:2] in ("0x", "0X") and t[2:3] in _HEX_DIGITS
+
+
+def hex_problem(dtype: DataType, text: str) -> str | None:
+    """What is wrong with an OCTET_STRING/DOMAIN value text (None: nothing)."""
+    try:
+        _encode_hex(dtype, text)
+    except ValueProblem as exc:
+        return str(exc)
+    return None
+
+
+def hex_prefix_problem(dtype: DataType) -> str:
+    """The words of a 0x-prefixed OCTET_STRING/DOMAIN value (validate's DCF218; compile
+    says the same), after ``<entry> <key>: ``."""
+    return (f"{dtype.name} value starts with 0x; hex byte pairs are written without it "
+            "(the bytes after it are used)")
 
 
 def encode(dtype: DataType, text: str, *, node_id: int | None = None,
@@ -427,3 +458,50 @@ def to_python(dtype: DataType, data: bytes) -> int | float | str | bytes | bool:
     if kind == USTRING:
         return bytes(data).decode("utf-16-le", errors="replace")
     return bytes(data)
+
+
+# ---------------------------------------------------------------------------------------
+# LowLimit/HighLimit (validate's DCF210-DCF212; compile checks them with the same words).
+
+def as_number(dtype: DataType, text: str, node_id: int | None, *,
+              encoding: str = "utf-8") -> int | float | None:
+    """The value of a numeric text (a numeric comment split off) as an int or float of
+    ``dtype``; None when it uses ``$NODEID`` and no node-ID is known. Raises
+    ValueProblem for a text that is not a value of the type."""
+    if uses_nodeid(text) and node_id is None:
+        return None
+    data = encode(dtype, split_numeric_comment(text)[0], node_id=node_id, encoding=encoding)
+    if dtype.kind == REAL:
+        return struct.unpack(_REAL_INFO[dtype.code][1], data)[0]
+    return int.from_bytes(data, "little", signed=dtype.kind == SINT)
+
+
+def shown(text: str, value) -> str:
+    """'0xFF (= -1)' where the text is not the plain decimal number."""
+    return text if text.strip() == str(value) else f"{text} (= {value})"
+
+
+def inverted_limits(label: str, low_text: str, low, high_text: str, high) -> str | None:
+    """DCF211's words when LowLimit is greater than HighLimit, else None."""
+    if low is None or high is None or low <= high:
+        return None
+    return (f"{label} LowLimit {shown(low_text, low)} is greater than HighLimit "
+            f"{shown(high_text, high)}")
+
+
+def limit_problem(label: str, key: str, text: str, value, low_text: str | None, low,
+                  high_text: str | None, high) -> str | None:
+    """DCF212's words when ``value`` (the number of ``text``, the entry's ``key``:
+    DefaultValue or ParameterValue) lies outside LowLimit..HighLimit, else None."""
+    if low is not None and value < low:
+        return (f"{label} {key} {shown(text, value)} is below LowLimit "
+                f"{shown(low_text, low)}")
+    if high is not None and value > high:
+        return (f"{label} {key} {shown(text, value)} is above HighLimit "
+                f"{shown(high_text, high)}")
+    return None
+
+
+def clip(message: str, n: int = 160) -> str:
+    """A message part cut in the middle to ``n`` characters."""
+    return message if len(message) <= n else message[:n - 20] + "..." + message[-17:]

@@ -63,17 +63,18 @@ def test_csv_errors_at_their_lines(tmp_path):
     r = run("allocate", src, "-o", out)
     assert r.exit_code == 1 and not out.exists()
     assert r.stderr.splitlines() == [
-        f"{src}:3: error: empty name [ALC001]",
+        f"{src}:3: error: empty name [ALC004]",
         f"{src}:4: error: name 'OK' repeats line 2 (names are compared without regard to "
-        "case) [ALC001]",
+        "case) [ALC005]",
         f"{src}:5: error: unknown data type 'UNSIGNED12' (a CiA 306 name such as UNSIGNED16, "
-        "or a code such as 0x0006) [ALC001]",
+        "or a code such as 0x0006) [ALC006]",
         f"{src}:6: error: data type VISIBLE_STRING has no network-variable range (CiA 405 "
-        "ranges exist for the integer types of 8 to 64 bits, BOOLEAN and REAL32) [ALC001]",
-        f"{src}:7: error: direction 'sideways' must be input or output (in, out) [ALC001]",
+        "ranges exist for the integer types of 8 to 64 bits, BOOLEAN and REAL32) [ALC007]",
+        f"{src}:7: error: direction 'sideways' must be input or output (in, out) [ALC008]",
         f"{src}:8: error: expected 3 fields (name, type, direction), found 2 [ALC001]",
         f"{src}:10: error: data type REAL64 has no network-variable range (CiA 405 ranges "
-        "exist for the integer types of 8 to 64 bits, BOOLEAN and REAL32) [ALC001]"]
+        "exist for the integer types of 8 to 64 bits, BOOLEAN and REAL32) [ALC007]",
+        f"{src}: 7 errors, nothing written"]
 
 
 def test_header_row_required(tmp_path):
@@ -82,7 +83,8 @@ def test_header_row_required(tmp_path):
     r = run("allocate", src)
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [f"{src}:1: error: the first line must be the header row "
-                                     "'name,type,direction' [ALC001]"]
+                                     "'name,type,direction' [ALC001]",
+                                     f"{src}: 1 error, nothing written"]
 
 
 def test_a_kind_fills_its_0x40_indices_exactly(tmp_path):
@@ -101,7 +103,8 @@ def test_a_kind_fills_its_0x40_indices_exactly(tmp_path):
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{src}:{n + 2}: error: 'one_more': the UNSIGNED8 outputs do not fit their 0x40 "
-        "indices 0xA4C0-0xA4FF (this is element 16256; there are 16256) [ALC002]"]
+        "indices 0xA4C0-0xA4FF (this is element 16256; there are 16256) [ALC002]",
+        f"{src}: 1 error, nothing written"]
 
 
 # -- --into --------------------------------------------------------------------------------------
@@ -197,7 +200,8 @@ def test_into_dynamic_channels_is_an_error(tmp_path):
     assert r.exit_code == 1 and r.stdout == ""
     assert r.stderr.splitlines() == [
         f"{base}:4: error: the DCF has a [DynamicChannels] section: its segments fix the "
-        "layout, so variables cannot be allocated by the CiA 405 ranges [ALC003]"]
+        "layout, so variables cannot be allocated by the CiA 405 ranges [ALC003]",
+        f"{csv}: 1 error, nothing written"]
 
 
 def test_into_existing_name_with_another_type(tmp_path):
@@ -207,7 +211,8 @@ def test_into_existing_name_with_another_type(tmp_path):
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{csv}:3: error: 'digin_1' is already in {SAMPLES / 'plc.dcf'} as 0xA040sub1, "
-        "UNSIGNED8 input, not INTEGER8 input [ALC003]"]
+        "UNSIGNED8 input, not INTEGER8 input [ALC003]",
+        f"{csv}: 1 error, nothing written"]
 
 
 def test_into_latin1_base_rejects_a_name_it_cannot_hold(tmp_path):
@@ -218,7 +223,8 @@ def test_into_latin1_base_rejects_a_name_it_cannot_hold(tmp_path):
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{csv}:2: error: 'Druck \u2192 Ventil' cannot be written in the latin-1 encoding of "
-        "the DCF [ALC003]"]
+        "the DCF [ALC003]",
+        f"{csv}: 1 error, nothing written"]
 
 
 def test_never_overwrites_its_inputs(tmp_path):
@@ -344,3 +350,19 @@ def test_property_up_to_the_index_limit(groups):
             firsts.setdefault(kind[n], n)
         assert sorted(dg.message.split("'")[1] for dg in exc.value.diagnostics) == \
             sorted(firsts.values())
+
+
+def test_a_name_with_a_control_character_and_an_empty_file(tmp_path):
+    src = tmp_path / "c.csv"
+    src.write_text(HEADER + "a\tb,UNSIGNED8,in\n")
+    r = run("allocate", src)
+    assert r.exit_code == 1
+    assert r.stderr.splitlines() == [
+        f"{src}:2: error: name 'a\\tb' holds a control character [ALC004]",
+        f"{src}: 1 error, nothing written"]
+    src.write_text("")
+    r = run("allocate", src)
+    assert r.exit_code == 1
+    assert r.stderr.splitlines() == [
+        f"{src}: error: empty file: expected the header row 'name,type,direction' [ALC001]",
+        f"{src}: 1 error, nothing written"]

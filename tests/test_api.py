@@ -199,9 +199,9 @@ def test_read_container_raises_with_the_offset():
     with pytest.raises(dcf2bin.ReadError) as info:
         dcf2bin.read_container(b"\x01\x02", name="short.bin")
     assert [d.format() for d in info.value.diagnostics] == [
-        "short.bin:0x0: error: truncated header: 2 bytes, a header needs 40 [CNT001]"]
-    assert str(info.value) == "short.bin:0x0: error: truncated header: 2 bytes, a header " \
-        "needs 40 [CNT001]"
+        "short.bin:0x0: error: 2 bytes: too short for the 40-byte header [CNT001]"]
+    assert str(info.value) == "short.bin:0x0: error: 2 bytes: too short for the 40-byte " \
+        "header [CNT001]"
     assert isinstance(info.value, ValueError)
 
 
@@ -272,7 +272,7 @@ def test_to_dcf_names_what_will_not_round_trip():
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
                      attributes=b"\x30\x70")
     res = dcf2bin.to_dcf(c, name="ro.bin")
-    assert (res.roundtrip, res.options) == (False, ["--select all"])
+    assert (res.roundtrip, res.options) == (False, ["--entries all"])
     assert [d.rule for d in res.diagnostics] == ["B2D004", "B2D010"]
     assert "FileName=container.dcf\n" in res.text
     assert dcf2bin.compile_path("ro.dcf", data=res.to_bytes(), select="all").data == \

@@ -278,7 +278,7 @@ def test_prediction_with_options(c):
                 opts["container_version"] = int(o.split()[1])
             if o == "--no-process-image":
                 opts["process_image"] = False
-            if o == "--select all":
+            if o == "--entries all":
                 opts["select"] = "all"
         back = compile_text(res.to_bytes(), **opts)
         assert back.data == data
@@ -331,7 +331,7 @@ def test_version_and_missing_pi_name_the_options():
 
 
 def test_select_all_is_suggested_when_it_reproduces_the_container():
-    """Item 20: ro entries outside a PDO block come back only with --select all (SPEC §3.2);
+    """Item 20: ro entries outside a PDO block come back only with --entries all (SPEC §3.2);
     B2D010 says so, and the options name it."""
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 0, b"\x05")],
                      attributes=b"\x30\x70")
@@ -340,11 +340,11 @@ def test_select_all_is_suggested_when_it_reproduces_the_container():
         "write ro entries outside the PDO objects [B2D004]",
         "x.bin:0x2C: warning: the DCF will not compile back to the same container: entry 1 is "
         "0x1000sub0 = 95010000 (attribute 0x30), compile writes 0x2000sub0 = 05 (attribute "
-        "0x70); compile gives the same bytes only with --select all [B2D010]",
+        "0x70); compile gives the same bytes only with --entries all [B2D010]",
     ]
     data = c.to_bytes()
     res = convert(data)
-    assert res.options == ["--select all"]
+    assert res.options == ["--entries all"]
     assert compile_text(res.to_bytes(), select="all").data == data
 
 
@@ -357,8 +357,8 @@ def test_select_all_suggestion_on_the_command_line(tmp_path):
         "compile does not write ro entries outside the PDO objects [B2D004]\n"
         f"{tmp_path / 'ro.bin'}:0x2C: warning: the DCF will not compile back to the same "
         "container: entry 1 is 0x1000sub0 = 95010000 (attribute 0x30), compile writes "
-        "nothing; compile gives the same bytes only with --select all [B2D010]\n"))
-    r = run("compile", tmp_path / "ro.dcf", "--select", "all", "-o", tmp_path / "back.bin")
+        "nothing; compile gives the same bytes only with --entries all [B2D010]\n"))
+    r = run("compile", tmp_path / "ro.dcf", "--entries", "all", "-o", tmp_path / "back.bin")
     assert r.exit_code == 0 and (tmp_path / "back.bin").read_bytes() == c.to_bytes()
 
 
@@ -371,13 +371,13 @@ def test_select_all_with_other_options():
     assert [d.format() for d in res.diagnostics if d.rule == dcfwriter.R_SUMMARY] == [
         "x.bin:0x3C: warning: the DCF will not compile back to the same container: entry 3 is "
         "0x1000sub0 = 91010F00 (attribute 0x30), compile writes nothing; compile gives the "
-        "same bytes only with --select all --container-version 3 --no-process-image [B2D010]"]
+        "same bytes only with --entries all --container-version 3 --no-process-image [B2D010]"]
     back = compile_text(res.to_bytes(), select="all", container_version=3, process_image=False)
     assert back.data == data
 
 
 def test_select_all_is_not_suggested_when_it_would_write_more():
-    """--select all would also write the implied sub 0 of 0x2000 (a DefaultValue): no hint."""
+    """--entries all would also write the implied sub 0 of 0x2000 (a DefaultValue): no hint."""
     c = BinContainer(entries=[(0x1000, 0, b"\x95\x01\x00\x00"), (0x2000, 1, b"\x05")],
                      attributes=b"\x30\x70")
     data = c.to_bytes()
@@ -393,7 +393,7 @@ def test_select_all_is_not_suggested_when_it_would_write_more():
 @PROPS
 @given(dcf_texts())
 def test_containers_compiled_with_select_all(text):
-    """Containers compiled with --select all: bin2dcf's options are exactly what compiles
+    """Containers compiled with --entries all: bin2dcf's options are exactly what compiles
     them back, and the default-options prediction stays exact."""
     first = compile_text(text.encode("utf-8"), "gen.dcf", select="all")
     assume(first.ok)
@@ -401,7 +401,7 @@ def test_containers_compiled_with_select_all(text):
     back = compile_text(res.to_bytes())
     assert (back.data == first.data) == res.roundtrip
     if res.options:
-        again = compile_text(res.to_bytes(), select="all" if "--select all" in res.options
+        again = compile_text(res.to_bytes(), select="all" if "--entries all" in res.options
                              else "auto")
         assert again.data == first.data, [d.format() for d in res.diagnostics]
 
@@ -551,8 +551,63 @@ def test_default_output_never_clobbers_an_existing_dcf(tmp_path):
     r = run("bin2dcf", tmp_path / "plc.bin")
     assert r.exit_code == 2
     assert r.stderr == (f"dcf2bin: error: {tmp_path / 'plc.dcf'} exists (often the DCF this "
-                        "container was compiled from); choose the output with -o\n")
+                        "container was compiled from); name the output with -o to replace it, "
+                        "or give --force\n")
     assert (tmp_path / "plc.dcf").read_text() == "; the user's own DCF\n"
     (tmp_path / "plc.dcf").unlink()
     assert run("bin2dcf", tmp_path / "plc.bin").exit_code == 0
     assert (tmp_path / "plc.dcf").read_text().startswith("; DCF written by dcf2bin bin2dcf")
+
+
+# -- DIS-2 (D-12): the old-COB-ID write of a PDO block whose CAN-ID changes -------------------
+
+def test_dis2_old_cob_id_block_comes_back_with_its_default_value(tmp_path):
+    """samples/dis2_cobid.bin (compile --profile dis2) starts RPDO1's block with the COB-ID
+    the drive has, | 0xC0000000. bin2dcf gives comm sub 1 that DefaultValue, says in an
+    info and in the DCF that --profile dis2 gives the bytes back, and warns of nothing."""
+    binary = (SAMPLES / "dis2_cobid.bin").read_bytes()
+    r = run("bin2dcf", SAMPLES / "dis2_cobid.bin", "-o", tmp_path / "back.dcf")
+    assert r.exit_code == 0
+    assert r.stderr.splitlines() == [
+        f"{SAMPLES / 'dis2_cobid.bin'}: info: compile gives the same bytes with --profile "
+        "dis2: the PDO blocks first disable under the COB-ID the drive had (its "
+        "DefaultValue), as Metronix DIS-2 drives need [B2D010]"]
+    text = (tmp_path / "back.dcf").read_text()
+    assert "; compile it with --profile dis2 to get the container's bytes back.\n" in text
+    section = text[text.index("[1400sub1]"):text.index("[1600]")]
+    assert "DefaultValue=0x00000205\n" in section and "ParameterValue=0x40000301\n" in section
+    # TPDO1 keeps its CAN-ID (no old write): no DefaultValue of bin2dcf's making
+    tpdo = text[text.index("[1800sub1]"):text.index("[1801]")]
+    assert "DefaultValue" not in tpdo
+    r = run("compile", "--profile", "dis2", tmp_path / "back.dcf", "-o", tmp_path / "c.bin")
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "c.bin").read_bytes() == binary
+    res = dcfwriter.convert(read(binary)[0], "x.bin", dcf_name="x.dcf")
+    assert (res.roundtrip, res.options) == (False, ["--profile dis2"])
+    assert run("bin2dcf", "-q", SAMPLES / "dis2_cobid.bin", "-o", "-").stderr == ""
+
+
+def test_dis2_sample_without_a_cob_id_change_round_trips_with_default_options(tmp_path):
+    binary = (SAMPLES / "dis2.bin").read_bytes()
+    res = dcfwriter.convert(read(binary)[0], "dis2.bin", dcf_name="dis2.dcf")
+    assert (res.roundtrip, res.options, res.diagnostics) == (True, [], [])
+    assert "DefaultValue=0x" not in res.text.split("[1400sub1]")[1].split("[")[0]
+    assert compile_path("back.dcf", data=res.to_bytes()).data == binary
+
+
+def test_an_old_cob_id_write_that_dis2_would_not_make_is_still_a_warning():
+    """The same first write, but a mapping of 5 objects (DIS-2 allows 4): no profile
+    gives these bytes, so the verdict stays a warning and no DefaultValue is invented."""
+    c, _ = read((SAMPLES / "dis2_cobid.bin").read_bytes())
+    entries = list(c.entries)
+    i = next(k for k, e in enumerate(entries) if e[:2] == (0x1600, 0) and e[2] == b"\x01")
+    extra = [(0x1600, s, (0x60400010).to_bytes(4, "little")) for s in (2, 3, 4, 5)]
+    entries[i:i] = extra
+    entries[i + 4] = (0x1600, 0, b"\x05")
+    attrs = bytearray(c.attributes)
+    attrs[i:i] = b"\x70" * 4
+    c2 = BinContainer(entries=entries, attributes=bytes(attrs))
+    res = dcfwriter.convert(c2, "x.bin", dcf_name="x.dcf")
+    assert res.options == [] and not res.roundtrip
+    assert [(d.severity.value, d.rule) for d in res.diagnostics] == [("warning", "B2D010")]
+    assert "DefaultValue=0x00000205" not in res.text

@@ -76,35 +76,37 @@ def test_dry_run_prints_the_writes_and_touches_no_bus():
     r = run("download", DCF, "-n", "3", "--dry-run", "-i", "no-such-interface")
     assert (r.exit_code, r.stderr) == (0, "")
     lines = r.stdout.splitlines()
+    # every column lines up: the sources padded to the longest, the data last (issue 19)
     assert lines[:4] == [
         f"{DCF}: 15 SDO writes to node 3 (dry run, nothing sent)",
-        "   #  entry        size  data  source",
-        f"   1  0x1016sub1      4  64 00 01 00  {DCF}:84",
-        f"   2  0x1016sub2      4  C8 00 02 00  {DCF}:85",
+        "   #  entry       size  source                  data",
+        f"   1  0x1016sub1     4  {DCF}:84   64 00 01 00",
+        f"   2  0x1016sub2     4  {DCF}:85   C8 00 02 00",
     ]
-    assert lines[5] == (f"   4  0x2000sub0     15  48 61 6C 6C 20 33 3B 20 72 61 63 6B 20 23 32"
-                        f"  {DCF}:178")
+    assert lines[5] == (f"   4  0x2000sub0    15  {DCF}:178  "
+                        "48 61 6C 6C 20 33 3B 20 72 61 63 6B 20 23 32")
     # the CiA 301 PDO block: disable, mapping 0, entries, count, enable
     assert lines[10:] == [
-        f"   9  0x1800sub1      4  83 01 00 80  {DCF}:133",
-        f"  10  0x1800sub2      1  01  {DCF}:141",
-        f"  11  0x1A00sub0      1  00  {DCF}:154",
-        f"  12  0x1A00sub1      4  18 00 01 20  {DCF}:162",
-        f"  13  0x1A00sub2      4  08 00 05 00  {DCF}:170",
-        f"  14  0x1A00sub0      1  02  {DCF}:154",
-        f"  15  0x1800sub1      4  83 01 00 00  {DCF}:133",
+        f"   9  0x1800sub1     4  {DCF}:133  83 01 00 80",
+        f"  10  0x1800sub2     1  {DCF}:141  01",
+        f"  11  0x1A00sub0     1  {DCF}:154  00",
+        f"  12  0x1A00sub1     4  {DCF}:162  18 00 01 20",
+        f"  13  0x1A00sub2     4  {DCF}:170  08 00 05 00",
+        f"  14  0x1A00sub0     1  {DCF}:154  02",
+        f"  15  0x1800sub1     4  {DCF}:133  83 01 00 00",
     ]
+    assert {len(line.split("  samples")[0]) for line in lines[2:]} == {22}
 
 
 def test_dry_run_of_a_container_names_byte_offsets():
     r = run("download", "samples/device.bin", "-n", "3", "--dry-run")
-    assert r.stdout.splitlines()[2] == ("   1  0x1016sub1      4  64 00 01 00  "
-                                        "samples/device.bin:0x2C")
+    assert r.stdout.splitlines()[2] == ("   1  0x1016sub1     4  samples/device.bin:0x2C  "
+                                        "64 00 01 00")
 
 
 def test_node_id_resolves_nodeid_values():
     r = run("download", DCF, "-n", "5", "--dry-run")
-    assert r.stdout.splitlines()[-1] == f"  15  0x1800sub1      4  85 01 00 00  {DCF}:133"
+    assert r.stdout.splitlines()[-1] == f"  15  0x1800sub1     4  {DCF}:133  85 01 00 00"
 
 
 # -- aborts ---------------------------------------------------------------------------------
@@ -305,7 +307,8 @@ def test_concise_dcf_delivers_the_index_segment(bench):
 def test_concise_dcf_dry_run():
     r = run("download", DCF, "-n", "3", "--concise-dcf-to", "1", "--dry-run")
     assert r.stdout.splitlines()[0] == f"{DCF}: 1 SDO write to node 1 (dry run, nothing sent)"
-    assert r.stdout.splitlines()[2].startswith("   1  0x1F22sub3    170  0F 00 00 00 16 10 01")
+    assert r.stdout.splitlines()[2].startswith(
+        f"   1  0x1F22sub3   170  {DCF}  0F 00 00 00 16 10 01")
 
 
 # -- usage and inputs -----------------------------------------------------------------------
@@ -370,7 +373,7 @@ def test_unreadable_input_is_exit_3(tmp_path):
 def test_node_is_required():
     r = run("download", DCF, "--dry-run")
     assert r.exit_code == 2
-    assert "Missing option '-n' / '--node'" in r.stderr
+    assert "Missing option '-n' / '--node-id'" in r.stderr
 
 
 @pytest.mark.parametrize("n", ["0", "128"])

@@ -275,10 +275,10 @@ def _run_in(folder, args):
 
 
 @pytest.mark.parametrize("data, line", [
-    (b"", "x.bin:0x0: error: truncated header: 0 bytes, a header needs 40 [CNT001]"),
-    (bytes(39), "x.bin:0x0: error: truncated header: 39 bytes, a header needs 40 [CNT001]"),
+    (b"", "x.bin:0x0: error: 0 bytes: too short for the 40-byte header [CNT001]"),
+    (bytes(39), "x.bin:0x0: error: 39 bytes: too short for the 40-byte header [CNT001]"),
     (struct.pack("<IHH8I", 100, 1, 1, 40, 4, 0, 0, 0, 0, 0, 0) + bytes(4),
-     "x.bin:0x0: error: truncated container: header says 100 bytes, file has 44 [CNT002]"),
+     "x.bin:0x0: error: header says 100 bytes, the file has 44 (truncated) [CNT002]"),
     (struct.pack("<IHH8I", 44, 1, 1, 40, 4, 0, 0, 0, 0, 0, 0) + bytes(6),
      "x.bin:0x2C: error: 2 trailing bytes after the container's total size 44 [CNT003]"),
     (struct.pack("<IHH8I", 44, 1, 1, 40, 8, 0, 0, 0, 0, 0, 0) + bytes(4),
@@ -463,7 +463,7 @@ def test_dump_cli_warns_about_odd_layouts(tmp_path):
     assert r.exit_code == 0
     assert r.stderr.splitlines() == [
         "odd.bin:0x6: warning: header counts 4 segments, 3 are present [CNT006]",
-        "odd.bin:0x2B: warning: 11 bytes between segments are not part of any segment [CNT008]",
+        "odd.bin:0x2B: warning: 11 bytes between segments belong to no segment [CNT008]",
         "odd.bin:0x28: warning: segments are not in the header's order [CNT008]",
     ]
     assert (tmp_path / "odd.txt").read_text() == (GOLDEN / "odd.dump.txt").read_text()

@@ -366,7 +366,12 @@ def test_literals():
         return port.literal(port.PortSub(0, port.ENTRY, "", ctype, (), data))
     assert lit("UNSIGNED8", b"\xff") == "0xFFu"
     assert lit("UNSIGNED32", b"\x01\x00\x00\x80") == "0x80000001UL"
-    assert lit("UNSIGNED64", b"\xff" * 8) == "0xFFFFFFFFFFFFFFFFULL"
+    # 64-bit: most significant byte first, as the port manual's SET_U64 takes them
+    assert lit("UNSIGNED64", bytes(range(1, 9))) == (
+        "DCF2BIN_U64(0x08ull, 0x07ull, 0x06ull, 0x05ull, 0x04ull, 0x03ull, 0x02ull, 0x01ull)")
+    p = port.PortSub(0, port.ENTRY, "", "UNSIGNED64", (), b"\xff" + b"\x00" * 7)
+    assert port.literal(p, u64="SET_U64") == (
+        "SET_U64(0x00ull, 0x00ull, 0x00ull, 0x00ull, 0x00ull, 0x00ull, 0x00ull, 0xFFull)")
     assert lit("INTEGER8", b"\x80") == "(-127 - 1)"
     assert lit("INTEGER16", b"\xfe\xff") == "-2"
     assert lit("INTEGER32", b"\x00\x00\x00\x80") == "(-2147483647L - 1L)"
@@ -399,3 +404,146 @@ def test_cli_port_c_to_file(tmp_path):
     r = CliRunner().invoke(main, ["export", "-f", "port-c", str(SAMPLES / "dis2.dcf"),
                                   "--max-object-size", "1"])
     assert r.exit_code == 2
+
+
+# -- pLimits (CONFIG_LIMITS_CHECK), SET_U64, const data ------------------------------------------
+
+LIMITS_DCF = b"""[DeviceComissioning]
+NodeID=7
+
+[2000]
+DataType=0x0005
+AccessType=rw
+LowLimit=1
+HighLimit=0x64
+DefaultValue=5
+
+[2001]
+DataType=0x0003
+AccessType=rw
+LowLimit=-100
+DefaultValue=0
+
+[2002]
+DataType=0x0007
+AccessType=rw
+HighLimit=$NODEID+0x180
+DefaultValue=0x181
+
+[2003]
+DataType=0x001B
+AccessType=rw
+LowLimit=0x100
+HighLimit=0xFFFFFFFFFFFFFFFF
+DefaultValue=0x0102030405060708
+
+[2004]
+DataType=0x0015
+AccessType=rw
+LowLimit=-5
+HighLimit=5
+DefaultValue=-1
+
+[2005]
+DataType=0x0008
+AccessType=rw
+LowLimit=-1.5
+HighLimit=2.5
+DefaultValue=0.5
+
+[2006]
+DataType=0x0001
+AccessType=rw
+HighLimit=1
+DefaultValue=1
+
+[2007]
+DataType=0x0007
+AccessType=const
+DefaultValue=0x12345678
+
+[2008]
+DataType=0x0005
+AccessType=rw
+LowLimit=zz
+DefaultValue=5
+
+[2100]
+ObjectType=0x9
+SubNumber=3
+
+[2100sub0]
+DataType=0x0005
+AccessType=ro
+DefaultValue=2
+
+[2100sub1]
+DataType=0x0006
+AccessType=rw
+LowLimit=1
+HighLimit=10
+DefaultValue=3
+
+[2100sub2]
+DataType=0x001B
+AccessType=rw
+DefaultValue=0xFFFFFFFFFFFFFFFF
+
+[2200]
+ObjectType=0x8
+CompactSubObj=3
+DataType=0x0005
+AccessType=rw
+LowLimit=2
+HighLimit=9
+DefaultValue=4
+"""
+
+U64 = 0x0102030405060708
+LIMITED_WALK = [
+    "2000 n=1", "2000 00 t=2 a=0070 d=5 v=5 l=1..100",
+    "2001 n=1", "2001 00 t=11 a=0070 d=0 v=0 l=-100..32767",
+    "2002 n=1", "2002 00 t=5 a=0070 d=385 v=385 l=0..391",
+    "2003 n=1", f"2003 00 t=9 a=0070 d={U64} v={U64} l=256..18446744073709551615",
+    "2004 n=1", "2004 00 t=13 a=0070 d=-1 v=-1 l=-5..5",
+    "2005 n=1", "2005 00 t=17 a=0070 d=0x3F000000 v=0x3F000000 l=0xBFC00000..0x40200000",
+    "2006 n=1", "2006 00 t=1 a=0070 d=1 v=1 l=0..1",
+    "2007 n=1", "2007 00 t=5 a=0038 d=305419896 v=305419896",
+    "2008 n=1", "2008 00 t=2 a=0070 d=5 v=5",
+    "2100 n=3", "2100 00 t=2 a=0030 d=2 v=2", "2100 01 t=3 a=0070 d=3 v=3 l=1..10",
+    "2100 02 t=9 a=0070 d=18446744073709551615 v=18446744073709551615",
+    "2200 n=4", "2200 00 t=2 a=0032 d=3 v=3", "2200 01 t=2 a=0070 d=4 v=4 l=2..9",
+    "2200 02 t=2 a=0070 d=4 v=4 l=2..9", "2200 03 t=2 a=0070 d=4 v=4 l=2..9"]
+
+
+def test_limits_set_u64_and_const_in_the_source():
+    res = run("port-c", "lim.dcf", data=LIMITS_DCF)
+    assert [d.format() for d in res.diagnostics] == [
+        "lim.dcf:58: warning: 0x2008sub0 LowLimit: invalid integer 'zz'; no limits exported "
+        "for it [EXP208]"]
+    c = res.output
+    assert ("#ifdef CONFIG_LIMITS_CHECK\nstatic const LIMIT_U8_T od_2000_m0 = { 0x1u, 0x64u };"
+            "\n#endif\n") in c
+    assert "static const LIMIT_I16_T od_2001_m0 = { -100, 32767 };" in c
+    assert ("static const UNSIGNED64 od_2003_d0 = SET_U64(0x01ull, 0x02ull, 0x03ull, 0x04ull, "
+            "0x05ull, 0x06ull, 0x07ull, 0x08ull)\n") in c
+    assert ("static const LIMIT_U64_T od_2003_m0 = { DCF2BIN_U64(0x00ull, 0x00ull, 0x00ull, "
+            "0x00ull, 0x00ull, 0x00ull, 0x01ull, 0x00ull), DCF2BIN_U64(0xFFull, 0xFFull, "
+            "0xFFull, 0xFFull, 0xFFull, 0xFFull, 0xFFull, 0xFFull) };") in c
+    assert "const UNSIGNED32 od_2007 = 0x12345678UL;\n" in c            # CO_CONST_PERM: ROM
+    assert "DCF2BIN_DESC(&od_2007_d0, 0, CO_TYPEDESC_UNSIGNED32, CO_NUM_VAL | CO_READ_PERM " \
+           "| CO_CONST_PERM)" in c
+    assert "DCF2BIN_DESC(&od_2100_d1, &od_2100_m1, CO_TYPEDESC_UNSIGNED16," in c
+    assert "od_2200_m2" not in c   # short array: sub 1 describes (and limits) subs 1..3
+
+
+@needs_cc
+def test_limits_walk_like_the_model(tmp_path):
+    res = run("port-c", "lim.dcf", data=LIMITS_DCF)
+    (tmp_path / "limits").mkdir()
+    (tmp_path / "plain").mkdir()
+    got = build_and_walk(res.output, tmp_path / "limits", "-DCONFIG_LIMITS_CHECK",
+                         "-DWALK_LIMITS")
+    assert got == LIMITED_WALK
+    plain = build_and_walk(res.output, tmp_path / "plain")
+    assert plain == [re.sub(r" l=\S+$", "", line) for line in LIMITED_WALK]

@@ -288,7 +288,8 @@ def test_an_empty_or_binary_static_od_is_an_error(tmp_path):
         line = "" if data == b"" else ":1"
         assert (r.exit_code, r.stderr) == (1, f"{static}{line}: error: static OD: {message} "
                                               f"[{'DCF056' if line == '' else 'DCF008'}]\n"
-                                              f"{src}: 1 error, nothing written\n")
+                                              f"{static}: 1 error in the static OD, "
+                                              "nothing written\n")
 
 
 def test_nothing_configured_compiles_with_a_warning(tmp_path):
@@ -298,8 +299,8 @@ def test_nothing_configured_compiles_with_a_warning(tmp_path):
     assert (r.exit_code, r.stderr_with_hints) == (0, (
         f"{src}: warning: nothing is configured (no ParameterValue or DownloadFile, no network "
         "variable): the container holds no entries [DCF009]\n"
-        "    hint: --select all also writes every DefaultValue (the device's defaults)\n"))
-    r = run("compile", "--select", "all", str(src), "-o", str(tmp_path / "x.bin"))
+        "    hint: --entries all also writes every DefaultValue (the device's defaults)\n"))
+    r = run("compile", "--entries", "all", str(src), "-o", str(tmp_path / "x.bin"))
     assert (r.exit_code, r.stderr) == (0, "")
 
 
@@ -431,13 +432,18 @@ def test_binary_is_one_error_naming_the_line_of_its_first_control_byte(tmp_path)
     assert (r.exit_code, r.stdout) == (1, message)
 
 
-def test_a_container_named_dcf_is_one_error(tmp_path):
+def test_a_container_named_dcf_is_checked_as_a_container(tmp_path):
+    """Issue 19: the content decides (one rule for every command); the name that says
+    otherwise is one IO002 warning."""
     src = tmp_path / "plc.dcf"
     src.write_bytes((ROOT / "samples" / "plc.bin").read_bytes())
-    r = run("validate", "-q", "--hints", str(src))
-    assert r.exit_code == 1 and len(r.stdout.splitlines()) == 2
-    assert r.stdout.splitlines()[1] == ("    hint: an EDS/DCF is text in UTF-8 or Latin-1; a "
-                                        "binary DCF segment container is read by 'dcf2bin dump'")
+    r = run("validate", "--hints", str(src))
+    assert (r.exit_code, r.stdout.splitlines()) == (0, [
+        f"{src}: warning: {src} is a binary container, not DCF/EDS text as its name says; "
+        "checked as a binary container [IO002]",
+        "    hint: rename the file to the suffix of its kind (.dcf/.eds text, .bin container)",
+        "0 errors, 1 warning, 0 infos in 1 file"])
+    assert run("validate", "--strict", "-q", str(src)).exit_code == 1
 
 
 def test_a_few_stray_control_bytes_are_still_text():

@@ -282,7 +282,7 @@ def test_a_directory_without_inputs_is_an_error_in_every_format(tmp_path, fmt):
     assert "IO001" in r.stdout
     if fmt == "text":
         assert r.stdout == (f"{empty}: error: no *.dcf, *.eds or *.bin file in this directory "
-                            "[IO001]\n1 error, 0 warnings, 0 infos in 1 file\n")
+                            "[IO001]\n1 error, 0 warnings, 0 infos in 0 files\n")
 
 
 # -- performance --------------------------------------------------------------------------------

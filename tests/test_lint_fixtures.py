@@ -22,6 +22,7 @@ EXEMPT = {
     "CNT099": "a safety net: every reader rejection has a finer CNT rule",
     "DCF009": "compile only (validate never reports it): tests/test_hostile_input.py",
     "IO001": "needs an unreadable path: tests/test_lint_cli.py",
+    "IO002": "a fixture's name is its kind; a misnamed file is in tests/test_filekind.py",
     "INT001": "needs a crashing rule: tests/test_lint_cli.py monkeypatches one",
     "TGT0A0": "needs --pi-size, which container fixtures cannot give, and on a DCF the layout "
               "check (DCF305) stops compile first: tests/test_target.py",

@@ -42,7 +42,9 @@ def test_refusal_names_the_failing_entry(plc_bin):
 def test_not_a_container(tmp_path):
     r = run("node", "--container", "samples/device.dcf", "-n", "16")
     assert r.exit_code == 1
-    assert r.stderr.startswith("samples/device.dcf:0x0: error: ")
+    assert r.stderr == ("samples/device.dcf: error: samples/device.dcf is DCF/EDS text, not a "
+                        "binary container or its JSON form; use dcf2bin compile to make a "
+                        "container of it (dcf2bin validate checks it)\n")
 
 
 def _serve(channel, args, reads):

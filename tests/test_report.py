@@ -76,6 +76,8 @@ def test_sarif_levels_regions_and_uris(tmp_path):
         "uri": "dir/x%20y.dcf", "uriBaseId": "%SRCROOT%"}
     assert doc["runs"][0]["invocations"][0]["executionSuccessful"] is False
     driver = doc["runs"][0]["tool"]["driver"]
+    # informationUri is optional, and dcf2bin has no public URL to give: none is invented
+    assert sorted(driver) == ["name", "rules", "version"]
     assert driver["rules"][res[0]["ruleIndex"]]["defaultConfiguration"] == {"level": "error"}
     assert driver["rules"][res[2]["ruleIndex"]]["defaultConfiguration"] == {"level": "note"}
 
@@ -92,3 +94,18 @@ def test_github_escapes_properties_and_data():
         "::warning file=dir%2C1/a%3Ab.dcf,line=3,title=DCF050 unknown-key::50%25 of%0Ait")
     assert report.format_github(I) == "::notice file=a.dcf,line=3,title=DCF051::vendor section"
     assert report.github_report([]) == ""
+
+
+def test_a_hint_is_printed_once_per_rule_and_file():
+    def d(file, line, rule="DCF201", hint="give --node-id N"):
+        return Diagnostic(Severity.ERROR, f"m{line}", file, line, None, None, rule, hint)
+    lines = report.text_lines([d("a.dcf", 1), d("a.dcf", 2), d("b.dcf", 3), d("a.dcf", 4),
+                               d("a.dcf", 5, "DCF200", "other"), d("a.dcf", 6, hint="new")],
+                              hints=True)
+    assert lines == [
+        "a.dcf:1: error: m1 [DCF201]", "    hint: give --node-id N",
+        "a.dcf:2: error: m2 [DCF201]",
+        "b.dcf:3: error: m3 [DCF201]", "    hint: give --node-id N",
+        "a.dcf:4: error: m4 [DCF201]",
+        "a.dcf:5: error: m5 [DCF200]", "    hint: other",
+        "a.dcf:6: error: m6 [DCF201]", "    hint: new"]

@@ -51,3 +51,10 @@ def unhex(annotated: str) -> bytes:
 
 def test_bild8_golden_is_the_annotated_bytes():
     assert (SAMPLES / "bild8.bin").read_bytes() == unhex(BILD8)
+
+
+def test_plc_sample_validates_clean():
+    """samples/plc.dcf shows a clean DCF: no finding at all, not even an info (0x1000 is ro,
+    so it carries no ParameterValue; its bytes are the same, see above)."""
+    from dcf2bin.api import validate
+    assert [d.format() for d in validate(str(SAMPLES / "plc.dcf"))] == []

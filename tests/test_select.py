@@ -218,7 +218,7 @@ def test_comm_without_mapping_is_an_error():
 
 @pytest.mark.parametrize("dtype, access, mapping, attr", [
     ("0x0001", "rw", "0", 0x61),   # BOOLEAN rw (SPEC §3.3 example)
-    ("0x0009", "ro", "0", 0x28),   # VISIBLE_STRING ro -> selected only with --select all
+    ("0x0009", "ro", "0", 0x28),   # VISIBLE_STRING ro -> selected only with --entries all
     ("0x000F", "rw", "0", 0x60),   # DOMAIN rw
     ("0x0007", "rw", "1", 0xF0),   # UNSIGNED32 rw mappable
     ("0x0007", "wo", "0", 0x50),

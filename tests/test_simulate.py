@@ -228,7 +228,7 @@ def test_simulate_broken_container_is_0xA1():
     r = run("simulate", "-", "--from", "bin", input=b"\x00" * 12)
     assert r.exit_code == 1
     assert r.stdout.splitlines()[0] == ("0xA1 kCopDynInvalidConfig: <stdin>: byte 0x0: "
-                                        "truncated header: 12 bytes, a header needs 40")
+                                        "12 bytes: too short for the 40-byte header")
 
 
 def test_emit_od_reads_back_in_validate_and_canopen(tmp_path):

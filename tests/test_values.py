@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 
 from dcf2bin.datatypes import BY_CODE, BY_NAME
 from dcf2bin.values import (NeedsNodeId, ValueProblem, decode, encode, eval_int, parse_int,
-                            split_numeric_comment, to_python, uses_nodeid, zero)
+                            hex_prefix, split_numeric_comment, to_python, uses_nodeid,
+                            zero)
 
 T = BY_NAME
 FIXED = [t for t in BY_CODE.values() if t.size is not None]
@@ -314,9 +315,21 @@ def test_hex_bytes(name):
     assert problem(dtype, "0 12") == f"odd number of hex digits in {name} value '0 12'"
     assert problem(dtype, "0 1") == f"a blank splits a hex byte pair in {name} value '0 1'"
     assert problem(dtype, "0G") == f"invalid character 'G' in {name} value '0G'"
-    assert problem(dtype, "0x0102") == f"{name} value must be hex byte pairs without 0x: '0x0102'"
+    # Sevcon DriveWizard writes a 0x prefix: the same bytes as without it (lint warns, DCF218)
+    assert encode(dtype, "0x0102") == encode(dtype, "0102") == b"\x01\x02"
+    assert encode(dtype, "0X01 02") == b"\x01\x02"
+    assert problem(dtype, "0x") == f"{name} value '0x' has no hex byte pairs after 0x"
+    assert problem(dtype, "0x 01") == f"{name} value '0x 01' has no hex byte pairs after 0x"
+    assert problem(dtype, "0x012") == f"odd number of hex digits in {name} value '0x012'"
+    assert problem(dtype, "0x01 0x02") == f"invalid character 'x' in {name} value '0x01 0x02'"
     assert problem(dtype, "01\u00e402") == f"invalid character '\u00e4' in {name} value '01\u00e402'"
     assert zero(dtype) == b""
+
+
+def test_hex_prefix():
+    assert hex_prefix("0x01") and hex_prefix("0XaB") and hex_prefix(" 0x0")
+    assert not hex_prefix("0x") and not hex_prefix("0x 01") and not hex_prefix("0102")
+    assert not hex_prefix("x01") and not hex_prefix("00x1")
 
 
 # ---------------------------------------------------------------------------------------

@@ -100,16 +100,27 @@ def plan_from_container(c, name: str, json_text: str | None = None) -> Plan:
 # -- dry run ------------------------------------------------------------------------------
 
 def render(plan: Plan, node_id: int) -> list[str]:
-    """The writes as a table: entry number, index/sub, size, bytes, source line."""
+    """The writes as a table: entry number, index/sub, size, source line, bytes."""
     n = len(plan.writes)
     lines = [(f"{plan.source}: {n} SDO write{'s' if n != 1 else ''} to node {node_id} "
               "(dry run, nothing sent)"),
-             "   #  entry        size  data  source"]
+             ]
+    rows = []
     for w in plan.writes:
         shown = w.data[:_DRY_HEX].hex(" ").upper()
         if len(w.data) > _DRY_HEX:
             shown += f" ... ({len(w.data)} bytes)"
-        lines.append(f"{w.number:>4}  {w.label:<11} {len(w.data):>5}  {shown}  {w.where}")
+        rows.append((w.number, w.label, len(w.data), shown, w.where))
+    # every column as wide as its widest cell, the data (of any length) last, so that
+    # nothing after it wanders
+    num = max([len(str(r[0])) for r in rows] + [4])
+    label = max([len(r[1]) for r in rows] + [len("entry")])
+    size = max([len(str(r[2])) for r in rows] + [len("size")])
+    where = max([len(r[4]) for r in rows] + [len("source")])
+    lines.append(f"{'#':>{num}}  {'entry':<{label}}  {'size':>{size}}  {'source':<{where}}  "
+                 "data")
+    lines.extend(f"{n:>{num}}  {lab:<{label}}  {sz:>{size}}  {src:<{where}}  {shown}"
+                 for n, lab, sz, shown, src in rows)
     return lines
 
 

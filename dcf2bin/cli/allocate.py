@@ -6,20 +6,22 @@ import os
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, Failure, emit, guarded, read_input, write_output
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.cli.common import (CONTEXT, debug_option, emit, fail, guarded, input_kind,
+                                output_option, quiet_option, read_input, stop_on_errors,
+                                verbose_option, write_output)
 
 
 @click.command("allocate", context_settings=CONTEXT)
-@click.argument("input", metavar="VARS.csv", type=click.Path(dir_okay=False, allow_dash=True))
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              help="Output DCF ('-' for stdout, the default).")
-@click.option("--into", type=click.Path(dir_okay=False), metavar="BASE.dcf",
+@click.argument("input", metavar="VARS.csv", type=click.Path(allow_dash=True))
+@output_option("Default: standard output.")
+@click.option("--into", type=click.Path(), metavar="BASE.dcf",
               help="Merge into this DCF: its variables keep their places, its other lines "
               "stay as they are.")
-@click.option("-v", "--verbose", is_flag=True, help="Print where each variable went.")
+@quiet_option()
+@verbose_option("where each variable went.")
+@debug_option
 @guarded
-def allocate_cmd(input, output, into, verbose):
+def allocate_cmd(input, output, into, quiet, verbose, debug):
     """Place network variables in the CiA 405 ranges and write them as a DCF.
 
     VARS.csv starts with the header row name,type,direction. Per area (input, output), the data types in order of first appearance; each type's
@@ -29,6 +31,11 @@ def allocate_cmd(input, output, into, verbose):
     from dcf2bin.plc import allocate as alloc
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
+    if b"\0" in data[:8192]:
+        from dcf2bin import filekind
+        kind = filekind.detect(data, input)
+        fail(f"{filekind.what_it_is(name, kind)}, not a CSV list of variables; "
+             f"{filekind.advice(kind)}", name)
     kept = []
     try:
         variables = alloc.read_vars(data, name)
@@ -39,12 +46,14 @@ def allocate_cmd(input, output, into, verbose):
         else:
             from dcf2bin.plc.merge import merge
             base = read_input(into)
+            input_kind(into, base, ("dcf",), quiet=quiet, use="--into takes the DCF to merge "
+                       "the variables into")
             text, placed, kept = merge(base, into, variables, name)
     except alloc.AllocationError as exc:
         emit(exc.diagnostics)
-        raise Failure(ExitCode.FINDINGS) from None
+        stop_on_errors(exc, name, "nothing written")
     write_output(text, output, [input] + ([into] if into else []), binary=False)
-    if verbose:
+    if verbose and not quiet:
         for v, idx, sub in kept:
             click.echo(f"{v.name}: 0x{idx:04X}sub{sub:X} (kept)", err=True)
         for p in placed:

@@ -6,22 +6,20 @@ import os
 import click
 
 from dcf2bin import __version__
-from dcf2bin.cli.common import (CONTEXT, Command, Failure, emit, fail, guarded, read_container,
-                                read_eds, write_output)
+from dcf2bin.cli.common import (CONTEXT, Command, Failure, debug_option, default_output, emit,
+                                force_option, guarded, output_option, read_container, read_eds,
+                                write_output)
 from dcf2bin.cli.dump import EDS, INPUT, QUIET
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
-def _bin2dcf(input, output, eds, strict, quiet) -> None:
+def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     from dcf2bin import dcfwriter
+    c, name = read_container(input, quiet, use={
+        "dcf": "it is a DCF already (dcf2bin compile makes a container of it)"})
     if output is None:
-        if input == "-":
-            fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
-        output = os.path.splitext(input)[0] + ".dcf"
-        if os.path.exists(output):
-            # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
-            fail(f"{output} exists (often the DCF this container was compiled from); "
-                 "choose the output with -o", code=ExitCode.USAGE)
-    c, name = read_container(input, quiet)
+        # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
+        output = default_output(input, ".dcf", force,
+                                " (often the DCF this container was compiled from)")
     info, dev = read_eds(eds, quiet)
     if output != "-":
         dcf_name = os.path.basename(output)
@@ -43,8 +41,9 @@ def _bin2dcf(input, output, eds, strict, quiet) -> None:
 def _bin2dcf_options(fn):
     for deco in reversed([
         INPUT,
-        click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True),
-                     help="Output DCF ('-' for stdout). Default: FILE with the suffix .dcf."),
+        output_option("Default: FILE with the suffix .dcf, never over an existing file "
+                      "unless --force.", default=None),
+        force_option,
         EDS,
         click.option("--strict", is_flag=True,
                      help="Fail (exit 1, nothing written) when the DCF would not compile "
@@ -66,15 +65,16 @@ back into the same bytes (use 'dcf2bin dump --format json' for a lossless copy).
 
 @click.command("bin2dcf", context_settings=CONTEXT, help=_BIN2DCF_HELP)
 @_bin2dcf_options
+@debug_option
 @guarded
-def bin2dcf_cmd(input, output, eds, strict, quiet):
-    _bin2dcf(input, output, eds, strict, quiet)
+def bin2dcf_cmd(input, output, force, eds, strict, quiet, debug):
+    _bin2dcf(input, output, force, eds, strict, quiet)
 
 
 @click.command("bin2dcf", cls=Command, context_settings=CONTEXT, help=_BIN2DCF_HELP)
 @click.version_option(__version__, "-V", "--version", prog_name="bin2dcf")
 @_bin2dcf_options
-@click.option("--debug", is_flag=True, help="Show a traceback for internal errors.")
+@debug_option
 @guarded
-def bin2dcf_main(input, output, eds, strict, quiet, debug):
-    _bin2dcf(input, output, eds, strict, quiet)
+def bin2dcf_main(input, output, force, eds, strict, quiet, debug):
+    _bin2dcf(input, output, force, eds, strict, quiet)

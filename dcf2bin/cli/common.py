@@ -398,11 +398,14 @@ def _write_atomic(data: bytes, target: str, output: str, st) -> None:
         _cleanup_temps()
 
 
-def read_container(path: str, quiet: bool):
-    """Read and decode a container; a bad one ends with one line naming the byte offset."""
+def read_container(path: str, quiet: bool, *, json_ok: bool = False, use=None):
+    """Read and decode a container (``json_ok``: or its JSON form); a bad one ends with one
+    line naming the byte offset, a file of another kind with one naming its command."""
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
-    return decode_container(data, name, quiet), name
+    kind = input_kind(path, data, ("bin", "json") if json_ok else ("bin",), quiet=quiet,
+                      use=use)
+    return decode_container(data, name, quiet, json_input=kind == "json"), name
 
 
 def decode_container(data: bytes, name: str, quiet: bool, *, json_input: bool = False):
@@ -426,9 +429,208 @@ def read_eds(path: str | None, quiet: bool):
         return None, None
     from dcf2bin.dump import eds_warnings, load_eds
     data = read_input(path)
+    input_kind(path, data, ("dcf",), quiet=quiet, use="--eds takes the device's EDS or DCF")
     info, dev, errors = load_eds(path, data)
     emit(eds_warnings(path, errors), quiet)
     return info, dev
+
+
+# -- one vocabulary of options (issue 19) -------------------------------------------------------
+#
+# Every command takes its shared options from here, so that a name, its short form, its value
+# syntax and the first sentence of its help are the same wherever it appears (a test walks
+# every command's parameters and checks). A command may add a sentence after the shared one.
+
+class Integer(click.ParamType):
+    """An integer option written as a DCF value is written: decimal, 0x hex or octal with a
+    leading 0 (the DCF reader's own syntax, ``values.parse_int``), checked against
+    ``min``..``max`` (click's IntRange wording)."""
+    name = "integer"
+
+    def __init__(self, min: int | None = None, max: int | None = None):
+        self.min, self.max = min, max
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, int) and not isinstance(value, bool):
+            n = value
+        else:
+            from dcf2bin import values
+            try:
+                n = values.parse_int(str(value))
+            except values.ValueProblem as exc:
+                self.fail(f"'{value}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
+                          "as in a DCF)", param, ctx)
+        if (self.min is not None and n < self.min) or (self.max is not None and n > self.max):
+            self.fail(f"{value} is not in the range {self._range()}", param, ctx)
+        return n
+
+    def _range(self) -> str:
+        if self.max is None:
+            return f"x>={self.min}"
+        if self.min is None:
+            return f"x<={self.max}"
+        return f"{self.min}<=x<={self.max}"
+
+    def __repr__(self) -> str:
+        return f"Integer({self.min}, {self.max})"
+
+
+NODE_ID = Integer(1, 127)
+COUNT = Integer(0)
+
+
+class Option(click.Option):
+    """A click option with hidden alias names (``hidden_names``): accepted on the command
+    line so that old scripts keep running, left out of --help and the man pages."""
+
+    def __init__(self, *args, hidden_names: tuple[str, ...] = (), **kwargs):
+        super().__init__(*args, **kwargs)
+        self.hidden_names = tuple(hidden_names)
+
+    def get_help_record(self, ctx):
+        saved = self.opts
+        self.opts = [o for o in saved if o not in self.hidden_names]
+        try:
+            return super().get_help_record(ctx)
+        finally:
+            self.opts = saved
+
+    def get_error_hint(self, ctx) -> str:
+        return " / ".join(f"'{o}'" for o in self.shown_names())
+
+    def shown_names(self) -> list[str]:
+        return [o for o in self.opts + self.secondary_opts if o not in self.hidden_names]
+
+
+#: The first sentence of each shared option's help, word for word in every command.
+SHARED_HELP = {
+    "node_id": "Node-ID, 1..127.",
+    "quiet": "Print errors only.",
+    "verbose": "Print more about what was done:",
+    "debug": "Show a traceback for internal errors.",
+    "output": "Output file ('-' for standard output).",
+    "format": "Output format:",
+    "entries": "Which entries compile writes: auto = configured entries (ParameterValue "
+               "or DownloadFile); all = every entry that has a value, DefaultValue included.",
+    "static_od": "EDS of the objects the target's firmware already has (its static OD); "
+                 "it must read without errors.",
+    "force": "Replace an existing file at the default output name.",
+    "from_": "Input kind (default: by its content; by the name's suffix where the content is "
+             "not clear).",
+}
+
+
+def _help(key: str, more: str = "") -> str:
+    return SHARED_HELP[key] + (" " + more if more else "")
+
+
+def node_id_option(more: str = "", required: bool = False):
+    """-n/--node-id N (--node is a hidden alias: download's old name)."""
+    return click.option("-n", "--node-id", "--node", "node_id", cls=Option,
+                        hidden_names=("--node",), type=NODE_ID, metavar="N",
+                        required=required, help=_help("node_id", more))
+
+
+def quiet_option(more: str = ""):
+    return click.option("-q", "--quiet", is_flag=True, help=_help("quiet", more))
+
+
+def verbose_option(more: str):
+    return click.option("-v", "--verbose", is_flag=True, help=_help("verbose", more))
+
+
+def debug_option(fn):
+    return click.option("--debug", is_flag=True, help=_help("debug"))(fn)
+
+
+def output_option(more: str = "", default: str | None = "-"):
+    extra = {} if default is None else {"default": default}
+    return click.option("-o", "--output", type=click.Path(allow_dash=True), metavar="FILE",
+                        help=_help("output", more), **extra)
+
+
+def format_option(choices, default: str | None, more: str, required: bool = False):
+    extra = {} if default is None else {"default": default, "show_default": True}
+    return click.option("-f", "--format", "fmt", type=click.Choice(list(choices)),
+                        required=required, help=_help("format", more), **extra)
+
+
+def entries_option(more: str = ""):
+    """--entries auto|all (--select is its hidden old name on compile, simulate and map;
+    validate's --select names rules)."""
+    return click.option("--entries", "--select", "entries", cls=Option,
+                        hidden_names=("--select",), type=click.Choice(["auto", "all"]),
+                        default="auto", show_default=True, help=_help("entries", more))
+
+
+def static_od_option(more: str = ""):
+    return click.option("--static-od", type=click.Path(), metavar="EDS",
+                        help=_help("static_od", more))
+
+
+def force_option(fn):
+    return click.option("--force", is_flag=True, help=_help("force"))(fn)
+
+
+def from_option(choices, more: str = ""):
+    return click.option("--from", "from_", type=click.Choice(list(choices)),
+                        help=_help("from_", more))
+
+
+# -- the kind of an input -----------------------------------------------------------------------
+
+def input_kind(path: str, data: bytes, accepted, forced: str | None = None, *,
+               quiet: bool = False, use=None) -> str:
+    """The kind of an input (dcf2bin.filekind: content first). A kind the command does not
+    take ends it with one sentence naming the command that does (exit 1); a name that says
+    another kind than the content is a warning, and the content wins. ``--from`` (forced)
+    is taken as given."""
+    from dcf2bin import filekind
+    if forced:
+        return forced
+    name = "<stdin>" if path == "-" else path
+    kind = filekind.detect(data, "" if path == "-" else path)
+    problem = filekind.mismatch(name, kind, accepted, use=use)
+    if problem:          # not what this command reads: an input error, as a damaged file is
+        fail(problem, name, ExitCode.FINDINGS)
+    note = filekind.misnamed(name, kind) if path != "-" else None
+    if note:
+        emit([Diagnostic(Severity.WARNING, note, name)], quiet)
+    return kind
+
+
+def load_static_od(path: str | None, quiet: bool, outcome: str):
+    """Check a --static-od file as compile checks it, the one rule of every command: it
+    must be readable (exit 3), DCF/EDS text (exit 1, naming what it is) and free of the
+    errors that make its object list unreliable (printed, then exit 1 with ``outcome``).
+    Returns its bytes (None without --static-od)."""
+    if path is None:
+        return None
+    data = read_input(path)
+    input_kind(path, data, ("dcf",), quiet=quiet,
+               use="--static-od takes the EDS of the target's firmware")
+    from dcf2bin.compiler import static_od_indexes
+    _, errors = static_od_indexes(path)
+    if errors:
+        emit(errors, quiet)
+        n = len(errors)
+        click.echo(f"{path}: {n} error{'s' if n != 1 else ''} in the static OD, {outcome}",
+                   err=True)
+        raise Failure(ExitCode.FINDINGS)
+    return data
+
+
+def default_output(input: str, suffix: str, force: bool, why: str = "") -> str:
+    """The output name a command makes up (INPUT with another suffix): it never replaces an
+    existing file unless --force says so; an -o name is the user's and is written over.
+    ``why`` says in a few words what the existing file may be."""
+    if input == "-":
+        fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
+    output = os.path.splitext(input)[0] + suffix
+    if not force and os.path.lexists(output):
+        fail(f"{output} exists{why}; name the output with -o to replace it, or give --force",
+             code=ExitCode.USAGE)
+    return output
 
 
 def target_stack_options(fn=None, *, prefix: str = ""):
@@ -447,10 +649,10 @@ def target_stack_options(fn=None, *, prefix: str = ""):
     fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
                       show_default=True, help=text("The target's PDO mapping granularity in "
                                                    "bits (8: whole bytes only)."))(fn)
-    fn = click.option("--rx-cobs", type=click.IntRange(0), metavar="N",
+    fn = click.option("--rx-cobs", type=COUNT, metavar="N",
                       help=text("RPDO entries of the target's COB table "
                                 "(default: unlimited)."))(fn)
-    fn = click.option("--tx-cobs", type=click.IntRange(0), metavar="N",
+    fn = click.option("--tx-cobs", type=COUNT, metavar="N",
                       help=text("TPDO entries of the target's COB table "
                                 "(default: unlimited)."))(fn)
     return fn

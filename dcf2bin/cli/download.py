@@ -5,16 +5,16 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded, read_input,
-                                stop_on_errors, write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, NODE_ID, Failure, Integer, debug_option,
+                                decode_container, emit, fail, from_option, guarded, input_kind,
+                                node_id_option, quiet_option, read_input, stop_on_errors,
+                                write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
-
-NODE_ID = click.IntRange(1, 127)
 
 
 def bus_options(fn):
     """--interface/--channel/--bitrate, shared by download and node."""
-    fn = click.option("--bitrate", type=click.IntRange(1), metavar="BPS",
+    fn = click.option("--bitrate", type=Integer(1), metavar="BPS",
                       help="Bit rate in bit/s (default: python-can's configuration).")(fn)
     fn = click.option("--channel", metavar="CHANNEL",
                       help="Channel of the interface, e.g. can0, PCAN_USBBUS1, 0, a "
@@ -46,17 +46,15 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 
 @click.command("download", context_settings=CONTEXT)
 @click.argument("input", metavar="FILE", type=click.Path(allow_dash=True))
-@click.option("-n", "--node", "node_id", type=NODE_ID, required=True, metavar="N",
-              help="Node-ID to configure (also the node-ID of $NODEID values).")
+@node_id_option("The node to configure; also used for $NODEID values.", required=True)
 @bus_options
 @click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
               metavar="SECONDS",
               help="Seconds to wait for each SDO response.")
-@click.option("--retries", type=click.IntRange(0), default=2, show_default=True, metavar="N",
+@click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
               help="Times an unanswered SDO request is sent again.")
-@click.option("--from", "from_", type=click.Choice(["dcf", "json", "bin"]),
-              help="Input format (default: by extension; .bin = container, .json = "
-              "lossless dump, else DCF/EDS).")
+@from_option(["dcf", "json", "bin"], "dcf = DCF/EDS, bin = container, json = lossless "
+             "dump.")
 @click.option("--dry-run", is_flag=True, help="Print the SDO writes; touch no bus.")
 @click.option("--verify", is_flag=True,
               help="Read back every readable entry written and report each difference.")
@@ -71,10 +69,11 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 @click.option("--concise-dcf-to", "manager", type=NODE_ID, metavar="M",
               help="Write the whole index segment as one DOMAIN into node M's 0x1F22 sub N "
               "(the concise DCF a configuration manager applies) instead of the entries.")
-@click.option("-q", "--quiet", is_flag=True, help="No progress bar and no summary; errors only.")
+@quiet_option("No progress bar and no summary.")
+@debug_option
 @guarded
 def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, from_,
-                 dry_run, verify, keep_going, preop, save, reset_comm, manager, quiet):
+                 dry_run, verify, keep_going, preop, save, reset_comm, manager, quiet, debug):
     """Write the entries of a DCF/EDS, a container or its JSON form to a node by SDO.
 
     The entries are written in container order, exactly as the target would execute
@@ -103,9 +102,7 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
     from dcf2bin.bus import download as dl
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    low = input.lower()
-    fmt = from_ or ("bin" if low.endswith(".bin") else "json" if low.endswith(".json")
-                    else "dcf")
+    fmt = input_kind(input, data, ("dcf", "json", "bin"), from_, quiet=quiet)
     if fmt == "dcf":
         from dcf2bin.compiler import CompileOptions, compile_path
         res = compile_path(name, CompileOptions(node_id=node_id), data=data)

@@ -3,30 +3,30 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, guarded, read_container, read_eds, write_output
+from dcf2bin.cli.common import (CONTEXT, debug_option, format_option, guarded, output_option,
+                                quiet_option, read_container, read_eds, write_output)
 
 INPUT = click.argument("input", metavar="FILE.bin",
-                        type=click.Path(allow_dash=True))
+                       type=click.Path(allow_dash=True))
 EDS = click.option("--eds", type=click.Path(), metavar="EDS",
-                    help="EDS/DCF of the device: exact data types, access and names.")
-QUIET = click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+                   help="EDS/DCF of the device: exact data types, access and names.")
+QUIET = quiet_option()
 
 
 # -- dump ---------------------------------------------------------------------------------------
 
 @click.command("dump", context_settings=CONTEXT)
 @INPUT
-@click.option("-f", "--format", "fmt", type=click.Choice(["text", "json"]), default="text",
-              show_default=True, help="text: readable report; json: lossless form that "
-              "'compile' turns back into the same bytes.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              help="Output file ('-' for stdout, the default).")
+@format_option(["text", "json"], "text", "text = readable report; json = lossless form "
+               "that 'compile' turns back into the same bytes.")
+@output_option("Default: standard output.")
 @click.option("--eds", type=click.Path(), metavar="EDS",
               help="EDS/DCF of the device: exact types and names in the text report.")
 @click.option("--full", is_flag=True, help="Show long data in full (text format).")
 @QUIET
+@debug_option
 @guarded
-def dump_cmd(input, fmt, output, eds, full, quiet):
+def dump_cmd(input, fmt, output, eds, full, quiet, debug):
     """Show what a binary container holds: header, entries, attributes, process image.
 
     The text report decodes values and attribute bits; the JSON form records every

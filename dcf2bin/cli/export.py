@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, emit, fail, guarded, read_input, stop_on_errors,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, Integer, debug_option, emit, fail, format_option,
+                                guarded, input_kind, node_id_option, output_option, quiet_option,
+                                read_input, stop_on_errors, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 # Kept literally here (module-level imports stay light); tests check it equals
@@ -46,12 +47,10 @@ def _identifier(kind: str):
 
 @click.command("export", context_settings=CONTEXT)
 @click.argument("input", type=click.Path(allow_dash=True))
-@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), required=True,
-              help="lenze-st: IEC 61131-3 text; lenze-bin: packed records; port-c: C source.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              show_default=True, help="Output file ('-' for stdout; lenze-bin not to a terminal).")
-@click.option("--node-id", type=click.IntRange(1, 127),
-              help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
+@format_option(FORMATS, None, "lenze-st = IEC 61131-3 text; lenze-bin = packed records; "
+               "port-c = C source.", required=True)
+@output_option("Default: standard output (lenze-bin not to a terminal).")
+@node_id_option("Used for $NODEID values (overrides [DeviceComissioning] NodeID).")
 @click.option("--allow-external-files", is_flag=True,
               help="Allow DownloadFile paths that are absolute or leave the file's folder.")
 @click.option("--var-name", default="MasterOD", show_default=True,
@@ -65,13 +64,14 @@ def _identifier(kind: str):
               help="port-c: name of the LIST_ELEMENT_T array (its length: SYMBOLElements).")
 @click.option("--prefix", default="od_", show_default=True, callback=_identifier("a C"),
               help="port-c: prefix of the data variables (od_1018).")
-@click.option("--max-object-size", type=click.IntRange(2, None), metavar="BYTES",
+@click.option("--max-object-size", type=Integer(2), metavar="BYTES",
               help="port-c: split ARRAY/RECORD objects with more data bytes than this "
                    "over following indices (the port manual's limit is 255).")
-@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@quiet_option()
+@debug_option
 @guarded
 def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with_type,
-               includes, symbol, prefix, max_object_size, quiet):
+               includes, symbol, prefix, max_object_size, quiet, debug):
     """Export the object dictionary of an EDS/DCF for another system.
 
     \b
@@ -87,6 +87,7 @@ def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with
                  code=ExitCode.USAGE)
     from dcf2bin.export import run
     data = read_input(input)
+    input_kind(input, data, ("dcf",), quiet=quiet)
     name = "<stdin>" if input == "-" else input
     res = run(fmt, name, data=data, node_id=node_id, allow_external_files=allow_external_files,
               var_name=var_name, with_type=with_type,

@@ -7,42 +7,29 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, decode_container, emit, fail, guarded, read_eds,
-                                read_input, stop_on_errors, write_output)
+from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, decode_container, emit,
+                                entries_option, fail, format_option, from_option, guarded,
+                                input_kind, node_id_option, output_option, quiet_option,
+                                read_eds, read_input, stop_on_errors, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
 
 
-def _kind(path: str, data: bytes, from_: str | None) -> str:
-    if from_:
-        return from_
-    low = path.lower()
-    if low.endswith(".json"):
-        return "json"
-    if low.endswith(".bin") or (len(data) >= 40 and int.from_bytes(data[:4], "little")
-                                == len(data)):
-        return "bin"
-    return "dcf"
-
-
 @click.command("map", context_settings=CONTEXT)
-@click.argument("input", metavar="FILE", type=click.Path(dir_okay=False, allow_dash=True))
-@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), default="text",
-              show_default=True, help="Output form of the map.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              help="Output file ('-' for stdout, the default).")
-@click.option("--from", "from_", type=click.Choice(["dcf", "bin", "json"]),
-              help="Input kind (default: .json = lossless dump, .bin or a container's "
-              "bytes = container, else DCF/EDS).")
-@click.option("--eds", type=click.Path(dir_okay=False), metavar="EDS",
+@click.argument("input", metavar="FILE", type=click.Path(allow_dash=True))
+@format_option(FORMATS, "text", "the map as a table, CSV, JSON, IEC 61131-3 declarations, "
+               "a C header, an SVG picture or an HTML page.")
+@output_option("Default: standard output.")
+@from_option(["dcf", "bin", "json"], "dcf = DCF/EDS, bin = container, json = lossless dump.")
+@click.option("--eds", type=click.Path(), metavar="EDS",
               help="Container input: the device's EDS/DCF for names, exact types and "
               "[DynamicChannels].")
 @click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
               show_default=True, help="Container input: how its PI addresses were written "
               "(compile --address-base).")
-@click.option("--node-id", type=click.IntRange(1, 127),
-              help="DCF input: node-ID for $NODEID values.")
+@node_id_option("DCF input: used for $NODEID values.")
+@entries_option("DCF input.")
 @click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
               show_default=True, help="DCF input: alignment of the output area's start.")
 @click.option("--iec-addressing", type=click.Choice(["byte", "element"]), default="byte",
@@ -50,10 +37,11 @@ def _kind(path: str, data: bytes, from_: str | None) -> str:
               "prefix (W 2, D 4, L 8 bytes, as CODESYS counts).")
 @click.option("--prefix", default="DCF_", show_default=True,
               help="c: prefix of every macro name.")
-@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
+@quiet_option()
+@debug_option
 @guarded
-def map_cmd(input, fmt, output, from_, eds, address_base, node_id, pi_align, iec_addressing,
-            prefix, quiet):
+def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_align,
+            iec_addressing, prefix, quiet, debug):
     """Show where every network variable lies in the process image.
 
     One row per network variable in image-address order: name (Denotation, else
@@ -66,14 +54,15 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, pi_align, iec
         fail(f"--prefix: {problem}", code=ExitCode.USAGE)
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    kind = _kind(input, data, from_)
+    kind = input_kind(input, data, ("dcf", "bin", "json"), from_, quiet=quiet)
     inputs = [input] + ([eds] if eds else [])
     if kind == "dcf":
         if eds:
             fail("--eds is for a container input; a DCF names its own variables",
                  code=ExitCode.USAGE)
         from dcf2bin.compiler import CompileOptions, compile_path
-        res = compile_path(name, CompileOptions(node_id=node_id, pi_align=int(pi_align)),
+        res = compile_path(name, CompileOptions(node_id=node_id, select=entries,
+                                                  pi_align=int(pi_align)),
                            data=data)
         emit(res.diagnostics, quiet)
         stop_on_errors(res, name, "no map")

@@ -6,25 +6,26 @@ import time
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, emit, fail, guarded, read_input,
-                                target_stack_options)
-from dcf2bin.cli.download import NODE_ID, bus_options, open_bus
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, fail, guarded,
+                                input_kind, load_static_od, node_id_option, quiet_option,
+                                read_input, static_od_option, target_stack_options,
+                                verbose_option)
+from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
 @click.command("node", context_settings=CONTEXT)
 @click.argument("input", metavar="[FILE]", required=False,
                 type=click.Path(allow_dash=True))
-@click.option("-n", "--node-id", type=NODE_ID, metavar="N",
-              help="Node-ID (default: NodeID in [DeviceComissioning] of FILE).")
+@node_id_option("The node's own (default: NodeID in [DeviceComissioning] of FILE).")
 @bus_options
 @click.option("--container", type=click.Path(allow_dash=True),
               metavar="FILE.bin", help="Be an emulated SYS TEC target: build the object "
               "dictionary and process image the way DynBuildOd builds them from this "
               "container.")
-@click.option("--static-od", type=click.Path(), metavar="EDS",
-              help="With --container: the objects the target's firmware already has.")
-@click.option("--pi-size", type=click.IntRange(0), metavar="N",
+@static_od_option("With --container only. Without it, what the container never writes is "
+                  "not checked (a warning says so).")
+@click.option("--pi-size", type=COUNT, metavar="N",
               help="With --container: PI memory of the target in bytes (default: the "
               "complete size the container gives).")
 @target_stack_options(prefix="With --container: ")
@@ -37,13 +38,13 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="Enter OPERATIONAL at once instead of waiting for an NMT start.")
 @click.option("--duration", type=click.FloatRange(0), metavar="SECONDS",
               help="Stop after this many seconds (default: run until Ctrl-C).")
-@click.option("-q", "--quiet", is_flag=True, help="Print errors only.")
-@click.option("-v", "--verbose", is_flag=True,
-              help="Print NMT state changes and PDOs that cannot be used.")
+@quiet_option()
+@verbose_option("NMT state changes and PDOs that cannot be used.")
+@debug_option
 @guarded
 def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, pi_size,
              tx_cobs, rx_cobs, granularity, no_bit_mapping, address_base, show_pi,
-             operational, duration, quiet, verbose):
+             operational, duration, quiet, verbose, debug):
     """Run a CANopen node on the bus until Ctrl-C: SDO server, NMT, heartbeat and PDOs.
 
     From an EDS/DCF FILE the node has that file's objects and values. With --container
@@ -102,6 +103,8 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
     from dcf2bin.bus import node as nodemod
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
+    run_it = f"run it with dcf2bin node --container {name} --node-id N"
+    input_kind(path, data, ("dcf",), quiet=quiet, use={"bin": run_it, "json": run_it})
     try:
         node, errors = nodemod.from_file(name, node_id, data=data)
     except nodemod.NodeError as exc:
@@ -118,19 +121,15 @@ def _target(path, node_id, static_od, pi_size, tx_cobs, rx_cobs, granularity,
     from dcf2bin.bus import node as nodemod
     from dcf2bin.cli.common import read_container
     from dcf2bin.dynod import StaticOD, TargetOptions, emulate
-    c, name = read_container(path, quiet)
-    static = None
-    if static_od is not None:
-        static = StaticOD.from_eds(static_od, read_input(static_od))
-        errors = sum(1 for p in static.dev.problems if p.diagnostic.severity is Severity.ERROR)
-        if errors:
-            emit([Diagnostic(Severity.WARNING, f"the static OD has {errors} error"
-                             f"{'s' if errors != 1 else ''} (see 'dcf2bin validate'); the "
-                             "objects that could be read are used", static_od)], quiet)
+    c, name = read_container(path, quiet, json_ok=True)
+    raw = load_static_od(static_od, quiet, "the node does not start")
+    static = None if raw is None else StaticOD.from_eds(static_od, raw)
     opts = TargetOptions(pi_size=pi_size, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                          granularity=granularity, bit_mapping=bit_mapping,
                          address_base=address_base)
     outcome = emulate(c, opts, static=static)
+    # what was not checked without --static-od: the same warnings as simulate's
+    emit([Diagnostic(Severity.WARNING, w, name) for w in outcome.warnings], quiet)
     if not outcome.ok:
         where = name if outcome.offset is None else f"{name}:0x{outcome.offset:X}"
         entry = f"{outcome.label}: " if outcome.label else ""

@@ -8,7 +8,8 @@ import os
 
 import click
 
-from dcf2bin.cli.common import CONTEXT, guarded, write_output
+from dcf2bin.cli.common import (CONTEXT, debug_option, guarded, output_option, quiet_option,
+                                write_output)
 
 def _int(text: str, what: str, hint: str) -> int:
     from dcf2bin import values
@@ -26,10 +27,11 @@ def _int(text: str, what: str, hint: str) -> int:
 @click.option("--read-mode", type=click.Choice(["value", "min", "max"]), default="value",
               show_default=True, help="What 0x2204 returns for --read: the current value, "
                                       "the lower or the upper limit.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              show_default=True, help="The extra-writes file to create ('-' for stdout).")
+@output_option("Default: standard output.")
+@quiet_option("No line that counts the writes.")
+@debug_option
 @guarded
-def tunnel_cmd(assignments, reads, read_mode, output):
+def tunnel_cmd(assignments, reads, read_mode, output, quiet, debug):
     """Write an extra-writes file for the Metronix DIS-2 communication-object tunnel.
 
     Each KO=VALUE writes 0x2200 sub 0 := KO (select the communication object), then
@@ -67,6 +69,6 @@ def tunnel_cmd(assignments, reads, read_mode, output):
     text = tunnel_writes(pairs, read_kos, read_mode=READ_MODES[read_mode],
                          source=" ".join(words))
     write_output(text, output, [], binary=False)
-    if output != "-":
+    if output != "-" and not quiet:
         n = 2 * len(pairs) + len(read_kos)
         click.echo(f"{os.path.basename(output)}: {n} write{'s' if n != 1 else ''}", err=True)

@@ -10,8 +10,10 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, guarded, read_input,
-                                target_stack_options, write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, format_option, guarded,
+                                load_static_od, node_id_option, output_option, quiet_option,
+                                read_input, static_od_option, target_stack_options,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -19,12 +21,10 @@ FORMATS = ("text", "json", "sarif", "github")
 
 @click.command("validate", context_settings=CONTEXT)
 @click.argument("paths", nargs=-1, type=click.Path(allow_dash=True))
-@click.option("-f", "--format", "fmt", type=click.Choice(FORMATS), default="text",
-              show_default=True, help="Output format.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, allow_dash=True), default="-",
-              help="Write the report to this file (atomically) instead of stdout.")
+@format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
+@output_option("Default: standard output.")
 @click.option("--select", "select_", multiple=True, metavar="RULES",
-              help="Run only these rules: ids, id prefixes (DCF4, CNT) or names; "
+              help="Run only these rules: ids, id prefixes (DCF4, CNT), names, or ALL; "
                    "comma-separated or repeated.")
 @click.option("--ignore", multiple=True, metavar="RULES",
               help="Do not run these rules (ids, prefixes or names).")
@@ -32,9 +32,8 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
 @click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
               show_default=True, help="Device profile for the PDO checks (dis2: Metronix DIS-2).")
-@click.option("--node-id", type=click.IntRange(1, 127),
-              help="Node-ID for $NODEID values (overrides [DeviceComissioning] NodeID).")
-@click.option("--pi-size", type=click.IntRange(0), help="PI memory of the target in bytes.")
+@node_id_option("Used for $NODEID values (overrides [DeviceComissioning] NodeID).")
+@click.option("--pi-size", type=COUNT, metavar="N", help="PI memory of the target in bytes.")
 @click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
               show_default=True,
               help="Alignment in bytes of the output area's start in the process image.")
@@ -46,21 +45,22 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--no-target-check", is_flag=True,
               help="Do not run the model of the target's DynBuildOd() (the TGT rules).")
 @target_stack_options
+@static_od_option("Objects absent from it are created (as compile creates them); on a "
+                  "container, what it never writes is then checked against it too.")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
-@click.option("-q", "--quiet", is_flag=True,
-              help="Text format: print errors only, and no summary line.")
 @click.option("-j", "--jobs", type=click.IntRange(1), metavar="N",
               help="Check up to N files at a time, in this process and N-1 worker processes "
                    "(default: one per usable CPU core; 1: one after the other). The report "
                    "is the same.")
-@click.option("--debug", is_flag=True, help="Show the traceback of internal errors.")
+@quiet_option("Text format: no summary line either.")
+@debug_option
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
                  pi_size, pi_align, address_base, allow_external_files, no_target_check,
-                 tx_cobs, rx_cobs, granularity, no_bit_mapping, stdin_filename, hints,
-                 quiet, jobs, debug):
+                 tx_cobs, rx_cobs, granularity, no_bit_mapping, static_od, stdin_filename,
+                 hints, jobs, quiet, debug):
     """Lint DCF/EDS files and binary containers: every problem, with rule ids.
 
     PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
@@ -88,12 +88,14 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         active = resolve(select_, ignore)
     except SelectorError as exc:
         raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
+    load_static_od(static_od, quiet, "nothing checked")
     stdin = read_input("-") if "-" in paths else None
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active, strict=strict,
                    target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
-                   granularity=int(granularity), bit_mapping=not no_bit_mapping)
+                   granularity=int(granularity), bit_mapping=not no_bit_mapping,
+                   static_od=static_od)
     if jobs is None:
         from dcf2bin.lint.parallel import usable_cores
         jobs = usable_cores()
@@ -112,7 +114,8 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
     else:
         colour = output == "-" and report.use_colour(sys.stdout)
         shown = [d for d in diags if not quiet or d.severity is Severity.ERROR]
-        text = report.text_report(shown, len(result.files), colour=colour, hints=hints,
+        read = sum(1 for f in result.files if f.kind != "unreadable")
+        text = report.text_report(shown, read, colour=colour, hints=hints,
                                   show_summary=not quiet)
     _write(text, output, list(paths) + [f.path for f in result.files])
     root = click.get_current_context().find_root().params or {}

@@ -35,7 +35,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from dcf2bin.container import BinContainer
-from dcf2bin.dcfwriter.roundtrip import predict
+from dcf2bin.dcfwriter.roundtrip import mark_old_cob_ids, predict
 from dcf2bin.dcfwriter.reader import read_spec
 from dcf2bin.dcfwriter.spec import (R_ATTR, R_EDS, R_HEADER, R_PDO, R_PI, R_REPEAT, R_SELECT,
                                     R_SUMMARY, R_VALUE, table_type)
@@ -65,8 +65,12 @@ def convert(c: BinContainer, name: str, *, dcf_name: str, eds: EdsInfo | None = 
     ``[FileInfo] FileName``; ``eds``/``eds_device`` come from ``dump.load_eds``.
     """
     spec = read_spec(c, name, eds)
-    text = render(spec, dcf_name, eds_device)
+    marked = mark_old_cob_ids(spec)
     roundtrip, options = predict(spec)
+    if "--profile dis2" not in options:
+        for s in marked:   # not a DIS-2 block after all: no DefaultValue of our making
+            s.default = ""
+    text = render(spec, dcf_name, eds_device, options)
     return Result(text, spec.issues.diagnostics(), roundtrip, options, spec.encoding)
 
 

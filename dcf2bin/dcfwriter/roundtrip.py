@@ -9,28 +9,65 @@ tests/test_bin2dcf.py checks the prediction against the real compiler.
 from __future__ import annotations
 
 from dcf2bin import datatypes as dt
-from dcf2bin.dcfwriter.spec import R_PDO, R_SUMMARY, DcfSpec, short, table_type
+from dcf2bin.dcfwriter.spec import R_PDO, R_SUMMARY, DcfSpec, Issues, short, table_type
+from dcf2bin.diagnostics import Severity
 from dcf2bin.layout import INPUT, OUTPUT, PER_INDEX, RANGE_LEN
 from dcf2bin.model import NV_FIRST
 from dcf2bin.model import is_network_variable_index as is_nv
 from dcf2bin.model import is_pdo_comm as is_comm
 from dcf2bin.model import is_pdo_mapping as is_mapping
-from dcf2bin.select import COB_INVALID, MAX_MAPPED
+from dcf2bin.select import CAN_ID_MASK, COB_INVALID, PdoRules
+
+_DIS2_OFF = 0xC0000000   # DIS-2 disables a PDO with bits 31 and 30 (no RTR) set
+
+
+def mark_old_cob_ids(spec: DcfSpec) -> list:
+    """D-12 (Metronix DIS-2): a PDO block that starts with ``old | 0xC0000000`` before
+    ``final | 0xC0000000``, ``old`` with another CAN-ID, was compiled with ``--profile
+    dis2`` from a comm sub 1 whose DefaultValue is the COB-ID the drive has. Give that
+    sub the DefaultValue ``old`` (bits 30 and 31 clear: the block sets them), so that the
+    DCF compiles back with that profile. Returns the subs it marked."""
+    marked = []
+    for index, obj in spec.objects.items():
+        cob = obj.subs.get(1) if is_comm(index) else None
+        if cob is None or len(cob.writes) < 2 or cob.dtype.code != dt.UNSIGNED32.code \
+                or any(len(w.data) != 4 for w in cob.writes[:2]):
+            continue
+        old, first = (int.from_bytes(w.data, "little") for w in cob.writes[:2])
+        final = int.from_bytes(cob.data, "little")
+        if ((old & _DIS2_OFF) == _DIS2_OFF and first == final | _DIS2_OFF
+                and (old ^ first) & CAN_ID_MASK and cob.writes[1].pos == cob.writes[0].pos + 1):
+            cob.default = f"0x{old & ~_DIS2_OFF:08X}"
+            marked.append(cob)
+    return marked
 
 
 def predict(spec: DcfSpec) -> tuple[bool, list[str]]:
     """(compile with default options gives the container's bytes, the compile options
-    that would give them otherwise); warnings go to ``spec.issues``."""
+    that would give them otherwise); warnings go to ``spec.issues``. A container whose
+    PDO blocks only DIS-2's rules give (``mark_old_cob_ids``) needs ``--profile dis2``:
+    said as an info, not a warning, when that profile gives every byte back."""
+    if any(is_comm(i) and 1 in o.subs and o.subs[1].default for i, o in spec.objects.items()):
+        from dcf2bin.profiles import get_profile
+        trial = Issues(spec.name)
+        if _Predictor(spec, get_profile("dis2").pdo_rules(), trial).run() == (True, []):
+            spec.issues.add(R_SUMMARY, None, "compile gives the same bytes with --profile "
+                            "dis2: the PDO blocks first disable under the COB-ID the drive "
+                            "had (its DefaultValue), as Metronix DIS-2 drives need",
+                            Severity.INFO)
+            return False, ["--profile dis2"]
     return _Predictor(spec).run()
 
 
 class _Predictor:
-    def __init__(self, spec: DcfSpec):
+    def __init__(self, spec: DcfSpec, rules: PdoRules | None = None,
+                 issues: Issues | None = None):
         self.spec = spec
         self.c = spec.container
-        self.issues = spec.issues
+        self.issues = spec.issues if issues is None else issues
         self.objects = spec.objects
         self.offsets = spec.offsets
+        self.rules = rules or PdoRules()
 
     def run(self) -> tuple[bool, list[str]]:
         """Replay compile's rules on the objects written; warn where the bytes would differ."""
@@ -52,7 +89,7 @@ class _Predictor:
         entries_ok = first_diff is None and len(attrs) == len(actual)
         select_all = False
         if first_diff is not None and len(attrs) == len(actual):
-            # SPEC §3.2 --select all: group 2 takes every entry with a value, ro ones too
+            # SPEC §3.2 --entries all: group 2 takes every entry with a value, ro ones too
             select_all = self._first_difference(
                 creation + self._configuration(idxs, everything=True) + pdo) is None
         addresses, pi = layout
@@ -66,7 +103,7 @@ class _Predictor:
         if (entries_ok or select_all) and layout_ok and \
                 (pi_ok or (no_pi_ok and addresses is not None)):
             if select_all:
-                options.append("--select all")
+                options.append("--entries all")
             if not version_ok:
                 options.append(f"--container-version {c.version}")
             if not pi_ok:
@@ -135,7 +172,7 @@ class _Predictor:
     def _configuration(self, idxs: list[int], everything: bool
                        ) -> list[tuple[int, int, bytes, int]]:
         """D-8 group 2: configured, writable entries (every written entry is configured);
-        with ``everything`` (--select all) every entry with a value, of any access."""
+        with ``everything`` (--entries all) every entry with a value, of any access."""
         objs = self.objects
         exp = []
         for index in idxs:
@@ -177,14 +214,20 @@ class _Predictor:
         if cob.dtype.code != dt.UNSIGNED32.code:
             return f"0x{comm_idx:04X}sub1: the COB-ID is not 4 bytes NUMERIC"
         final = int.from_bytes(cob.data, "little")
-        exp.append((comm_idx, 1, (final | COB_INVALID).to_bytes(4, "little"), cob.attr))
+        rules = self.rules
+        if rules.old_cob_first and cob.default:   # D-12
+            old = int(cob.default, 16)
+            if (old ^ final) & CAN_ID_MASK:
+                exp.append((comm_idx, 1, (old | rules.disable_mask).to_bytes(4, "little"),
+                            cob.attr))
+        exp.append((comm_idx, 1, (final | rules.disable_mask).to_bytes(4, "little"), cob.attr))
         for s in (2, 3, 5, 6):
             e = comm.subs.get(s)
             if e is not None and e.writes:
                 exp.append((comm_idx, s, e.data, e.attr))
         sub0 = mapping.subs[0]
         n = int.from_bytes(sub0.value_bytes, "little", signed=sub0.dtype.kind == dt.SINT)
-        if n > MAX_MAPPED or n < 0:
+        if n > rules.max_mapped or n < 0:
             return f"0x{mapping.index:04X}sub0: {n} mapped objects"
         size0 = sub0.dtype.size or 1
         exp.append((mapping.index, 0, (0).to_bytes(size0, "little"), sub0.attr))
@@ -196,7 +239,8 @@ class _Predictor:
             exp.append((mapping.index, k, e.data, e.attr))
         exp.append((mapping.index, 0, n.to_bytes(size0, "little"), sub0.attr))
         if not final & COB_INVALID:
-            exp.append((comm_idx, 1, final.to_bytes(4, "little"), cob.attr))
+            exp.append((comm_idx, 1, (final | rules.enable_mask).to_bytes(4, "little"),
+                        cob.attr))
         for s in sorted(comm.subs):
             if s in (0, 4) or s >= 7:
                 e = comm.subs[s]
@@ -219,7 +263,7 @@ class _Predictor:
         spans: dict[str, list] = {INPUT: [], OUTPUT: []}
         placed = {}
         for index in sorted(nv_objs):
-            ch = self._channel(index)
+            ch = _channel(self.spec, index)
             if ch is None:
                 return None, (f"0x{index:04X} lies in 0xA900-0xAFFF without a "
                               "[DynamicChannels] segment")
@@ -263,15 +307,17 @@ class _Predictor:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None
 
-    def _channel(self, index: int):
-        for ch in self.spec.channels:
-            if ch.first <= index <= ch.last:
-                return ch.first, ch.dtype, ch.direction, ch.pp
-        tt = table_type(index)
-        if tt is None:
-            return None
-        return NV_FIRST + (index - NV_FIRST) // RANGE_LEN * RANGE_LEN, tt[0], tt[1], 0
 
+def _channel(spec: DcfSpec, index: int):
+    """(first index, type, area, PPOffset) of a network-variable index: its reconstructed
+    [DynamicChannels] segment, else its CiA 405 range; None outside both."""
+    for ch in spec.channels:
+        if ch.first <= index <= ch.last:
+            return ch.first, ch.dtype, ch.direction, ch.pp
+    tt = table_type(index)
+    if tt is None:
+        return None
+    return NV_FIRST + (index - NV_FIRST) // RANGE_LEN * RANGE_LEN, tt[0], tt[1], 0
 
 
 def _describe(entry, attr) -> str:
@@ -280,4 +326,4 @@ def _describe(entry, attr) -> str:
     return f"0x{index:04X}sub{sub:X} = {short(data) or '(empty)'} ({a})"
 
 
-__all__ = ["predict"]
+__all__ = ["mark_old_cob_ids", "predict"]

@@ -54,7 +54,7 @@ class SubSpec:
     writes: list[Write]
     name: str = ""
     value: str = ""        # ParameterValue text ("" = none: an implied sub 0)
-    default: str = ""      # DefaultValue text (implied sub 0 only)
+    default: str = ""      # DefaultValue text (an implied sub 0; a DIS-2 comm sub 1, D-12)
 
     @property
     def data(self) -> bytes:
@@ -95,21 +95,26 @@ class Issues:
     def __init__(self, name: str):
         self.name = name
         self.items: dict[str, list[tuple[int | None, str]]] = {}
+        self.severity: dict[str, Severity] = {}   # a rule's, where not a warning
 
-    def add(self, rule: str, offset: int | None, message: str) -> None:
+    def add(self, rule: str, offset: int | None, message: str,
+            severity: Severity = Severity.WARNING) -> None:
         self.items.setdefault(rule, []).append((offset, message))
+        if severity is not Severity.WARNING:
+            self.severity[rule] = severity
 
     def __bool__(self) -> bool:
-        return any(self.items.values())
+        return any(items for rule, items in self.items.items()
+                   if self.severity.get(rule, Severity.WARNING) is Severity.WARNING)
 
     def diagnostics(self) -> list[Diagnostic]:
         out = []
         for rule, items in self.items.items():
+            severity = self.severity.get(rule, Severity.WARNING)
             for offset, message in items[:MAX_SHOWN]:
-                out.append(Diagnostic(Severity.WARNING, message, self.name, offset=offset,
-                                      rule=rule))
+                out.append(Diagnostic(severity, message, self.name, offset=offset, rule=rule))
             if len(items) > MAX_SHOWN:
-                out.append(Diagnostic(Severity.WARNING, f"... and {len(items) - MAX_SHOWN} "
+                out.append(Diagnostic(severity, f"... and {len(items) - MAX_SHOWN} "
                                       "more like this", self.name, rule=rule))
         return out
 

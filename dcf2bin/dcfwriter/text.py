@@ -13,13 +13,15 @@ from dcf2bin.layout import INPUT
 from dcf2bin.model import is_pdo_mapping as is_mapping
 
 
-def render(spec: DcfSpec, dcf_name: str, eds_device=None) -> str:
-    """The DCF text; ``dcf_name`` goes into ``[FileInfo] FileName``."""
-    return _Renderer(spec, dcf_name, eds_device).render()
+def render(spec: DcfSpec, dcf_name: str, eds_device=None, options: list[str] = ()) -> str:
+    """The DCF text; ``dcf_name`` goes into ``[FileInfo] FileName``; ``options``, the
+    compile options that give the container's bytes back, into a comment."""
+    return _Renderer(spec, dcf_name, eds_device, options).render()
 
 
 class _Renderer:
-    def __init__(self, spec: DcfSpec, dcf_name: str, eds_device):
+    def __init__(self, spec: DcfSpec, dcf_name: str, eds_device, options=()):
+        self.options = list(options)
         self.spec = spec
         self.dcf_name = dcf_name
         self.eds_device = eds_device
@@ -35,6 +37,8 @@ class _Renderer:
           f"({self.spec.header['total_size']} bytes, {n} entr{'y' if n == 1 else 'ies'}).")
         w("; ParameterValue is the last value written to each entry; comments list earlier "
           "writes.")
+        if self.options:
+            w(f"; compile it with {' '.join(self.options)} to get the container's bytes back.")
         w("")
         w("[FileInfo]")
         w(f"FileName={self.dcf_name}")
@@ -122,7 +126,7 @@ class _Renderer:
             w(keys(s))
 
     def _keys(self, s: SubSpec) -> str:
-        if len(s.writes) == 1:
+        if len(s.writes) == 1 and not s.default:
             return (f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
                     f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
         lines = self._earlier(s)

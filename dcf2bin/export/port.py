@@ -41,8 +41,14 @@ documented in docs/export.md:
   8-bit numbers).
 * ``LIST_ELEMENT_T SYMBOL[]`` is sorted by index; ``const UNSIGNED16 SYMBOLElements`` holds
   its length. Both structures are initialised through macros that also fit the layouts
-  with ``CONFIG_LIMITS_CHECK`` (``pLimits`` = 0: no limits are generated) and with
-  ``CO_CONFIG_ENABLE_OBJ_CALLBACK`` (``pObjCallback`` = 0).
+  with ``CONFIG_LIMITS_CHECK`` and with ``CO_CONFIG_ENABLE_OBJ_CALLBACK`` (``pObjCallback``
+  = 0).
+* Limits (``CONFIG_LIMITS_CHECK``): an entry with LowLimit/HighLimit gets a ``static const
+  LIMIT_<T>_T`` {low, high} of its type (``LIMIT_U8_T`` as in seed 002, the others named
+  alike), ``pLimits`` points at it, cast as the seed's VALUE_DESC_T declares it; others 0.
+* UNSIGNED64 defaults and VAR data use the seed's ``SET_U64(b1..b8)``; inside initializer
+  lists ``DCF2BIN_U64`` (both defined for a native 64-bit type unless already defined).
+* A ``const`` VAR is declared ``const`` (seed 002: "constant and stored at ROM").
 """
 from __future__ import annotations
 
@@ -53,6 +59,7 @@ import struct
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
+from dcf2bin import values
 from dcf2bin.diagnostics import Where
 from dcf2bin.export import (ExportResult, ascii_text, encode, error, exported_objects,
                             model_diagnostics, warning)
@@ -110,6 +117,7 @@ class PortSub:
     name: str = ""
     source: tuple[int, int] | None = None   # (index, subindex) in the model
     dtype: dt.DataType | None = None
+    limits: tuple[bytes, bytes] | None = None   # LowLimit, HighLimit (CONFIG_LIMITS_CHECK)
 
     @property
     def attribute(self) -> int:
@@ -127,7 +135,7 @@ class PortSub:
     def same_description(self, other: "PortSub") -> bool:
         return (self.role == other.role == ENTRY and self.typedesc == other.typedesc
                 and self.ctype == other.ctype and self.attrs == other.attrs
-                and self.data == other.data)
+                and self.data == other.data and self.limits == other.limits)
 
 
 @dataclass
@@ -186,7 +194,36 @@ class _Planner:
                 return None
         return PortSub(entry.sub, ENTRY, typedesc, ctype,
                        _attrs(entry, typedesc, ctype, numeric), data,
-                       entry.name or obj.name, (entry.index, entry.sub), entry.dtype)
+                       entry.name or obj.name, (entry.index, entry.sub), entry.dtype,
+                       self.limits(entry, ctype) if numeric else None)
+
+    def limits(self, entry, ctype: str) -> tuple[bytes, bytes] | None:
+        """LowLimit/HighLimit as bytes of the entry's type (a missing one: the type's own
+        end), for ``pLimits``; None without limits, or with one that is no value of the
+        type (EXP208: no limits are exported for that entry)."""
+        if entry.low is None and entry.high is None:
+            return None
+        dtype = entry.dtype
+        out = []
+        for key, text, end in (("LowLimit", entry.low, dtype.min),
+                               ("HighLimit", entry.high, dtype.max)):
+            if text is None:
+                if ctype == "REAL32":   # no finite end is meant: the largest REAL32
+                    end = -3.4028234663852886e38 if key == "LowLimit" else 3.4028234663852886e38
+                    out.append(struct.pack("<f", end))
+                else:
+                    out.append((end & ((1 << dtype.bits) - 1)).to_bytes(dtype.size, "little"))
+                continue
+            try:
+                out.append(values.encode(dtype, values.split_numeric_comment(text)[0],
+                                         node_id=self.dev.node_id,
+                                         encoding=self.dev.encoding))
+            except values.ValueProblem as exc:
+                self.diags.append(warning(
+                    f"{entry.label} {key}: {values.clip(str(exc))}; no limits exported for "
+                    "it", entry.key_where(key.lower()), "EXP208"))
+                return None
+        return out[0], out[1]
 
     def run(self) -> list[PortObject]:
         out: list[PortObject] = []
@@ -292,7 +329,7 @@ class _Planner:
                             s0.attrs if s0.role == ENTRY else ("CO_NUM_VAL", "CO_READ_PERM"),
                             bytes([len(part)]), s0.name, s0.source, dt.UNSIGNED8)
             renumbered = [PortSub(n, p.role, p.typedesc, p.ctype, p.attrs, p.data, p.name,
-                                  p.source, p.dtype) for n, p in enumerate(part, 1)]
+                                  p.source, p.dtype, p.limits) for n, p in enumerate(part, 1)]
             name = obj.name if k == 0 else f"{obj.name} (part {k + 1})"
             out.append(PortObject(idx, obj.index, name, False, [count] + renumbered,
                                   where=obj.where))
@@ -327,19 +364,41 @@ _SUFFIX = {"UNSIGNED8": "u", "UNSIGNED16": "u", "UNSIGNED32": "UL", "UNSIGNED64"
            "INTEGER8": "", "INTEGER16": "", "INTEGER32": "L", "INTEGER64": "LL"}
 
 
-def literal(p: PortSub) -> str:
-    """The C initializer of a numeric sub's value."""
+def literal(p: PortSub, data: bytes | None = None, u64: str = "DCF2BIN_U64") -> str:
+    """The C initializer of a numeric sub's value (or of ``data`` in its type). An
+    UNSIGNED64 is ``u64(b1, ..., b8)``, most significant byte first, as the port manual
+    initialises 64-bit values (``SET_U64``), so that a compiler without a 64-bit type can
+    take it too."""
+    data = p.data if data is None else data
     if p.ctype == "REAL32":
-        (f,) = struct.unpack("<f", p.data)
+        (f,) = struct.unpack("<f", data)
         return f"{float.hex(f)}f"
+    if p.ctype == "UNSIGNED64":
+        return f"{u64}(" + ", ".join(f"0x{b:02X}ull" for b in reversed(data)) + ")"
     signed = p.ctype.startswith("INTEGER")
-    v = int.from_bytes(p.data, "little", signed=signed)
+    v = int.from_bytes(data, "little", signed=signed)
     if signed:
-        bits = len(p.data) * 8
+        bits = len(data) * 8
         if v == -(1 << (bits - 1)):
             return _INT_LIMITS[p.ctype]
         return f"{v}{_SUFFIX[p.ctype]}"
     return f"0x{v:X}{_SUFFIX[p.ctype]}"
+
+
+# the port manual's LIMIT_U8_T, by C type (CONFIG_LIMITS_CHECK: pLimits points at one)
+LIMIT_TYPES = {"UNSIGNED8": "LIMIT_U8_T", "UNSIGNED16": "LIMIT_U16_T",
+               "UNSIGNED32": "LIMIT_U32_T", "UNSIGNED64": "LIMIT_U64_T",
+               "INTEGER8": "LIMIT_I8_T", "INTEGER16": "LIMIT_I16_T",
+               "INTEGER32": "LIMIT_I32_T", "INTEGER64": "LIMIT_I64_T", "REAL32": "LIMIT_R32_T"}
+
+
+def _decl(ctype: str, name: str, p: PortSub, const: bool = False) -> str:
+    """A complete declaration of a numeric variable at ``p``'s value; an UNSIGNED64 through
+    the manual's ``SET_U64``, which brings its own braces and semicolon."""
+    head = f"{'const ' if const else ''}{ctype} {name} = "
+    if p.ctype == "UNSIGNED64":
+        return head + literal(p, u64="SET_U64")
+    return head + literal(p) + ";"
 
 
 def _bytes_init(data: bytes, indent: str = "    ") -> str:
@@ -396,7 +455,17 @@ class _Writer:
             elif p.ctype == "domain":
                 L.append(f"static DOMAIN_DATA_T {base}_l{p.sub} = {{ {len(p.data)}UL }};")
             else:
-                L.append(f"static const {p.ctype} {base}_d{p.sub} = {literal(p)};")
+                L.append(_decl(p.ctype, f"{base}_d{p.sub}", p, const=True).replace(
+                    "const ", "static const ", 1))
+        # limits (pLimits), only where the library has the member
+        limited = [p for p in self.described(o) if p.limits is not None]
+        if limited:
+            L.append("#ifdef CONFIG_LIMITS_CHECK")
+            for p in limited:
+                lo, hi = (literal(p, b) for b in p.limits)
+                L.append(f"static const {LIMIT_TYPES[p.ctype]} {base}_m{p.sub} = "
+                         f"{{ {lo}, {hi} }};")
+            L.append("#endif")
         # domain buffers
         for p in o.subs:
             if p.ctype == "domain":
@@ -405,12 +474,14 @@ class _Writer:
         # data
         if o.is_var:
             p = o.subs[0]
+            const = "CO_CONST_PERM" in p.attrs   # "constant and stored at ROM"
             if p.ctype == "bytes":
-                L.append(f"UNSIGNED8 {base}[{max(len(p.data), 1)}] = {_bytes_init(p.data, '')};")
+                L.append(f"{'const ' if const else ''}UNSIGNED8 {base}[{max(len(p.data), 1)}]"
+                         f" = {_bytes_init(p.data, '')};")
             elif p.ctype == "domain":
                 L.append(f"UNSIGNED8 *{base} = {base}_b0;")
             else:
-                L.append(f"{p.ctype} {base} = {literal(p)};")
+                L.append(_decl(p.ctype, base, p, const))
         else:
             L.append("#pragma pack(push, 1)")
             L.append("typedef struct {")
@@ -438,7 +509,8 @@ class _Writer:
         for p in self.described(o):
             attrs = p.attrs + (("CO_SHORT_ARRAY_DESC",) if o.short and p.sub == 0 else ())
             note = f"sub {p.sub}" + (f"..{len(o.subs) - 1}" if o.short and p.sub == 1 else "")
-            rows.append(f"    DCF2BIN_DESC({self.default_ref(o, p)}, {p.typedesc}, "
+            lim = f"&{base}_m{p.sub}" if p.limits is not None else "0"
+            rows.append(f"    DCF2BIN_DESC({self.default_ref(o, p)}, {lim}, {p.typedesc}, "
                         f"{_attr_expr(attrs)}) /* {note} {_comment(p.name)} */")
         # commas go before the comment
         fixed = []
@@ -471,11 +543,23 @@ def to_c(objs: list[PortObject], *, includes: list[str] | None = None,
         L.append(f"#include \"{inc}\"")
     L += ["",
           "#ifdef CONFIG_LIMITS_CHECK",
-          "#  define DCF2BIN_DESC(def, type, attr) "
-          "{ (UNSIGNED8 *)(def), 0, (type), (UNSIGNED16)(attr) }",
+          "#  define DCF2BIN_DESC(def, lim, type, attr) "
+          "{ (UNSIGNED8 *)(def), (LIMIT_U8_T *)(lim), (type), (UNSIGNED16)(attr) }",
           "#else",
-          "#  define DCF2BIN_DESC(def, type, attr) "
+          "#  define DCF2BIN_DESC(def, lim, type, attr) "
           "{ (UNSIGNED8 *)(def), (type), (UNSIGNED16)(attr) }",
+          "#endif",
+          "/* 64-bit values, most significant byte first: SET_U64 as the port manual gives it",
+          " * for a compiler with a 64-bit type (the library's own definition wins), and",
+          " * DCF2BIN_U64 inside initializer lists (define it as { b8, ..., b1 } where",
+          " * UNSIGNED64 is the manual's struct of 8 chars). */",
+          "#ifndef SET_U64",
+          "#  define SET_U64(b1, b2, b3, b4, b5, b6, b7, b8) \\",
+          "  { b1<<56|b2<<48|b3<<40|b4<<32|b5<<24|b6<<16|b7<<8|b8 };",
+          "#endif",
+          "#ifndef DCF2BIN_U64",
+          "#  define DCF2BIN_U64(b1, b2, b3, b4, b5, b6, b7, b8) \\",
+          "  ((b1)<<56|(b2)<<48|(b3)<<40|(b4)<<32|(b5)<<24|(b6)<<16|(b7)<<8|(b8))",
           "#endif",
           "#ifdef CO_CONFIG_ENABLE_OBJ_CALLBACK",
           "#  define DCF2BIN_OBJ(obj, desc, index, n) "

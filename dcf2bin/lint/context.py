@@ -35,6 +35,7 @@ class Options:
     rx_cobs: int | None = None
     granularity: int = 64
     bit_mapping: bool = True
+    static_od: str | None = None        # the target's static OD (an EDS path), checked first
 
 
 class DcfContext:

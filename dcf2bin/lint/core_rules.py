@@ -27,7 +27,7 @@ core("DCF008", "not-text", ERROR,
      hint="an EDS/DCF is text in UTF-8 or Latin-1 with LF or CRLF line ends")
 core("DCF009", "nothing-configured", WARNING,
      "compile only: nothing in the file is configured, so the container holds no entries.",
-     hint="--select all also writes every DefaultValue (the device's defaults)")
+     hint="--entries all also writes every DefaultValue (the device's defaults)")
 core("DCF056", "no-sections", ERROR,
      "The file has no section at all (empty, or not an EDS/DCF); compile refuses it too.",
      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
@@ -150,6 +150,11 @@ core("DCF315", "dynch-range-overlap", ERROR,
 core("IO001", "input-unreadable", ERROR,
      "An input could not be read at all (missing, a directory, no permission).",
      hint="check the path", kind=ANY, always=True)
+core("IO002", "kind-not-as-named", WARNING,
+     "The file's content is another kind than its name says (a container named .dcf, DCF "
+     "text named .bin); it is checked by its content.",
+     hint="rename the file to the suffix of its kind (.dcf/.eds text, .bin container)",
+     kind=ANY)
 core("INT001", "internal-error", ERROR,
      "A check crashed: a bug in dcf2bin, not in the input.",
      hint="run with --debug for the traceback, and please report it", kind=ANY, always=True)

@@ -127,7 +127,8 @@ class SelectorError(ValueError):
 
 
 def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[str]:
-    """The ids of the active rules for ``--select``/``--ignore`` (ids, id prefixes or names).
+    """The ids of the active rules for ``--select``/``--ignore`` (ids, id prefixes or names;
+    ``ALL``, any case, is every rule).
 
     Raises SelectorError for a selector that matches no rule.
     """
@@ -137,6 +138,8 @@ def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[s
         if not s:
             return set()
         up, low = s.upper(), s.lower()
+        if up == "ALL":         # --select ALL: every rule (as ruff and flake8 spell it)
+            return set(RULES)
         hits = {r.id for r in RULES.values() if r.id.startswith(up) or r.name == low}
         if not hits:
             raise SelectorError(f"'{s}' matches no rule id, id prefix or rule name "

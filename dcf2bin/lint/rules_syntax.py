@@ -374,3 +374,20 @@ def required_section_missing(ctx):
     for canon, shown in (("fileinfo", "FileInfo"), ("deviceinfo", "DeviceInfo")):
         if canon not in ctx.ini.sections:
             yield Finding(f"[{shown}] is missing", None)
+
+
+@rule("DCF061", "subindex-spelling", WARNING,
+      "A sub-object section writes its subindex with more than 2 hex digits ([1018sub001]); "
+      "it is read as the canonical [1018sub1].",
+      hint="a subindex has 1 or 2 hex digits: write the canonical section name")
+def subindex_spelling(ctx):
+    for canon, sec in ctx.of_kind("sub"):
+        digits = sec.name.strip().lower().partition("sub")[2]
+        if len(digits) <= 2 or digits.strip("0123456789abcdef"):
+            continue
+        sub = int(digits, 16)
+        if sub > 0xFF:
+            continue   # DCF005
+        shown = f"[{canon[:4].upper()}sub{sub:X}]"
+        yield Finding(f"[{sec.name}] has a subindex of {len(digits)} digits; it is read as "
+                      f"{shown}, the canonical spelling", sec.line)

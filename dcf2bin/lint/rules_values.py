@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import re
-import struct
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
@@ -118,13 +117,7 @@ def download_file(ctx):
 
 def _number(ctx, e, text: str):
     """The value of ``text`` as a number of e's type; None if $NODEID without a node-ID."""
-    dtype = e.dtype
-    if values.uses_nodeid(text) and ctx.dev.node_id is None:
-        return None
-    data = _encode(ctx, dtype, text, ctx.dev.node_id)
-    if dtype.kind == dt.REAL:
-        return struct.unpack("<f" if dtype.size == 4 else "<d", data)[0]
-    return int.from_bytes(data, "little", signed=dtype.kind == dt.SINT)
+    return values.as_number(e.dtype, text, ctx.dev.node_id, encoding=ctx.dev.encoding)
 
 
 def _limits(ctx, e):
@@ -177,14 +170,14 @@ def limits_inverted(ctx):
     seen: set = set()
     for e in _limit_entries(ctx):
         low, high = _limits(ctx, e)
-        if low is None or high is None or low <= high:
+        message = values.inverted_limits(e.label, e.low, low, e.high, high)
+        if message is None:
             continue
         line = e.key_where("lowlimit").line
         if line in seen:
             continue
         seen.add(line)
-        yield Finding(f"{e.label} LowLimit {_shown(e.low, low)} is greater than HighLimit "
-                      f"{_shown(e.high, high)}", line, ctx.value_column(line))
+        yield Finding(message, line, ctx.value_column(line))
 
 
 @rule("DCF212", "value-outside-limits", ERROR,
@@ -207,12 +200,9 @@ def outside_limits(ctx):
                 continue  # DCF200
             if v is None:
                 continue
-            if low is not None and v < low:
-                yield Finding(f"{e.label} {shown} {_shown(text, v)} is below LowLimit "
-                              f"{_shown(e.low, low)}", line, ctx.value_column(line))
-            elif high is not None and v > high:
-                yield Finding(f"{e.label} {shown} {_shown(text, v)} is above HighLimit "
-                              f"{_shown(e.high, high)}", line, ctx.value_column(line))
+            message = values.limit_problem(e.label, shown, text, v, e.low, low, e.high, high)
+            if message is not None:
+                yield Finding(message, line, ctx.value_column(line))
 
 
 @rule("DCF213", "parametervalue-read-only", INFO,
@@ -294,10 +284,22 @@ def limits_non_numeric(ctx):
                     yield Finding(f"{e.label} is {e.dtype.name}; limits do not apply", line)
 
 
-def _shown(text: str, value) -> str:
-    """'0xFF (= -1)' where the text is not the plain decimal number."""
-    return text if text.strip() == str(value) else f"{text} (= {value})"
+@rule("DCF218", "hex-0x-prefix", WARNING,
+      "An OCTET_STRING or DOMAIN value starts with 0x; CiA 306 writes hex byte pairs "
+      "without a prefix, and the bytes after it are used.",
+      hint="write the hex byte pairs without 0x (Sevcon DriveWizard writes them with it)")
+def hex_0x_prefix(ctx):
+    seen: set = set()
+    for e in _entries(ctx):
+        if e.dtype is None or e.dtype.kind not in (dt.OSTRING, dt.DOMAIN):
+            continue
+        for key, shown, text in _texts(e):
+            if values.hex_prefix(text) and values.hex_problem(e.dtype, text) is None:
+                line = e.key_where(key).line
+                if line not in seen:   # CompactSubObj: one line for N entries
+                    seen.add(line)
+                    yield Finding(f"{e.label} {shown}: {values.hex_prefix_problem(e.dtype)}",
+                                  line, ctx.value_column(line))
 
 
-def _clip(s: str, n: int = 160) -> str:
-    return s if len(s) <= n else s[:n - 20] + "..." + s[-17:]
+_clip = values.clip

@@ -20,6 +20,7 @@ from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
 SUFFIXES = (".eds", ".dcf", ".bin")
 DCF_SUFFIXES = (".eds", ".dcf", ".ini")
 KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
+KIND_JSON = "json"
 NOTHING_FOUND = "no *.dcf, *.eds or *.bin file in this directory"
 
 
@@ -87,16 +88,11 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
 
 
 def _kind_of(path: str, data: bytes) -> str:
-    low = path.lower()
-    if low.endswith(".bin"):
-        return KIND_BIN
-    if low.endswith(DCF_SUFFIXES):
-        return KIND_DCF
-    # stdin or an unknown suffix: a container's first DWORD is its size; text has no NULs
-    if len(data) >= 40 and (int.from_bytes(data[:4], "little") == len(data)
-                            or b"\x00" in data[:512]):
-        return KIND_BIN
-    return KIND_DCF
+    """The file's kind by content, as every command reads it (dcf2bin.filekind); the name
+    decides only for an empty or blank file."""
+    from dcf2bin import filekind
+    kind = filekind.detect(data, "" if path.startswith("<") else path)
+    return {filekind.CONTAINER: KIND_BIN, filekind.JSON: KIND_JSON}.get(kind, KIND_DCF)
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
@@ -149,6 +145,10 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     opts = opts or Options()
     kind = kind or _kind_of(name, data)
     res = FileResult(name, kind)
+    if kind == KIND_JSON:
+        res.diagnostics.append(_not_lintable(name))
+        return res
+    note = _misnamed(name, kind)
     # As in a compile: a large file makes hundreds of thousands of small objects and no
     # reference cycles worth collecting; the cyclic GC would only rescan them, more often
     # the larger the file (a cost that grows faster than the file). The caller's setting
@@ -163,7 +163,31 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     finally:
         if was_enabled:
             gc.enable()
+    if note is not None and "IO002" in (opts.active if opts.active is not None else RULES):
+        res.diagnostics.insert(0, note)
     return res
+
+
+def _misnamed(name: str, kind: str) -> Diagnostic | None:
+    """IO002: a file whose content is another kind than its name says (checked by content)."""
+    from dcf2bin import filekind
+    if name.startswith("<"):
+        return None
+    text = filekind.misnamed(name, filekind.CONTAINER if kind == KIND_BIN else filekind.DCF)
+    if text is None:
+        return None
+    return Diagnostic(Severity.WARNING, text.replace("; read as", "; checked as"), name,
+                      rule="IO002", hint=RULES["IO002"].hint)
+
+
+def _not_lintable(name: str) -> Diagnostic:
+    """The JSON form given to validate: what it is, and the command that makes a container
+    of it (DCF008: not EDS/DCF text)."""
+    from dcf2bin import filekind
+    return Diagnostic(Severity.ERROR, filekind.mismatch(
+        name, filekind.JSON, (filekind.DCF, filekind.CONTAINER),
+        use="dcf2bin compile turns it back into the container, which validate checks"),
+        name, rule="DCF008", hint=RULES["DCF008"].hint)
 
 
 # -- one file --------------------------------------------------------------------------------
@@ -216,8 +240,12 @@ class _Run:
             self.guard("the process-image layout", lambda: setattr(ctx, "layout", layout.compute(
                 dev, align=opts.pi_align, pi_size=opts.pi_size,
                 address_base=opts.address_base)))
+        static = None
+        if opts.static_od is not None:     # checked by the command before any file is read
+            from dcf2bin.compiler import static_od_indexes
+            static = static_od_indexes(opts.static_od)[0]
         ok, sel = self.guard("the compile selection", lambda: select_mod.select(
-            dev, rules=get_profile(opts.profile).pdo_rules()))
+            dev, static_od=static, rules=get_profile(opts.profile).pdo_rules()))
         self.checks(DCF, ctx)
         # after the checks: DCF202's DownloadFile reads may add core problems
         for p in dev.problems:
@@ -245,15 +273,15 @@ class _Run:
             node_id=o.node_id, pi_align=o.pi_align, pi_size=o.pi_size,
             address_base=o.address_base, allow_external_files=o.allow_external_files,
             profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
-            granularity=o.granularity, bit_mapping=o.bit_mapping)
+            granularity=o.granularity, bit_mapping=o.bit_mapping, static_od=o.static_od)
         found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
                                       opts)        # the cyclic GC is off: see lint_bytes
         for d in found:
             self.core.append(self._core(d, d.rule))
 
     def target_container(self, data: bytes) -> None:
-        """TGT0xx on a container: the emulation without a static OD. A container the
-        reader rejects is left to the CNT rules."""
+        """TGT0xx on a container: the emulation, with the static OD of --static-od when given
+        (else without one). A container the reader rejects is left to the CNT rules."""
         from dcf2bin.container import ContainerError, read
         from dcf2bin.dynod import TargetOptions, emulate
         from dcf2bin.dynod.check import message
@@ -262,9 +290,13 @@ class _Run:
         except ContainerError:
             return
         o = self.opts
+        static = None
+        if o.static_od is not None:
+            from dcf2bin.dynod import StaticOD
+            static = StaticOD.from_eds(o.static_od)
         out = emulate(c, TargetOptions(pi_size=o.pi_size, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
                                        granularity=o.granularity, bit_mapping=o.bit_mapping,
-                                       address_base=o.address_base))
+                                       address_base=o.address_base), static)
         if not out.ok:
             r = RULES[out.rule]
             self.core.append(Diagnostic(Severity.ERROR, message(out), self.res.path,

@@ -17,13 +17,15 @@ class _CompactPdoStep:
         info = self.ini.section("deviceinfo")
         if info is None:
             return
-        try:
-            mask = _int_or(info.get("compactpdo"), 0)
-            n_rx = _int_or(info.get("nrofrxpdo"), 0)
-            n_tx = _int_or(info.get("nroftxpdo"), 0)
-        except values.ValueProblem as exc:
-            dev.error(f"[DeviceInfo]: {exc}", self.w(info.line), rule="DCF040")
-            return
+        numbers = []
+        for key in ("compactpdo", "nrofrxpdo", "nroftxpdo"):
+            try:
+                numbers.append(_int_or(info.get(key), 0))
+            except values.ValueProblem as exc:   # at the key's line, not the header's
+                dev.error(f"[DeviceInfo] {info.keys[key].name}: {exc}", self.w(info.line_of(key)),
+                          rule="DCF040")
+                return
+        mask, n_rx, n_tx = numbers
         if not mask:
             return
         where = self.w(info.line_of("compactpdo"))

@@ -21,9 +21,16 @@ from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import Diagnostic, Severity
 from dcf2bin.layout import INPUT, OUTPUT, PER_INDEX, RANGE_LEN, TABLE_405
 
-RULE_CSV = "ALC001"       # a bad line in the variable list
+# One code per kind of problem (docs/plc.md, man/dcf2bin-allocate.1); ids never change
+# meaning. ALC001 once named every bad CSV line; it keeps the file's structure.
+RULE_CSV = "ALC001"       # not a variable list: header row, field count, not CSV, empty
 RULE_FULL = "ALC002"      # a kind needs more than its 0x40 indices
 RULE_BASE = "ALC003"      # the DCF to merge into cannot take the variables
+RULE_NAME = "ALC004"      # an empty name, or one holding a control character
+RULE_REPEAT = "ALC005"    # a name repeated (compared without regard to case)
+RULE_TYPE = "ALC006"      # an unknown data type
+RULE_NO_RANGE = "ALC007"  # a data type without a CiA 405 network-variable range
+RULE_DIR = "ALC008"       # a direction other than input/output (in/out)
 
 _DIRECTIONS = {"input": INPUT, "in": INPUT, "output": OUTPUT, "out": OUTPUT}
 # (data type code, direction) -> first index of its CiA 405 range (SPEC §2.1)
@@ -48,6 +55,10 @@ class Placed:
 
 
 class AllocationError(Exception):
+    """Errors stopped the allocation; ``diagnostics`` holds them (``ok`` is False, as for a
+    compile result, so the CLI ends both the same way)."""
+    ok = False
+
     def __init__(self, diagnostics: list[Diagnostic]):
         super().__init__("\n".join(d.format() for d in diagnostics))
         self.diagnostics = diagnostics
@@ -95,16 +106,16 @@ def read_vars(data: bytes, path: str) -> list[Var]:
             name, type_text, dir_text = (c.strip() for c in row)
             bad = False
             if not name:
-                diags.append(_err("empty name", path, line, RULE_CSV))
+                diags.append(_err("empty name", path, line, RULE_NAME))
                 bad = True
             elif _CONTROL.search(name):
                 diags.append(_err(f"name {name!r} holds a control character", path, line,
-                                  RULE_CSV))
+                                  RULE_NAME))
                 bad = True
             elif name.casefold() in seen:
                 diags.append(_err(f"name '{name}' repeats line {seen[name.casefold()]} "
                                   "(names are compared without regard to case)", path, line,
-                                  RULE_CSV))
+                                  RULE_REPEAT))
                 bad = True
             else:
                 seen[name.casefold()] = line
@@ -113,16 +124,16 @@ def read_vars(data: bytes, path: str) -> list[Var]:
             if dtype is None:
                 diags.append(_err(f"unknown data type '{type_text}' (a CiA 306 name such as "
                                   "UNSIGNED16, or a code such as 0x0006)", path, line,
-                                  RULE_CSV))
+                                  RULE_TYPE))
                 bad = True
             elif (dtype.code, INPUT) not in RANGE_START:
                 diags.append(_err(f"data type {dtype.name} has no network-variable range "
                                   "(CiA 405 ranges exist for the integer types of 8 to 64 "
-                                  "bits, BOOLEAN and REAL32)", path, line, RULE_CSV))
+                                  "bits, BOOLEAN and REAL32)", path, line, RULE_NO_RANGE))
                 bad = True
             if direction is None:
                 diags.append(_err(f"direction '{dir_text}' must be input or output (in, out)",
-                                  path, line, RULE_CSV))
+                                  path, line, RULE_DIR))
                 bad = True
             if not bad:
                 out.append(Var(name, dtype, direction, line))

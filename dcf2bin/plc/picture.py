@@ -134,10 +134,28 @@ def _legend(vm: VarMap, y: int, width: int) -> tuple[list[str], int]:
     return out, y + 30
 
 
+def _text_width(text: str, font_px: float, bold: bool = False) -> int:
+    """About how wide a line of text is drawn (DejaVu Sans averages 0.6 em a character)."""
+    return int(len(text) * font_px * (0.66 if bold else 0.6)) + 1
+
+
+def _bytes_width(vm: VarMap, t1: str, t2: str) -> int:
+    """The byte layout's width: the columns it draws (16 only when an area reaches a
+    second row), or the widest text line, whichever is wider -- not always 16 columns."""
+    blocks = _blocks(vm)
+    cols = max([min(COLS, size) for _, _, size, _ in blocks] + [1])
+    texts = [_text_width(t1, 15, True), _text_width(t2, 12)]
+    texts += [_text_width(_heading(kind, start, size), 13, True)
+              for kind, start, size, _ in blocks]
+    if not vm.rows and not vm.pi[0]:
+        texts.append(_text_width("no network variables", 13))
+    return max(LEFT + cols * CW + 20, 10 + max(texts) + 10)
+
+
 def _svg_bytes(vm: VarMap) -> str:
-    width = LEFT + COLS * CW + 20
-    body: list[str] = []
     t1, t2 = _title_lines(vm)
+    width = _bytes_width(vm, t1, t2)
+    body: list[str] = []
     body.append(f'<text x="10" y="22" font-size="15" font-weight="bold">{_e(t1)}</text>')
     body.append(f'<text x="10" y="40" font-size="12">{_e(t2)}</text>')
     y = 56

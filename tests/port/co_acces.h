@@ -19,11 +19,23 @@ typedef signed int         INTEGER32;
 typedef signed long long   INTEGER64;
 typedef float              REAL32;
 
-/* limits of a value (only with CONFIG_LIMITS_CHECK) */
-typedef struct {
-    UNSIGNED8 minRange;
-    UNSIGNED8 maxRange;
-} LIMIT_U8_T;
+/* limits of a value (only with CONFIG_LIMITS_CHECK): the lower, then the upper limit, in
+ * the variable's own type (the manual names LIMIT_U8_T; pLimits points at the one of the
+ * variable's type, cast) */
+#define DCF2BIN_TEST_LIMIT(name, type) typedef struct { type minRange; type maxRange; } name;
+DCF2BIN_TEST_LIMIT(LIMIT_U8_T, UNSIGNED8)
+DCF2BIN_TEST_LIMIT(LIMIT_U16_T, UNSIGNED16)
+DCF2BIN_TEST_LIMIT(LIMIT_U32_T, UNSIGNED32)
+DCF2BIN_TEST_LIMIT(LIMIT_U64_T, UNSIGNED64)
+DCF2BIN_TEST_LIMIT(LIMIT_I8_T, INTEGER8)
+DCF2BIN_TEST_LIMIT(LIMIT_I16_T, INTEGER16)
+DCF2BIN_TEST_LIMIT(LIMIT_I32_T, INTEGER32)
+DCF2BIN_TEST_LIMIT(LIMIT_I64_T, INTEGER64)
+DCF2BIN_TEST_LIMIT(LIMIT_R32_T, REAL32)
+
+/* the manual's 64-bit initialisation, for a compiler with a 64-bit type */
+#define SET_U64(b1, b2, b3, b4, b5, b6, b7, b8)        \
+  { b1<<56|b2<<48|b3<<40|b4<<32|b5<<24|b6<<16|b7<<8|b8 };
 
 /* size information behind pDefaultVal of strings and domains */
 typedef struct {

@@ -5,6 +5,8 @@
  * DEFAULT comes from pDefaultVal (numbers in decimal, REAL32 as its bit pattern, strings
  * and domains as their STRING_DATA_T / DOMAIN_DATA_T lengths); DATA is the value in the
  * object's data at the subindex's address (byte-packed layout), strings and domains in hex.
+ * Built with CONFIG_LIMITS_CHECK and WALK_LIMITS, a subindex with pLimits also prints
+ * " l=LOW..HIGH" (numbers as DEFAULT).
  * tests/test_export_port.py compares this output with the model.
  */
 #include <stdio.h>
@@ -100,6 +102,15 @@ int main(void)
                 print_number(type, d->pDefaultVal);
                 printf(" v=");
                 print_number(type, data);
+#if defined(CONFIG_LIMITS_CHECK) && defined(WALK_LIMITS)
+                if (d->pLimits != NULL) {
+                    const UNSIGNED8 *lim = (const UNSIGNED8 *)(const void *)d->pLimits;
+                    printf(" l=");
+                    print_number(type, lim);
+                    printf("..");
+                    print_number(type, lim + size_of(d));
+                }
+#endif
             }
             printf("\n");
             offset += size_of(d);
