@@ -3,6 +3,7 @@ in every format, with the same exit code (issue 22). Speed is measured in benchm
 from __future__ import annotations
 
 import multiprocessing
+import sys
 
 import pytest
 from click.testing import CliRunner
@@ -97,3 +98,19 @@ def test_lint_paths_keeps_the_order_of_its_items(always_parallel):
     items = [(p, p) for p in files]
     assert parallel.lint_paths(items, Options(), 2, runner.lint_path) == [
         runner.lint_path(p, p, Options()) for p in files]
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the start methods chosen on Linux")
+@pytest.mark.parametrize("threads", [1, 2], ids=["fork", "forkserver"])
+def test_both_ways_of_starting_workers_give_the_serial_results(always_parallel, monkeypatch,
+                                                              threads):
+    # with another thread in the process the workers come from the fork server instead of
+    # a fork of this process (on Linux); either way the results are the serial ones
+    monkeypatch.setattr(parallel.threading, "active_count", lambda: threads)
+    ctx = parallel._context()
+    assert ctx.get_start_method() == ("fork" if threads == 1 else "forkserver")
+    files = sorted(str(p) for p in SAMPLES.glob("*.*") if p.suffix in (".dcf", ".eds", ".bin"))
+    items = [(p, p) for p in files]
+    assert parallel.lint_paths(items, Options(), 3, runner.lint_path) == [
+        runner.lint_path(p, p, Options()) for p in files]
+

@@ -7,16 +7,20 @@ order, and the report, the per-rule cap of the text format, the summary line and
 code are computed by the caller over the merged list, as for ``-j 1``.
 
 The design is safe under every start method (the work is a module-level function of
-picklable arguments; nothing relies on state inherited from the parent). It uses
-'forkserver' where the platform has it: the server imports dcf2bin's reader and rules
-once, and each worker is a fork of that clean process, not of the caller (which may
-hold threads or open files). Elsewhere 'spawn'.
+picklable arguments; nothing relies on state inherited from the parent). On Linux, in a
+process without other threads (the command line), the workers are forks of this process:
+ready in milliseconds, with dcf2bin already imported. Otherwise 'forkserver' where the
+platform has it (the server imports dcf2bin's reader and rules once, and each worker is
+a fork of that clean process, not of a caller that may hold threads or locks; a worker is
+then ready about 0.1 s later), else 'spawn'.
 """
 from __future__ import annotations
 
+import importlib
 import multiprocessing
 import os
 import signal
+import sys
 import threading
 from multiprocessing.connection import wait
 
@@ -27,16 +31,18 @@ from dcf2bin.lint.context import Options
 R = TypeVar("R")
 Lint = Callable[[str, str, Options], R]    # (path, shown name, options) -> its result
 
-# imported once in the fork server, so that each worker starts with them loaded
+# imported once (in the fork server, or here before forking), so that each worker starts
+# with them loaded
 # (dcf2bin.cli too: a worker imports the caller's main module, dcf2bin.__main__)
 _PRELOAD = ["dcf2bin.cli", "dcf2bin.lint.runner", "dcf2bin.lint.registry", "dcf2bin.ini",
             "dcf2bin.model", "dcf2bin.layout", "dcf2bin.select", "dcf2bin.compiler",
             "dcf2bin.dynod"]
 
 
-# Less input than this is checked in this process alone: a worker is ready about 0.1 s
-# after it is asked for (the fork server starts a Python and imports dcf2bin), and by then
-# this process has checked about a megabyte (a pre-commit run of a few files, say).
+# Less input than this is checked in this process alone (a pre-commit run of a few files,
+# say): a worker from the fork server is ready about 0.1 s after it is asked for (a Python
+# start and dcf2bin's imports), in which this process checks about a megabyte; a forked
+# one costs less, but still more than such a run gains.
 MIN_PARALLEL_BYTES = 1 << 20
 
 
@@ -57,6 +63,10 @@ def usable_cores() -> int:
 
 def _context():
     methods = multiprocessing.get_all_start_methods()
+    if sys.platform == "linux" and "fork" in methods and threading.active_count() == 1:
+        # forking a process with one thread is safe; the workers are started before the
+        # collecting thread below exists
+        return multiprocessing.get_context("fork")
     if "forkserver" in methods:
         ctx = multiprocessing.get_context("forkserver")
         ctx.set_forkserver_preload(_PRELOAD)
@@ -114,11 +124,9 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
         return [lint(path, shown, opts) for path, shown in items]
     procs = [ctx.Process(target=_worker, args=(tasks, opts, counter, w, lint), daemon=True)
              for _, w in pipes]
+    readers: list = []
 
-    def collect() -> None:
-        # in a thread: starting a process waits for the fork server to be ready, and a
-        # worker's result must not wait in a full pipe while this process lints
-        readers = []
+    def start() -> None:
         for p, (r, w) in zip(procs, pipes):
             try:
                 p.start()
@@ -127,6 +135,23 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
             else:
                 readers.append(r)
             w.close()
+
+    forking = ctx.get_start_method() == "fork"
+    if forking:
+        for name in _PRELOAD:      # imported once, here, instead of in every worker
+            importlib.import_module(name)
+        for stream in (sys.stdout, sys.stderr):   # a fork must not write them out again
+            try:
+                stream.flush()
+            except (AttributeError, OSError, ValueError):
+                pass
+        start()                                   # before any thread of ours exists
+
+    def collect() -> None:
+        # in a thread: starting a process from the fork server waits for it to be ready,
+        # and a worker's result must not wait in a full pipe while this process lints
+        if not forking:
+            start()
         while readers:
             for r in wait(readers):
                 try:
