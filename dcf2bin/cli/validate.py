@@ -10,10 +10,10 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, format_option, guarded,
-                                load_static_od, node_id_option, output_option, quiet_option,
-                                read_input, static_od_option, target_stack_options,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
+                                guarded, load_static_od, node_id_option, output_option,
+                                quiet_option, read_input, static_od_option,
+                                target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -50,7 +50,7 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
-@click.option("-j", "--jobs", type=click.IntRange(1), metavar="N",
+@click.option("-j", "--jobs", type=Integer(1), metavar="N",
               help="Check up to N files at a time, in this process and N-1 worker processes "
                    "(default: one per usable CPU core; 1: one after the other). The report "
                    "is the same.")
