@@ -27,7 +27,8 @@ formats drawn from the seed; each container through ``dump`` (text, JSON, and ``
 that JSON), ``bin2dcf``, ``validate``, ``simulate`` and ``map`` (one format); each CSV through
 ``allocate`` and ``allocate --into samples/plc.dcf`` (and sometimes ``map`` of what
 allocate wrote). ``--kind all`` (the default) takes dcf, container, csv in turn; ``both``
-dcf and container only. These are the real commands, run
+dcf and container only; ``network`` (or ``yaml``, ``cpj``) network files through
+``network check`` and ``network build`` (benchmarks/fuzz_network.py). These are the real commands, run
 in-process through click, with ``--debug`` so that an internal error surfaces as the
 exception it is. A *crash* is exit status 70 or any exception; the expected outcomes
 are exit 0 (ok), 1 (diagnostics) and 3 (unreadable input). A variant that runs longer
@@ -69,7 +70,17 @@ MAX_SEED_SIZE = 64 * 1024      # larger seed files make each variant slow, not m
 MAX_GROWTH = 4 << 20           # what one duplication may add (bytes)
 PLC_DCF = ROOT / "samples" / "plc.dcf"     # the base of allocate --into
 MAP_FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
-KINDS = {"both": ["dcf", "container"], "all": ["dcf", "container", "csv"]}
+KINDS = {"both": ["dcf", "container"], "all": ["dcf", "container", "csv"],
+         "network": ["yaml", "cpj"]}
+NETWORK_KINDS = ("yaml", "cpj")       # benchmarks/fuzz_network.py
+
+
+def _network():
+    """benchmarks/fuzz_network.py, the yaml and cpj kinds (loaded when they are fuzzed)."""
+    if str(HERE) not in sys.path:
+        sys.path.insert(0, str(HERE))
+    import fuzz_network
+    return fuzz_network
 
 # -- seeds ------------------------------------------------------------------------------------
 
@@ -449,7 +460,10 @@ CSV_MUTATIONS = [v_rows, v_rows, v_rows, v_many_rows, v_header, v_quote, v_quote
 
 
 def mutate(rng: random.Random, data: bytes, other: bytes, kind: str) -> tuple[bytes, list[str]]:
-    table = {"dcf": DCF_MUTATIONS, "container": BIN_MUTATIONS, "csv": CSV_MUTATIONS}[kind]
+    if kind in NETWORK_KINDS:
+        table = _network().mutations(kind, sys.modules[__name__])
+    else:
+        table = {"dcf": DCF_MUTATIONS, "container": BIN_MUTATIONS, "csv": CSV_MUTATIONS}[kind]
     ops = []
     for _ in range(rng.choice([1, 1, 2, 3])):
         data, what = rng.choice(table)(rng, data, other)
@@ -597,6 +611,8 @@ class Runner:
             os.mkfifo(self.dir / "fifo")
         with contextlib.suppress(OSError, NotImplementedError):
             os.symlink(workdir / "outside.bin", self.dir / "link")
+        self.net = None                    # the network kinds' folder, made when needed
+        self.workdir = workdir
 
     def invoke(self, args: list[str]) -> tuple[int, str]:
         """(exit code, traceback text or '') of one command; Hang propagates."""
@@ -613,6 +629,8 @@ class Runner:
 
     def commands(self, rng: random.Random, kind: str, path: Path) -> list[list[str]]:
         out = self.dir / "out.bin"
+        if kind in NETWORK_KINDS:
+            return _network().commands(rng, kind, path, self.workdir / "netout")
         if kind == "dcf":
             opts = []
             if rng.random() < 0.3:
@@ -682,9 +700,16 @@ class Runner:
 
     def run_variant(self, rng: random.Random, kind: str, data: bytes) -> list[tuple]:
         """Run the commands; -> [(command, exit code, traceback text)]."""
-        suffix = {"container": ".bin", "csv": ".csv"}.get(kind) or rng.choice([".dcf", ".dcf",
-                                                                                  ".eds"])
-        path = self.dir / f"fuzz{suffix}"
+        if kind in NETWORK_KINDS:
+            if self.net is None:
+                self.net = _network().setup(self.workdir)
+            # a .cpj names the DCFs of check/; a bus.yml the EDS files beside it
+            path = self.net / ("check/fuzz.cpj" if kind == "cpj" else "fuzz.yml")
+            shutil.rmtree(self.workdir / "netout", ignore_errors=True)
+        else:
+            suffix = {"container": ".bin", "csv": ".csv"}.get(kind) or rng.choice(
+                [".dcf", ".dcf", ".eds"])
+            path = self.dir / f"fuzz{suffix}"
         path.write_bytes(data)
         for name in ("out.bin", "out.json", "back.dcf", "out.txt", "out.c", "od.dcf", "map.out",
                      "alloc.dcf", "into.dcf"):
@@ -716,11 +741,16 @@ def fuzz(seed: int, iterations: int, kind: str = "all", corpus: Path | None = CO
          save: Path | None = None, progress: bool = False, max_size: int = MAX_SEED_SIZE,
          memory_limit_mib: int | None = None) -> Report:
     kinds = KINDS.get(kind, [kind])
-    seeds = {k: seed_files(k, corpus, max_size) for k in kinds}
+    seeds = {k: seed_files(k, corpus, max_size) for k in kinds if k not in NETWORK_KINDS}
     for k, files in seeds.items():
         if not files and k != "csv":
             raise SystemExit(f"fuzz: no {k} seed files found")
     blobs = {k: [p.read_bytes() for p in files] for k, files in seeds.items()}
+    for k in kinds:
+        if k in NETWORK_KINDS:
+            found = _network().seeds(k)
+            seeds[k] = [Path(name) for name, _ in found]
+            blobs[k] = [data for _, data in found]
     if "csv" in seeds:
         seeds["csv"] = seeds["csv"] + [Path(f"builtin-{n}.csv") for n in range(len(CSV_SEEDS))]
         blobs["csv"] = blobs["csv"] + CSV_SEEDS
@@ -786,7 +816,8 @@ def fuzz(seed: int, iterations: int, kind: str = "all", corpus: Path | None = CO
                     report.crashes.append(Crash(key, i, k, seed_name, ops, cmd, tb[-2000:]))
                     if save is not None:
                         save.mkdir(parents=True, exist_ok=True)
-                        suffix = {"container": ".bin", "csv": ".csv"}.get(k, ".dcf")
+                        suffix = {"container": ".bin", "csv": ".csv", "yaml": ".yml",
+                                  "cpj": ".cpj"}.get(k, ".dcf")
                         (save / f"seed{seed}-variant{i}{suffix}").write_bytes(data)
             if progress and (i + 1) % 500 == 0:
                 print(f"  {i + 1} variants, {len(report.crashes)} crashes, "
@@ -810,9 +841,10 @@ def main(argv: list[str] | None = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seed", type=int, default=1, help="seed of the run (default 1)")
     ap.add_argument("--iterations", type=int, default=300, help="number of variants")
-    ap.add_argument("--kind", choices=["dcf", "container", "csv", "both", "all"], default="all",
+    ap.add_argument("--kind", choices=["dcf", "container", "csv", "yaml", "cpj", "both", "all",
+                                       "network"], default="all",
                     help="what to mutate (all: dcf, container, csv in turn; both: dcf and "
-                         "container)")
+                         "container; network: yaml and cpj in turn)")
     ap.add_argument("--only", type=int, metavar="N", help="run only variant N of this seed")
     ap.add_argument("--corpus", type=Path, default=CORPUS,
                     help=f"folder of extra seed files (default {CORPUS}; ignored if absent)")

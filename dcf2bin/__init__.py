@@ -15,7 +15,9 @@ __version__ = "0.1.0"
 _API = ("BinContainer", "CompileError", "CompileOptions", "CompileResult", "DcfResult",
         "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
         "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
-        "read_container", "to_dcf", "validate")
+        "read_container", "to_dcf", "validate",
+        "BuildResult", "Network", "build_network", "check_network", "configure_network",
+        "load_network")
 
 __all__ = ["__version__", *_API]
 

@@ -39,11 +39,17 @@ from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter import Result as DcfResult
 from dcf2bin.diagnostics import Diagnostic, DiagnosticWarning, Severity
 from dcf2bin.model import Device, load
+from dcf2bin.network import configure as _configure
+from dcf2bin.network import load_network as _load_network
+from dcf2bin.network.build import BuildResult
+from dcf2bin.network.model import Network
 
 __all__ = ["BinContainer", "CompileError", "CompileOptions", "CompileResult", "DcfResult",
            "Device", "Diagnostic", "DiagnosticWarning", "ReadError", "Severity",
            "compile_file", "compile_path", "dump_json", "dump_text", "from_json", "load",
-           "read_container", "to_dcf", "validate"]
+           "read_container", "to_dcf", "validate",
+           "BuildResult", "Network", "build_network", "check_network", "configure_network",
+           "load_network"]
 
 Container = bytes | str | os.PathLike | BinContainer
 
@@ -176,6 +182,74 @@ def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active)
     return run([os.fspath(p) for p in paths], opts).diagnostics
+
+
+# -- networks --------------------------------------------------------------------------------
+
+def load_network(path: str | os.PathLike, *, data: bytes | None = None) -> Network:
+    """Read a network file (lely's dcfgen YAML, ros2_canopen's ``bus.yml``) into a
+    ``Network`` of ``Node``s, not yet configured. Findings are in its ``diagnostics``;
+    a file that cannot be read raises ``OSError``.
+
+        >>> net = load_network("tests/golden/network/flat/bus.yml")
+        >>> [(n.name, n.node_id, n.role) for n in net.nodes]
+        [('plc', 1, 'master'), ('drive', 2, 'slave'), ('io', 5, 'slave')]
+    """
+    return _load_network(os.fspath(path), data)
+
+
+def configure_network(network: Network) -> Network:
+    """Configure a loaded network in memory, as ``network build`` does: PDOs, COB-IDs,
+    the PLC's mirrors and variables, its NMT entries, each slave's write list
+    (``Node.writes``). Changes ``network`` and returns it; findings are added to its
+    ``diagnostics``.
+
+        >>> net = configure_network(load_network("tests/golden/network/flat/bus.yml"))
+        >>> [(v.name, hex(v.pi_index), v.pi_sub) for v in net.variables][:2]
+        [('drive_status', '0xa100', 1), ('drive_position', '0xa1c0', 2)]
+        >>> [hex(w.index) for w in net.node(2).writes][-2:]
+        ['0x1017', '0x6060']
+    """
+    return _configure(network)
+
+
+def build_network(path: str | os.PathLike, outdir: str | os.PathLike | None = None, *,
+                  data: bytes | None = None) -> BuildResult:
+    """Load, configure and check a network and make its outputs (``dcf2bin network
+    build``): ``outputs`` maps each file name (``<master>.dcf``, ``<slave>.bin``,
+    ``<slave>.dcf``) to its bytes, empty when there is an error; ``ok``, ``diagnostics``
+    and the configured ``network`` as for the other results. With ``outdir`` the files
+    are written there (all or none).
+
+        >>> res = build_network("tests/golden/network/flat/bus.yml")
+        >>> res.ok, sorted(res.outputs)
+        (True, ['drive.bin', 'drive.dcf', 'io.bin', 'io.dcf', 'plc.dcf'])
+    """
+    from dcf2bin.network.build import build_network as _build
+    return _build(os.fspath(path), None if outdir is None else os.fspath(outdir),
+                  data=data)
+
+
+def check_network(path: str | os.PathLike, *, select: str | Iterable[str] | None = None,
+                  ignore: str | Iterable[str] | None = None, max_load: float = 80.0,
+                  net: int | None = None):
+    """Check a network file -- a lely/ros2_canopen ``bus.yml`` or a CiA 306-3 ``.cpj``
+    project -- as a whole (``dcf2bin network check``). Returns a result with
+    ``network`` (the configured network: nodes, PDOs, variables), ``diagnostics`` (every
+    finding: the network file's, each node's file as ``validate`` reads it, the NET2xx
+    rules between nodes), ``load`` (the bus-load estimate, per COB-ID), ``ok`` and
+    ``exit_code(strict)``.
+
+    ``select``/``ignore`` pick rules as ``validate``'s do (``"NET2"``, ``"NET210"``,
+    ``"cob-id-produced-twice"``); an unknown one raises ``ValueError``. ``net`` picks the
+    ``[TopologyN]`` of a ``.cpj``. A file that cannot be read is an ``IO001`` finding.
+
+        >>> res = check_network("tests/fixtures/network/check/network.cpj", max_load=3)
+        >>> [(d.line, d.rule) for d in res.diagnostics], round(res.load.total, 3)
+        ([(3, 'NET260')], 3.625)
+    """
+    from dcf2bin.network.check import check_network as _check
+    return _check(os.fspath(path), select=select, ignore=ignore, max_load=max_load, net=net)
 
 
 # -- helpers ---------------------------------------------------------------------------------

@@ -8,7 +8,11 @@ from conftest import ROOT
 from dcf2bin import container
 from dcf2bin.lint import Options, run
 
-FIXTURES = sorted((ROOT / "tests" / "fixtures" / "lint").glob("CNT*.fail.bin"))
+# CNT011 is left out on purpose: the reader bounds the entry count by the bytes before it
+# reads entries (it never allocates from an untrusted count), while validate reads on and
+# names the failing entry -- two different checks, so no common wording is claimed.
+FIXTURES = sorted(p for p in (ROOT / "tests" / "fixtures" / "lint").glob("CNT*.fail.bin")
+                  if not p.name.startswith("CNT011"))
 
 
 @pytest.mark.parametrize("path", FIXTURES, ids=lambda p: p.name)
@@ -19,10 +23,6 @@ def test_reader_and_validate_word_a_container_problem_alike(path):
         said = [(w.rule, w.offset, w.message) for w in warns]
     except container.ContainerError as exc:
         said = [(exc.rule, exc.offset, str(exc))]
-    if any(rule == "CNT011" for rule, _, _ in said):
-        # the reader bounds the count by the bytes before reading entries (it never
-        # allocates from an untrusted count); validate reads on and names the entry
-        pytest.skip("CNT011: the reader and validate check different things")
     linted = {(d.rule, d.offset, d.message) for d in run([str(path)], Options()).diagnostics}
     assert set(said) <= linted
 

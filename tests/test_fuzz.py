@@ -127,3 +127,48 @@ def test_a_hang_is_reported_with_its_command(fuzz, monkeypatch):
     monkeypatch.setattr(compiler, "compile_path", stuck)
     report = fuzz.fuzz(seed=1, iterations=1, kind="dcf", corpus=None, timeout=0.5)
     assert [(c.key, c.command[0]) for c in report.crashes] == [("Hang", "compile")]
+
+
+def test_the_network_kinds_find_no_crash(fuzz, monkeypatch):
+    """Mutated bus.yml files and .cpj projects through network check (and build): no
+    internal error, no hang; every YAML and .cpj mutation is among a short run's."""
+    seen = []
+    real = fuzz.Runner.invoke
+
+    def spy(self, args):
+        seen.append(tuple(args))
+        return real(self, args)
+
+    monkeypatch.setattr(fuzz.Runner, "invoke", spy)
+    report = fuzz.fuzz(seed=1, iterations=40, kind="network", corpus=None, timeout=60)
+    assert report.by_kind == {"yaml": 20, "cpj": 20}
+    assert [(c.key, c.variant, c.command) for c in report.crashes] == []
+    assert set(report.exit_codes) <= {0, 1, 3} and report.exit_codes.get(1, 0) > 0
+    assert any(a[:2] == ("network", "check") and a[2].endswith(".yml") for a in seen)
+    assert any(a[:2] == ("network", "check") and a[2].endswith(".cpj") for a in seen)
+    assert any(a[:2] == ("network", "build") for a in seen)
+
+
+def test_the_hostile_network_inputs_end_quickly(fuzz, tmp_path):
+    """The cases the issue names, each through network check once: an alias bomb, deep
+    nesting, 10,000 slaves, a directory / FIFO / /dev/zero as a node's file."""
+    net = fuzz._network()
+    folder = net.setup(tmp_path)
+    base = net._local((ROOT / "tests/fixtures/network/check/bus.yml").read_bytes())
+    rng = random.Random(0)
+    variants = [net.y_bomb(rng, base, base)[0], net.y_deep(rng, base, base)[0],
+                base + b"".join(b"s%d:\n  dcf: IoX4_8AI.eds\n  node_id: %d\n" % (i, i % 127 + 1)
+                                for i in range(10000))]
+    for name in ("adir", "fifo", "/dev/zero"):
+        variants.append(base.replace(b"dcf: IoX4_8AI.eds", b"dcf: " + name.encode()))
+    from click.testing import CliRunner
+
+    from dcf2bin.cli import main
+    codes = []
+    for data in variants:
+        (folder / "v.yml").write_bytes(data)
+        res = CliRunner().invoke(main, ["network", "check", str(folder / "v.yml")])
+        assert isinstance(res.exception, (SystemExit, type(None))), res.output
+        codes.append(res.exit_code)
+    # the bomb, the nesting and the repeated node-IDs are errors; the files cannot be read
+    assert codes == [1, 1, 1, 3, 3, 3]

@@ -36,6 +36,26 @@ def test_every_option_is_in_the_man_page(name):
     assert missing == [], f"{name}: not in man/: {missing}"
 
 
+def _subcommands():
+    """(group, subcommand) of every command group (dcf2bin network build, ...)."""
+    ctx = click.Context(main)
+    for name, cmd in sorted(main.commands.items()):
+        if isinstance(cmd, click.Group):
+            for sub in cmd.list_commands(ctx):
+                yield name, sub
+
+
+@pytest.mark.parametrize("group,name", list(_subcommands()))
+def test_every_subcommand_option_is_in_its_man_page(group, name):
+    page = MAN / f"dcf2bin-{group}-{name}.1"
+    assert page.exists(), page
+    text = page.read_text().replace("\\-", "-")
+    cmd = main.commands[group].get_command(click.Context(main), name)
+    missing = [o for o in _options(cmd)
+               if not re.search(r"(?<![\w-])" + re.escape(o) + r"(?![\w-])", text)]
+    assert missing == [], f"{group} {name}: not in man/: {missing}"
+
+
 def test_every_command_is_listed_in_the_main_page():
     text = (MAN / "dcf2bin.1").read_text()
     for name in main.commands:

@@ -1,10 +1,14 @@
-"""On the bus: download a configuration by SDO and run a software CANopen node.
+"""On the bus: download a configuration by SDO, configure and scan a network, and run a
+software CANopen node.
 
 Everything here stands on ``canopen`` (SDO client and server, LocalNode, PDO maps,
-NMT) over ``python-can`` (every interface it supports). Nothing here speaks the SDO
-protocol or drives a CAN adapter itself, and nothing here imports click.
+NMT) over ``python-can`` (every interface it supports). Nothing here drives a CAN adapter
+itself or imports click, and nothing speaks the SDO protocol but ``scan``'s upload
+requests (so that all 127 can be in flight at once; see scan.py).
 
     link.py      open a canopen.Network on a python-can interface; abort-code texts
     download.py  plan (the writes of a container, each with its DCF line), run, verify
+    netconf.py   a network's slaves configured in node-ID order, each after its identity
+    scan.py      which node-IDs answer (all 127 asked at once) and who they say they are
     node.py      a LocalNode from an EDS/DCF or an emulated SYS TEC target
 """

@@ -30,6 +30,8 @@ def _register() -> None:
                     simulate.simulate_cmd, download.download_cmd, node.node_cmd,
                     map_.map_cmd, allocate.allocate_cmd):
         main.add_command(command)
+    from dcf2bin.cli.network import network_group
+    main.add_command(network_group)
 
 
 _register()

@@ -33,7 +33,7 @@ import os
 from dataclasses import dataclass
 
 from dcf2bin import datatypes as dt
-from dcf2bin.export import (ExportResult, ascii_text, encode, exported_objects,
+from dcf2bin.export.common import (ExportResult, ascii_text, encode, exported_objects,
                             model_diagnostics, warning)
 
 FLAGS = 0x41           # every entry
@@ -179,7 +179,7 @@ def export(dev, *, binary: bool = False, var_name: str = DEFAULT_VAR_NAME,
     if any(d.severity.value == "error" for d in diags):
         return ExportResult(None, diags)
     if not recs:
-        from dcf2bin.export import error
+        from dcf2bin.export.common import error
         from dcf2bin.diagnostics import Where
         diags.append(error("no objects from 0x1000 up: nothing to export", Where(dev.path),
                            "EXP100"))

@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin import values
 from dcf2bin.diagnostics import Where
-from dcf2bin.export import (ExportResult, ascii_text, encode, error, exported_objects,
+from dcf2bin.export.common import (ExportResult, ascii_text, encode, error, exported_objects,
                             model_diagnostics, warning)
 
 # Attribute bits of VALUE_DESC_T (values as in the port library's public header).

@@ -32,7 +32,7 @@ REPORT_SCHEMA = {
                 "additionalProperties": False,
                 "properties": {
                     "path": {"type": "string"},
-                    "kind": {"enum": ["dcf", "container", "unreadable"]},
+                    "kind": {"enum": ["dcf", "container", "unreadable", "yaml", "cpj"]},
                     "errors": _COUNT, "warnings": _COUNT, "infos": _COUNT,
                 },
             },
@@ -45,7 +45,7 @@ REPORT_SCHEMA = {
                              "message", "hint"],
                 "additionalProperties": False,
                 "properties": {
-                    "rule": {"type": "string", "pattern": "^(DCF|CNT)[0-9]{3}$|^TGT0[0-9A-F]{2}$|^(IO|INT)[0-9]{3}$"},
+                    "rule": {"type": "string", "pattern": "^(DCF|CNT|NET)[0-9]{3}$|^TGT0[0-9A-F]{2}$|^(IO|INT)[0-9]{3}$"},
                     "name": {"type": "string"},
                     "severity": _SEVERITY,
                     "file": {"type": "string"},

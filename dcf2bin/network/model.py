@@ -59,6 +59,11 @@ class Pdo:
     listed: bool = False               # given in the YAML
     mirror_of: "Pdo | None" = None     # for a PLC PDO: the slave PDO it mirrors
     where: Where | None = None
+    # added by configure (the names above are shared, never renamed)
+    config: "PdoConfig | None" = None  # the YAML entry, when listed
+    file_cob_id: int | None = None     # comm sub 1 as the node's file gives it
+    broken: bool = False               # a kept mapping naming a zero entry: not linked
+    mirrored_by: "Pdo | None" = None   # for a slave PDO: the PLC PDO that mirrors it
 
     @property
     def can_id(self) -> int:
@@ -116,6 +121,42 @@ class Heartbeat:
 
 
 @dataclass
+class MapConfig:
+    """One `mapping:` item of a YAML PDO: the object and the PLC variable name it becomes."""
+    index: int
+    sub: int
+    name: str | None = None
+    where: Where | None = None          # the item's line
+    name_where: Where | None = None     # the `name:` line
+
+
+@dataclass
+class PdoConfig:
+    """A PDO as the YAML lists it (D-16); a key not given is None."""
+    kind: str
+    number: int
+    where: Where | None = None          # the PDO-number key line
+    enabled: bool | None = None
+    cob_id: int | str | None = None     # "auto" or an integer
+    transmission: int | None = None
+    inhibit_time: int | None = None
+    event_timer: int | None = None
+    event_deadline: int | None = None
+    sync_start: int | None = None
+    mapping: list[MapConfig] | None = None
+    wheres: dict[str, Where] = field(default_factory=dict)   # key -> its line
+
+
+@dataclass
+class SdoConfig:
+    """One item of a slave's `sdo:` list, in order."""
+    index: int
+    sub: int
+    value: Any
+    where: Where | None = None
+
+
+@dataclass
 class Node:
     name: str
     node_id: int
@@ -136,6 +177,13 @@ class Node:
     identity: dict[int, int] = field(default_factory=dict)   # slave: 0x1F84…0x1F88 → value
     writes: list[Write] = field(default_factory=list)         # slave: D-18 list
     config: dict[str, Any] = field(default_factory=dict)      # the YAML keys as read
+    # added by the YAML reader and configure (the names above are shared, never renamed)
+    config_where: dict[str, Where] = field(default_factory=dict)   # YAML key -> its line
+    pdo_config: dict[tuple[str, int], PdoConfig] = field(default_factory=dict)
+    sdo_config: list[SdoConfig] = field(default_factory=list)
+    settings: dict[tuple[int, int], Write] = field(default_factory=dict)
+    # the configured value of each (index, sub) this node's output DCF states as a
+    # ParameterValue (slave: the last write of each entry; master: its PDOs, NMT entries)
 
     def pdo(self, kind: str, number: int) -> Pdo | None:
         return next((p for p in self.pdos if p.kind == kind and p.number == number), None)
@@ -152,6 +200,11 @@ class Network:
     variables: list[Variable] = field(default_factory=list)
     diagnostics: Diagnostics = field(default_factory=Diagnostics)
     master_where: Where | None = None  # the `master:` line: network-wide findings go there
+    layout: str = "flat"               # "flat" (lely) or "nodes" (ros2_canopen)
+    configured: bool = False
+    plc_plan: Any = None               # the variables allocate --into adds to the PLC's
+                                       # file (dcf2bin.plc.merge.Plan; D-15)
+    files: dict[str, bytes] = field(default_factory=dict, repr=False)  # path -> bytes read
 
     @property
     def master(self) -> Node | None:

@@ -11,7 +11,8 @@ lacks) go at the end.
 """
 from __future__ import annotations
 
-import re
+from dataclasses import dataclass
+from itertools import accumulate
 
 from dcf2bin.diagnostics import Diagnostic, Severity
 from dcf2bin.layout import INPUT, OUTPUT, channel_for
@@ -20,12 +21,24 @@ from dcf2bin.plc.allocate import (RULE_BASE, AllocationError, Placed, Var, _err,
 
 def _lines(data: bytes) -> list[bytes]:
     """The file's lines with their line ends, as the INI reader counts them."""
-    out, pos = [], 0
-    for m in re.finditer(rb"\n", data):
-        out.append(data[pos:m.end()])
-        pos = m.end()
-    if pos < len(data):
-        out.append(data[pos:])
+    out = [line + b"\n" for line in data.split(b"\n")]
+    out[-1] = out[-1][:-1]
+    if not out[-1]:
+        out.pop()
+    return out
+
+
+def section_ends(ini, lines: list[bytes]) -> dict[str, int]:
+    """canonical section name -> its last line (1-based) that is neither blank nor a
+    comment: the line new keys go after (without building every section's keys)."""
+    order = sorted(ini.sections.items(), key=lambda kv: kv[1].line)
+    out = {}
+    for k, (canon, sec) in enumerate(order):
+        end = order[k + 1][1].line - 1 if k + 1 < len(order) else len(lines)
+        while end > sec.line and (not lines[end - 1].strip()
+                                  or lines[end - 1].lstrip()[:1] in (b";", b"#")):
+            end -= 1
+        out[canon] = end
     return out
 
 
@@ -59,8 +72,34 @@ def existing_variables(dev) -> dict[str, tuple[int, int, str, object]]:
 def merge(base: bytes, base_path: str, variables: list[Var], vars_path: str
           ) -> tuple[bytes, list[Placed], list[tuple[Var, int, int]]]:
     """-> (the merged DCF, the variables placed now, the ones kept (var, index, sub))."""
+    edit, placed, kept = plan(base, base_path, variables, vars_path)
+    return apply(base, edit), placed, kept
+
+
+@dataclass
+class Plan:
+    """The line edits of a merge, by 0-based line of the base: ``replace`` (line -> new
+    bytes), ``after`` (line -> texts inserted after it, each with its line ends), ``tail``
+    (blocks added at the end, each after a blank line). ``apply`` makes the bytes; a
+    caller may add edits of its own to other lines first (network build does)."""
+    lines: list[bytes]
+    replace: dict[int, bytes]
+    after: dict[int, list[str]]
+    tail: list[str]
+    nl: str
+    encoding: str
+    placed: list[Placed]
+    vars_path: str
+    ends: dict[str, int] | None = None    # section_ends of the base, as computed here
+
+
+def plan(base: bytes, base_path: str, variables: list[Var], vars_path: str, *, dev=None
+         ) -> tuple[Plan, list[Placed], list[tuple[Var, int, int]]]:
+    """``merge`` without making the bytes: -> (its Plan, placed, kept). ``dev``: the
+    model of exactly ``base``, when the caller has it."""
     from dcf2bin import layout, model
-    dev = model.load(base_path, data=base)
+    if dev is None:
+        dev = model.load(base_path, data=base)
     if dev.ini is not None and dev.ini.section("dynamicchannels") is not None:
         sec = dev.ini.section("dynamicchannels")
         raise AllocationError([_err(
@@ -94,10 +133,21 @@ def merge(base: bytes, base_path: str, variables: list[Var], vars_path: str
         raise AllocationError(diags)
     used = {INPUT: lay.input_size if lay else 0, OUTPUT: lay.output_size if lay else 0}
     placed = allocate(new, vars_path, used)
-    return _edit(base, dev, placed, vars_path), placed, kept
+    return _plan_edit(base, dev, placed, vars_path), placed, kept
 
 
-def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
+def _encoder(encoding: str, vars_path: str):
+    def enc(text: str, v: Var | None = None) -> bytes:
+        try:
+            return text.encode(encoding)
+        except UnicodeEncodeError:
+            raise AllocationError([_err(
+                f"'{v.name if v else text}' cannot be written in the {encoding} encoding of "
+                "the DCF", vars_path, v.line if v else None, RULE_BASE)]) from None
+    return enc
+
+
+def _plan_edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> Plan:
     encoding = dev.encoding
     nl = "\r\n" if b"\r\n" in base else "\n"     # lines end at LF, as the INI reader counts
     lines = _lines(base)
@@ -106,24 +156,17 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
     tail: list[str] = []
     ini = dev.ini
 
-    def enc(text: str, v: Var | None = None) -> bytes:
-        try:
-            return text.encode(encoding)
-        except UnicodeEncodeError:
-            raise AllocationError([_err(
-                f"'{v.name if v else text}' cannot be written in the {encoding} encoding of "
-                "the DCF", vars_path, v.line if v else None, RULE_BASE)]) from None
-
-    def last_line(sec) -> int:
-        return max([sec.line] + [k.line for k in sec.keys.values()])
+    last = section_ends(ini, lines)
 
     # the sections of each object, to find where it ends
     ends: dict[int, int] = {}
     from dcf2bin.model import _section_target
     for canon, sec in ini.sections.items():
+        if canon[:1] != "a":         # only network-variable objects gain sub-objects
+            continue
         idx, _ = _section_target(canon)
         if idx is not None:
-            ends[idx] = max(ends.get(idx, 0), last_line(sec))
+            ends[idx] = max(ends.get(idx, 0), last[canon])
 
     objs = _objects(placed)
     new_objects = []
@@ -173,25 +216,39 @@ def _edit(base: bytes, dev, placed: list[Placed], vars_path: str) -> bytes:
                 replace[k] = _set_value(lines[k], str(count), encoding)
             else:
                 entries.insert(0, f"SupportedObjects={len(numbers) + len(new_objects)}")
-            after.setdefault(last_line(opt) - 1, []).append(nl.join(entries) + nl)
+            after.setdefault(last["optionalobjects"] - 1, []).append(nl.join(entries) + nl)
         else:
             tail.insert(0, f"[OptionalObjects]{nl}SupportedObjects={len(new_objects)}{nl}"
                         + "".join(e + nl for e in entries))
 
+    return Plan(lines, replace, after, tail, nl, encoding, placed, vars_path, last)
+
+
+def apply(base: bytes, edit: Plan) -> bytes:
+    """The bytes of ``base`` with the plan's edits; the lines between edits are copied
+    as they are."""
+    enc = _encoder(edit.encoding, edit.vars_path)
+    lines, replace, after, placed = edit.lines, edit.replace, edit.after, edit.placed
+    nlb = edit.nl.encode(edit.encoding)
+    offsets = list(accumulate(map(len, lines), initial=0))
     out: list[bytes] = []
-    for i, line in enumerate(lines):
-        line = replace.get(i, line)
+    pos = 0
+    for i in sorted(set(replace) | set(after)):
+        out.append(base[pos:offsets[i]])
+        line = replace.get(i, lines[i])
         if i in after and not line.endswith((b"\n", b"\r")):
-            line += nl.encode(encoding)
+            line += nlb
         out.append(line)
         for text in after.get(i, ()):
             out.append(_encode_block(text, placed, enc))
-    if tail:
-        if out and not out[-1].endswith((b"\n", b"\r")):
-            out.append(nl.encode(encoding))
-        for text in tail:
-            out.append(nl.encode(encoding) + _encode_block(text, placed, enc))
-    return b"".join(out)
+        pos = offsets[i + 1]
+    out.append(base[pos:])
+    data = b"".join(out)
+    if edit.tail:
+        if data and not data.endswith((b"\n", b"\r")):
+            data += nlb
+        data += b"".join(nlb + _encode_block(text, placed, enc) for text in edit.tail)
+    return data
 
 
 def _encode_block(text: str, placed: list[Placed], enc) -> bytes:

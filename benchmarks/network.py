@@ -1,0 +1,224 @@
+"""Time `dcf2bin network build` against lely's `dcfgen -r` (PyPI: dcf-tools) on one
+generated network per size: a PLC and N slaves, each with 4 TPDOs and 4 RPDOs of 4
+objects (at 126 slaves: 1,008 links, 4,032 PLC variables).
+
+    python benchmarks/network.py                    # 8, 32, 126 slaves, best of 3
+    python benchmarks/network.py --sizes 126 --repeat 5
+    python benchmarks/network.py --no-dcfgen        # dcf2bin only
+
+Both tools run as a fresh process on the same YAML (dcfgen ignores the master's dcf: and
+the mapping's name:), so each time includes its start-up and its writing of the files;
+`build` is the CPU time of `dcf2bin.network.build_network` alone, whose time per node
+shows how the work grows. The ratio is taken on CPU time (user +
+system of the process), which a machine shared with other jobs disturbs far less than
+wall time (both are printed). Files go to benchmarks/out/network_N/.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+OUT = os.path.join(HERE, "out")
+
+
+def _var(sec, name, dtype, access, default, pdo=0):
+    return (f"[{sec}]\nParameterName={name}\nObjectType=0x7\nDataType={dtype}\n"
+            f"AccessType={access}\nDefaultValue={default}\nPDOMapping={pdo}\n\n")
+
+
+def _rec(index, name, subs, ot="0x9"):
+    return f"[{index:04X}]\nParameterName={name}\nObjectType={ot}\nSubNumber={subs}\n\n"
+
+
+def _compact(index, name, n=127):
+    return (f"[{index:04X}]\nParameterName={name}\nObjectType=0x8\nDataType=0x0007\n"
+            f"AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj={n}\n\n")
+
+
+def plc_dcf(n_rx: int, n_tx: int) -> str:
+    """A PLC with n_rx RPDOs, n_tx TPDOs (8 mapping subs each) and the NMT master objects."""
+    out = [f"[FileInfo]\nFileName=plc.dcf\nEDSVersion=4.0\n\n[DeviceInfo]\nVendorNumber=0x3F\n"
+           f"ProductNumber=0x1302\nNrOfRXPDO={n_rx}\nNrOfTXPDO={n_tx}\n\n"
+           "[DeviceComissioning]\nNodeID=1\n\n"]
+    out.append(_var("1000", "Device type", "0x0007", "ro", "0x195"))
+    out.append(_var("1001", "Error register", "0x0005", "ro", "0"))
+    out.append(_var("1005", "COB-ID SYNC", "0x0007", "rw", "0x80"))
+    out.append(_var("1006", "Cycle period", "0x0007", "rw", "0"))
+    out.append(_compact(0x1016, "Consumer heartbeat time"))
+    out.append(_var("1017", "Producer heartbeat time", "0x0006", "rw", "0"))
+    out.append(_rec(0x1018, "Identity", 2))
+    out.append(_var("1018sub0", "n", "0x0005", "ro", "1"))
+    out.append(_var("1018sub1", "Vendor-ID", "0x0007", "ro", "0x3F"))
+    for kind, base, n in (("RPDO", 0x1400, n_rx), ("TPDO", 0x1800, n_tx)):
+        subs = [1, 2, 5] if kind == "RPDO" else [1, 2, 3, 5]
+        for i in range(n):
+            c = base + i
+            out.append(_rec(c, f"{kind}{i + 1} communication", len(subs) + 1))
+            out.append(_var(f"{c:04X}sub0", "n", "0x0005", "ro", str(max(subs))))
+            out.append(_var(f"{c:04X}sub1", "COB-ID", "0x0007", "rw", "0x80000000"))
+            out.append(_var(f"{c:04X}sub2", "Transmission type", "0x0005", "rw", "255"))
+            if kind == "TPDO":
+                out.append(_var(f"{c:04X}sub3", "Inhibit time", "0x0006", "rw", "0"))
+            out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
+            m = c + 0x200
+            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
+            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
+            for s in range(1, 9):
+                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+    for index, name in ((0x1F81, "Slave assignment"), (0x1F84, "Device type"),
+                        (0x1F85, "Vendor"), (0x1F86, "Product"), (0x1F87, "Revision"),
+                        (0x1F88, "Serial")):
+        out.append(_compact(index, name))
+    return "".join(out)
+
+
+def slave_eds() -> str:
+    """A slave with 4 TPDOs and 4 RPDOs (8 mapping subs each) and 16 UNSIGNED16 inputs
+    (0x6000) and outputs (0x6200)."""
+    out = ["[FileInfo]\nFileName=slave.eds\nEDSVersion=4.0\n\n[DeviceInfo]\n"
+           "VendorNumber=0x42\nProductNumber=0x7\nNrOfRXPDO=4\nNrOfTXPDO=4\n\n"]
+    out.append(_var("1000", "Device type", "0x0007", "ro", "0x191"))
+    out.append(_var("1001", "Error register", "0x0005", "ro", "0"))
+    out.append(_var("1017", "Producer heartbeat time", "0x0006", "rw", "0"))
+    out.append(_rec(0x1018, "Identity", 3))
+    out.append(_var("1018sub0", "n", "0x0005", "ro", "2"))
+    out.append(_var("1018sub1", "Vendor-ID", "0x0007", "ro", "0x42"))
+    out.append(_var("1018sub2", "Product code", "0x0007", "ro", "0x7"))
+    for kind, base, cob in (("RPDO", 0x1400, 0x200), ("TPDO", 0x1800, 0x180)):
+        for i in range(4):
+            c = base + i
+            out.append(_rec(c, f"{kind}{i + 1} communication", 4))
+            out.append(_var(f"{c:04X}sub0", "n", "0x0005", "ro", "5"))
+            out.append(_var(f"{c:04X}sub1", "COB-ID", "0x0007", "rw",
+                            f"$NODEID+0x{cob + 0x100 * i:X}"))
+            out.append(_var(f"{c:04X}sub2", "Transmission type", "0x0005", "rw", "255"))
+            out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
+            m = c + 0x200
+            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
+            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
+            for s in range(1, 9):
+                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+    for index, access in ((0x6000, "ro"), (0x6200, "rw")):
+        out.append(_rec(index, "inputs" if access == "ro" else "outputs", 17, "0x8"))
+        out.append(_var(f"{index:04X}sub0", "n", "0x0005", "ro", "16"))
+        for s in range(1, 17):
+            out.append(_var(f"{index:04X}sub{s:X}", f"value {s}", "0x0006", access, "0", 1))
+    optional = ([0x1017] + list(range(0x1400, 0x1404)) + list(range(0x1600, 0x1604))
+                + list(range(0x1800, 0x1804)) + list(range(0x1A00, 0x1A04)) + [0x6000, 0x6200])
+    out.append("[MandatoryObjects]\nSupportedObjects=3\n1=0x1000\n2=0x1001\n3=0x1018\n\n")
+    out.append(f"[OptionalObjects]\nSupportedObjects={len(optional)}\n"
+               + "".join(f"{k}=0x{x:04X}\n" for k, x in enumerate(optional, 1)) + "\n")
+    out.append("[ManufacturerObjects]\nSupportedObjects=0\n")
+    return "".join(out)
+
+
+def bus_yml(n: int) -> str:
+    out = ["master:\n  node_id: 1\n  dcf: plc.dcf\n  heartbeat_producer: 100\n"
+           "  sync_period: 10000\n"]
+    for k in range(n):
+        nid = 2 + k
+        out.append(f"s{nid}:\n  dcf: slave.eds\n  node_id: {nid}\n  heartbeat_producer: 50\n")
+        for kind, index in (("tpdo", 0x6000), ("rpdo", 0x6200)):
+            out.append(f"  {kind}:\n")
+            for p in range(1, 5):
+                out.append(f"    {p}:\n      cob_id: auto\n      transmission: 1\n"
+                           "      mapping:\n")
+                for s in range(4 * (p - 1) + 1, 4 * p + 1):
+                    out.append(f"        - {{index: 0x{index:04X}, sub_index: {s}}}\n")
+    return "".join(out)
+
+
+def generate(n: int) -> str:
+    folder = os.path.join(OUT, f"network_{n}")
+    os.makedirs(folder, exist_ok=True)
+    links = 4 * n
+    with open(os.path.join(folder, "plc.dcf"), "w") as f:
+        f.write(plc_dcf(links, links))
+    with open(os.path.join(folder, "slave.eds"), "w") as f:
+        f.write(slave_eds())
+    with open(os.path.join(folder, "bus.yml"), "w") as f:
+        f.write(bus_yml(n))
+    return folder
+
+
+def _timed(cmd: list[str], cwd: str, outdir: str, repeat: int) -> tuple[float, float]:
+    """(best wall seconds, best CPU seconds: user + system of the process) of ``cmd``."""
+    import resource
+    best_wall = best_cpu = float("inf")
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    for _ in range(repeat):
+        shutil.rmtree(outdir, ignore_errors=True)
+        os.makedirs(outdir)
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t = time.perf_counter()
+        r = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+        wall = time.perf_counter() - t
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if r.returncode != 0:
+            raise SystemExit(f"{' '.join(cmd)} failed ({r.returncode}):\n{r.stderr[-2000:]}")
+        best_wall = min(best_wall, wall)
+        best_cpu = min(best_cpu, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime))
+    return best_wall, best_cpu
+
+
+def _in_process(folder: str, repeat: int) -> float:
+    """Best CPU seconds of ``dcf2bin.network.build_network`` alone (no start-up, no
+    writing): how the work itself grows with the network."""
+    sys.path.insert(0, ROOT)
+    from dcf2bin.network import build_network
+    best = float("inf")
+    for _ in range(repeat):
+        t = time.process_time()
+        res = build_network(os.path.join(folder, "bus.yml"))
+        best = min(best, time.process_time() - t)
+        assert res.ok, [d.format() for d in res.diagnostics if d.severity.value == "error"]
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="8,32,126", help="numbers of slaves (max 126)")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-dcfgen", action="store_true")
+    args = ap.parse_args()
+    dcfgen = None if args.no_dcfgen else shutil.which("dcfgen")
+    if dcfgen is None and not args.no_dcfgen:
+        print("dcfgen not found (pip install dcf-tools): dcf2bin only")
+    rows = []
+    for n in (int(s) for s in args.sizes.split(",")):
+        if not 1 <= n <= 126:
+            raise SystemExit("sizes are 1..126 slaves")
+        folder = generate(n)
+        ours = _timed([sys.executable, "-m", "dcf2bin", "network", "build", "bus.yml", "-o",
+                       "out_dcf2bin", "-q"], folder, os.path.join(folder, "out_dcf2bin"),
+                      args.repeat)
+        inproc = _in_process(folder, args.repeat)
+        theirs = (_timed([dcfgen, "-r", "-d", "out_dcfgen", "bus.yml"], folder,
+                         os.path.join(folder, "out_dcfgen"), args.repeat)
+                  if dcfgen else None)
+        rows.append((n, ours, inproc, theirs))
+    print(f"{'slaves':>6} {'links':>6} {'vars':>6} | {'dcf2bin':>8} {'cpu':>6} "
+          f"{'build':>6} {'ms/node':>8} | {'dcfgen -r':>9} {'cpu':>6} {'ms/node':>8} | "
+          f"{'ratio cpu':>9} {'wall':>5}")
+    for n, (wall, cpu), inproc, theirs in rows:
+        line = (f"{n:>6} {8 * n:>6} {32 * n:>6} | {wall:>8.3f} {cpu:>6.3f} "
+                f"{inproc:>6.3f} {1000 * inproc / n:>8.2f} |")
+        if theirs is not None:
+            twall, tcpu = theirs
+            line += (f" {twall:>9.3f} {tcpu:>6.3f} {1000 * tcpu / n:>8.2f} | "
+                     f"{tcpu / cpu:>9.1f} {twall / wall:>5.1f}")
+        print(line)
+    print("seconds, best of the repeats. dcf2bin/dcfgen -r: the command, wall and cpu (user "
+          "+ system) time; build: cpu time of build_network alone, ms/node its share per "
+          "slave; ratio: dcfgen / dcf2bin")
+    print(f"load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+
+if __name__ == "__main__":
+    main()

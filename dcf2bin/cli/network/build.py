@@ -1,0 +1,78 @@
+"""dcf2bin network build: the PLC's DCF and each slave's configuration from a network
+file (README "Networks", man/dcf2bin-network-build.1)."""
+from __future__ import annotations
+
+import os
+
+import click
+
+from dcf2bin.cli.common import (CONTEXT, debug_option, emit, fail, guarded, quiet_option,
+                                read_input, register_input, say, stop_on_errors,
+                                verbose_option, write_output)
+from dcf2bin.diagnostics import ExitCode
+
+
+@click.command("build", context_settings=CONTEXT)
+@click.argument("network", metavar="NETWORK.yml", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
+              help="Output folder (made when missing); its files are written atomically, "
+                   "never over an input.")
+@verbose_option("every link and every PLC variable, on standard error.")
+@quiet_option()
+@debug_option
+@guarded
+def build_cmd(network, output, verbose, quiet, debug):
+    """Configure the network of NETWORK.yml and write, in DIR, the PLC's DCF
+    (<master>.dcf) and per slave its concise DCF (<slave>.bin) and its DCF (<slave>.dcf).
+
+    The PLC mirrors every slave PDO that exists, its network variables are placed as
+    'allocate --into' places them, COB-IDs marked auto are assigned, and the PLC gets its
+    NMT master entries. Nothing is written when there is an error.
+    """
+    from dcf2bin.network import build_network
+    data = read_input(network)
+    if os.path.exists(output) and not os.path.isdir(output):
+        fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
+    res = build_network(network, data=data)
+    emit(res.diagnostics, quiet)
+    stop_on_errors(res, "network build", "nothing written")
+    net = res.network
+    for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
+        register_input(path)        # no output may overwrite a node's file
+    try:
+        os.makedirs(output, exist_ok=True)
+    except OSError as exc:
+        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
+    for name, blob in res.outputs.items():
+        write_output(blob, os.path.join(output, name), [network], binary=True)
+    if verbose and not quiet:
+        for line in describe(net):
+            say(line)
+    if not quiet:
+        slaves = len(net.slaves)
+        say(f"network build: {len(res.outputs)} files in {output}: "
+            f"{net.master.name}.dcf and {slaves} slave{'s' if slaves != 1 else ''}, "
+            f"{sum(1 for p in net.master.pdos if p.mirror_of)} links, "
+            f"{len(net.variables)} variables")
+
+
+def describe(net) -> list[str]:
+    """-v: every link (the PLC PDO, its COB-ID, the slave PDO it mirrors) and every PLC
+    variable (its object, where it comes from, its offset)."""
+    import dcf2bin.datatypes as dt
+    out = []
+    names = {n.node_id: n.name for n in net.nodes}
+    for p in net.master.pdos:
+        src = p.mirror_of
+        if src is None:
+            continue
+        out.append(f"link {p.label} COB-ID 0x{p.cob_id:03X}: {names[src.node_id]} "
+                   f"{src.label}, {p.bits} bits")
+    for v in net.variables:
+        place = (f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "-")
+        offset = f" offset {v.pi_offset}" if v.pi_offset is not None else ""
+        dtype = dt.BY_CODE.get(v.datatype)
+        out.append(f"variable {v.name}: {place}, {dtype.name if dtype else v.datatype} "
+                   f"{v.direction}{offset}, from {names[v.node_id]} "
+                   f"0x{v.index:04X}sub{v.sub:X}")
+    return out

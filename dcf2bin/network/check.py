@@ -1,0 +1,264 @@
+"""``network check``: a network file (YAML or .cpj) checked as a whole (SPEC §10.4, D-19).
+
+:func:`check_network` reads the network, configures it as ``build`` does (D-17, D-18),
+validates every node's file as ``validate`` would — an error in an entry that the network
+neither configures nor maps becomes a warning, as ``compile`` words it — then runs the rules
+of the network as a whole (:func:`run_rules`) and compares the estimated bus load (D-20)
+with ``max_load``. The result holds the configured network and every finding; the command
+line renders them with ``validate``'s formats.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from dcf2bin.diagnostics import Diagnostic, Diagnostics, ExitCode, Severity
+from dcf2bin.network.model import MASTER, Network, Node
+from dcf2bin.network import rules_bus, rules_pdo
+from dcf2bin.network.rules import RULES as NET_RULES
+from dcf2bin.network.rules import Links, add, network_where, node_ids
+
+UNREADABLE = ("IO001", "NET010", "NET055")     # an input that cannot be read: exit 3
+ALWAYS = ("IO001", "INT001")
+NOT_TOUCHED = " (the network neither configures nor maps this entry)"
+_SECTION = re.compile(r"([0-9a-f]{4})(?:sub([0-9a-f]+))?")
+_SERVICE_OBJECTS = (0x1000, 0x1005, 0x1006, 0x1007, 0x1012, 0x1014, 0x1016, 0x1017,
+                    0x1018, 0x1019) + tuple(range(0x1F80, 0x1F8A))
+
+
+@dataclass
+class CheckResult:
+    """What :func:`check_network` found: the configured ``network`` (None when the file
+    could not be read), every finding in report order, the inputs as (path, kind) pairs
+    and the load estimate (None when the network could not be configured)."""
+    network: Network | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    files: list[tuple[str, str]] = field(default_factory=list)
+    load: object = None
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.severity is Severity.ERROR for d in self.diagnostics)
+
+    def exit_code(self, strict: bool = False) -> ExitCode:
+        if any(d.rule == "INT001" for d in self.diagnostics):
+            return ExitCode.INTERNAL
+        if any(d.rule in UNREADABLE for d in self.diagnostics):
+            return ExitCode.UNREADABLE
+        failing = (Severity.ERROR, Severity.WARNING) if strict else (Severity.ERROR,)
+        if any(d.severity in failing for d in self.diagnostics):
+            return ExitCode.FINDINGS
+        return ExitCode.OK
+
+
+def run_rules(network: Network) -> Diagnostics:
+    """Every rule of the network as a whole (D-19) over a configured network: node-IDs,
+    COB-IDs, mappings, services, SYNC, heartbeats. The findings of the network file, of
+    the configuration and of each node's file are not repeated here, nor the bus load
+    (:func:`check_network` adds it). ``network build`` runs this too, and writes nothing
+    when it finds an error."""
+    out = Diagnostics()
+    node_ids(network, out)
+    links = Links(network)
+    rules_pdo.cob_ids(network, links, out)
+    rules_pdo.mappings(network, links, out)
+    rules_pdo.written_twice(network, links, out)
+    rules_bus.services(network, out)
+    rules_bus.sync(network, out)
+    rules_bus.heartbeats(network, out)
+    return out
+
+
+def rule_table() -> dict:
+    """Every rule ``network check`` can report, by code: validate's (a node's file) and the
+    network's (the YAML, the .cpj, the configuration, the rules of §10.4)."""
+    from dcf2bin.lint import all_rules
+    from dcf2bin.network import cpj
+    table = {r.id: r for r in all_rules()}
+    table.update(_config_rules())
+    table.update(cpj.RULES)
+    table.update(NET_RULES)
+    return table
+
+
+def _config_rules() -> dict:
+    """The YAML reader's and the configuration's codes (``network/codes.py``)."""
+    from dcf2bin.network import codes
+    from dcf2bin.network.rules import NetRule
+    return {c: NetRule(c, c.lower(), Severity(sev), text[:1].upper() + text[1:] + ".", "",
+                       "network") for c, sev, text in codes.CODES}
+
+
+class SelectorError(ValueError):
+    pass
+
+
+def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
+    """The active codes for ``select``/``ignore`` (codes, code prefixes such as ``NET2``,
+    rule names or ``ALL``; comma-separated strings or lists), as ``validate`` resolves its
+    rules."""
+    table = table if table is not None else rule_table()
+
+    def items(sel) -> list[str]:
+        if sel is None:
+            return []
+        sel = [sel] if isinstance(sel, str) else list(sel)
+        return [p.strip() for s in sel for p in s.split(",") if p.strip()]
+
+    def match(s: str) -> set[str]:
+        if s.upper() == "ALL":
+            return set(table)
+        hits = {k for k, r in table.items() if k.startswith(s.upper()) or r.name == s.lower()}
+        if not hits:
+            raise SelectorError(f"'{s}' matches no rule code, code prefix or rule name "
+                                "(see --list-rules)")
+        return hits
+
+    chosen = items(select)
+    active = set(table) if not chosen else set().union(*(match(s) for s in chosen))
+    for s in items(ignore):
+        active -= match(s)
+    return active | set(ALWAYS)
+
+
+def read_network(path: str, *, net: int | None = None) -> Network:
+    """A network file read (not configured): a .cpj project, else a YAML file. Raises
+    OSError when the file cannot be read."""
+    if path.lower().endswith(".cpj"):
+        from dcf2bin.network import cpj
+        return cpj.read(path, net)
+    from dcf2bin.network.yamlfile import load_network
+    return load_network(path)
+
+
+def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0,
+                  net: int | None = None) -> CheckResult:
+    """Check the network file ``path`` (YAML or .cpj) as ``dcf2bin network check`` does.
+
+    ``select``/``ignore`` take rule codes, code prefixes or names (a string or a list);
+    ``net`` picks the network of a .cpj (``[TopologyN]``, default the first); a bus load
+    above ``max_load`` percent is a warning. Never raises for a problem in the inputs: a
+    file that cannot be read is an ``IO001`` finding.
+    """
+    active = resolve(select, ignore)
+    try:
+        network = read_network(path, net=net)
+    except OSError as exc:
+        d = Diagnostic(Severity.ERROR, f"cannot read: {exc.strerror or exc}", path,
+                       rule="IO001", hint="check the path and its permissions")
+        return CheckResult(None, [d], [(path, "unreadable")])
+    res = CheckResult(network, files=[(path, network.kind)])
+    found = Diagnostics()
+    configured = network.kind == "cpj"        # a .cpj's nodes are their files as they are
+    if len(network.nodes) <= 127 and not configured and not network.diagnostics.has_errors:
+        # (more nodes than node-IDs is not one network: a fuzzed file with 10,000 slaves
+        # is not configured, its repeated node-IDs are the finding)
+        from dcf2bin.network.configuration import configure
+        configure(network)
+        configured = True
+    found.extend(network.diagnostics)
+    if not configured:
+        # the file could not be read as a network: the node-IDs are all that can be
+        # checked (the other rules would report what configuration never did)
+        node_ids(network, found)
+    else:
+        _validate_files(network, found, res)
+        if network.nodes:
+            found.extend(run_rules(network))
+            from dcf2bin.network.load import estimate
+            res.load = estimate(network)
+            total = res.load.total
+            if total > max_load:
+                n = len(res.load.unknown)
+                add(found, "NET260", f"the estimated bus load is {total:.1f} % at "
+                    f"{network.bitrate // 1000} kbit/s, above {max_load:g} %" + (
+                        f" ({n} frame{'s' if n > 1 else ''} of unknown rate counted as 0)"
+                        if n else ""), network_where(network))
+    res.diagnostics = [d for d in found if not d.rule or d.rule in active]
+    return res
+
+
+# -- every node's file, as validate reads it ---------------------------------------------
+
+def _validate_files(network: Network, out: Diagnostics, res: CheckResult) -> None:
+    """Each node's file linted once, as ``validate`` lints it (a file that several nodes
+    share: once, with the node-ID of the first; the COB-IDs each node-ID gives are the
+    network rules' to check). An error is kept as an error when some node of that file
+    configures or maps its entry, else it becomes a warning."""
+    from dcf2bin.lint.context import Options
+    from dcf2bin.lint.runner import lint_bytes
+    linted: dict[str, tuple] = {}
+    found: dict = {}
+    for node in network.nodes:
+        if node.file is None or node.device is None:
+            continue
+        if node.file not in linted:
+            try:
+                with open(node.file, "rb") as f:
+                    data = f.read()
+            except OSError:
+                continue             # the reader reported it
+            result = lint_bytes(node.file, data, Options(
+                node_id=node.node_id, target_check=node.role == MASTER))
+            linted[node.file] = (result, _line_owner(node))
+            res.files.append((node.file, result.kind))
+        result, lines = linted[node.file]
+        touched = _touched(node)
+        for d in result.diagnostics:
+            key = (d.file, d.line, d.column, d.rule, d.message)
+            if d.severity is Severity.ERROR and d.line is not None and d.rule not in ALWAYS:
+                owner = lines(d.line)
+                if owner is not None and not _is_touched(owner, touched):
+                    if key not in found:
+                        found[key] = Diagnostic(Severity.WARNING, d.message + NOT_TOUCHED,
+                                                d.file, d.line, d.column, d.offset, d.rule,
+                                                d.hint)
+                    continue
+            found[key] = d           # an error some node touches stays an error
+    out.items.extend(found.values())
+
+
+def _touched(node: Node) -> set:
+    """(index, sub or None) of every entry the network reads or writes in ``node``."""
+    out: set = {(i, None) for i in _SERVICE_OBJECTS}
+    for p in node.pdos:
+        base = (0x1400 if p.kind == "rpdo" else 0x1800) + p.number - 1
+        out.add((base, None))
+        if p.exists:
+            out.add((base + 0x200, None))
+            out.update((m.index, m.sub) for m in p.mapping)
+    out.update((w.index, w.sub) for w in node.writes)
+    out.update(node.settings)
+    return out
+
+
+def _is_touched(owner: tuple[int, int | None], touched: set) -> bool:
+    index, sub = owner
+    if (index, None) in touched or (index, sub) in touched:
+        return True
+    return sub is None and any(i == index for i, _ in touched)
+
+
+def _line_owner(node: Node):
+    """line -> (index, sub or None) of the object section the line is in (None: not in an
+    object's section)."""
+    import bisect
+    ini = node.device.ini if node.device is not None else None
+    starts, owners = [], []
+    for name, sec in (ini.sections.items() if ini is not None else ()):
+        m = _SECTION.fullmatch(name)
+        starts.append(sec.line)
+        owners.append((int(m.group(1), 16), int(m.group(2), 16) if m.group(2) else None)
+                      if m else None)
+    order = sorted(range(len(starts)), key=starts.__getitem__)
+    starts = [starts[i] for i in order]
+    owners = [owners[i] for i in order]
+
+    def owner(line: int):
+        i = bisect.bisect_right(starts, line) - 1
+        return owners[i] if i >= 0 else None
+    return owner
+
+
+__all__ = ["CheckResult", "SelectorError", "check_network", "read_network", "resolve",
+           "rule_table", "run_rules"]

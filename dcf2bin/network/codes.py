@@ -1,0 +1,55 @@
+"""The codes of the network file reader (NET001-NET099) and of the configuration
+(NET100-NET199): id, severity, one line. Plain data: ``network check`` builds its rule
+table (and ``--select``/``--ignore``) from this and its own NET2xx rules; docs/network.md
+lists the same table (a test compares them).
+"""
+from __future__ import annotations
+
+ERROR, WARNING, INFO = "error", "warning", "info"
+
+# (code, severity, description)
+CODES: list[tuple[str, str, str]] = [
+    # -- the network file (D-16) ----------------------------------------------------------
+    ("NET001", ERROR, "the network file cannot be read: YAML syntax, encoding, not a mapping"),
+    ("NET002", ERROR, "a key repeated in one YAML mapping (both lines named)"),
+    ("NET003", ERROR, "the YAML expands too far: alias bomb, recursive alias, deep nesting"),
+    ("NET004", ERROR, "a value of the wrong type or out of range (integer, boolean, "
+                      "list, mapping, PDO number, node-ID)"),
+    ("NET005", ERROR, "a required key is missing: master, a slave, node_id, a slave's dcf"),
+    ("NET006", WARNING, "a key that resembles a key dcf2bin reads (a misspelling?)"),
+    ("NET007", INFO, "a key dcf2bin does not use (ros2_canopen's driver, lely's dcf_path, "
+                     "...): ignored"),
+    ("NET008", WARNING, "eds: is read as dcf:"),
+    ("NET009", WARNING, "a key given in both defaults: and the node: the node's is taken"),
+    ("NET010", ERROR, "a node's EDS/DCF cannot be read (missing, a directory, no "
+                      "permission)"),
+    # -- the configuration (D-17, D-18) ---------------------------------------------------
+    ("NET101", ERROR, "a YAML PDO that the node's file does not have"),
+    ("NET102", ERROR, "a mapped object that the slave's file lacks"),
+    ("NET103", ERROR, "an object not mappable in that direction (TPDO: readable and not "
+                      "rww; RPDO: writable and not rwr)"),
+    ("NET104", ERROR, "a linked object whose data type has no CiA 405 range"),
+    ("NET105", ERROR, "a PDO kept from a file maps a zero entry among its subs 1..n"),
+    ("NET106", ERROR, "a name: that is not an IEC 61131-3 identifier"),
+    ("NET107", ERROR, "two names for one object, or one name for two objects"),
+    ("NET108", ERROR, "the PLC cannot take a link: no free PDO, no sub for the inhibit "
+                      "time/event timer, too few mapping subs"),
+    ("NET109", ERROR, "no free COB-ID is left to assign"),
+    ("NET110", WARNING, "the PLC's file lacks an NMT entry: it is not written"),
+    ("NET111", ERROR, "an NMT entry beyond the subs of the PLC's object"),
+    ("NET112", ERROR, "a configured field out of range (retry_factor, guard_time, a "
+                      "heartbeat time over 65535 ms)"),
+    ("NET113", WARNING, "the identity of [DeviceInfo] differs from the file's 0x1018"),
+    ("NET114", ERROR, "a write into an entry the slave's file lacks or marks read-only"),
+    ("NET115", ERROR, "no free 0x1016 sub for the slave's heartbeat consumer"),
+    ("NET116", WARNING, "heartbeat_consumer is true but the master produces no heartbeat"),
+    ("NET117", ERROR, "an sdo: value that its entry's data type cannot hold"),
+    ("NET118", ERROR, "the PLC's file cannot take the variables ([DynamicChannels], a "
+                      "range full)"),
+    ("NET119", ERROR, "build needs the PLC's EDS/DCF as the master's dcf:"),
+    ("NET120", ERROR, "an output cannot be made: a node name that cannot be a file name, "
+                      "two nodes with one output file, an entry the file only implies "
+                      "(CompactPDO) with no section to state its value in"),
+]
+
+BY_CODE = {c: (sev, text) for c, sev, text in CODES}

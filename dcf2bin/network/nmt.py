@@ -1,0 +1,159 @@
+"""The PLC's NMT entries (SPEC §10.2, D-17), as lely's dcfgen makes them.
+
+0x1F81, 0x1F84-0x1F86 and 0x1016 always; 0x1F87, 0x1F88, 0x1F55, 0x1017, 0x1006, 0x1007,
+0x1F80 and 0x1F89 only when the YAML gives a key they come from; 0x1005 with
+``sync_period``; 0x1F22 whenever the PLC's file has it (filled in by ``concise``). An entry
+the PLC's file lacks is a warning and not written; a sub beyond its object's subs is an
+error.
+"""
+from __future__ import annotations
+
+from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.network.entries import write_to
+from dcf2bin.network.model import Heartbeat, Network, Node
+from dcf2bin.network.pdos import entry_int
+from dcf2bin.network.slaveconfig import multiplier, times
+
+_MISSING_WHY = {0x1F81: "slave assignment", 0x1F84: "device type check",
+                0x1F85: "vendor-ID check", 0x1F86: "product code check",
+                0x1F87: "revision check", 0x1F88: "serial number check",
+                0x1F55: "software version check", 0x1016: "heartbeat consumer",
+                0x1017: "heartbeat producer", 0x1006: "SYNC period", 0x1007: "SYNC window",
+                0x1005: "SYNC producer", 0x1F80: "NMT start-up", 0x1F89: "boot time",
+                0x1F22: "concise DCFs"}
+
+
+class PlcWriter:
+    """Collects the PLC's configured entries (master.settings, master.writes)."""
+
+    def __init__(self, master: Node, diags: Diagnostics):
+        self.master = master
+        self.diags = diags
+        self.warned: set[int] = set()
+
+    def put(self, index: int, sub: int, value, why: str, where: Where | None) -> None:
+        dev = self.master.device
+        if dev is not None and index not in dev.objects:
+            if index not in self.warned:
+                self.warned.add(index)
+                self.diags.warning(f"the PLC's file has no 0x{index:04X}: the PLC cannot do "
+                                   f"the {_MISSING_WHY.get(index, 'entry')} ({why}); not "
+                                   "written", where, rule="NET110")
+            return
+        w = write_to(dev, index, sub, value, why, where, self.diags, rule="NET111",
+                     slave=False, who="the PLC")
+        if w is not None:
+            self.master.writes.append(w)
+            self.master.settings[(index, sub)] = w
+
+
+def identity(slave: Node, diags: Diagnostics) -> dict[int, int]:
+    """0x1F84-0x1F88 for a slave: device type, vendor, product (YAML or [DeviceInfo]),
+    revision and serial (YAML); only the nonzero ones."""
+    dev, cfg = slave.device, slave.config
+    out = {0x1F84: entry_int(dev, 0x1000, 0, 0) or 0}
+    info = dev.ini.section("deviceinfo") if dev.ini is not None else None
+    for index, key, info_key, sub in ((0x1F85, "vendor_id", "vendornumber", 1),
+                                      (0x1F86, "product_code", "productnumber", 2)):
+        if key in cfg:
+            out[index] = cfg[key]
+            continue
+        value = _info_int(info, info_key)
+        out[index] = value or 0
+        e = dev.entry(0x1018, sub)
+        if value is not None and e is not None and e.default is not None:
+            own = entry_int(dev, 0x1018, sub)
+            if own is not None and own != value:
+                diags.warning(f"{slave.name}: [DeviceInfo] {info.keys[info_key].name} is "
+                              f"0x{value:X} but its 0x1018sub{sub} is 0x{own:X}; the master "
+                              f"will expect 0x{value:X}",
+                              Where(dev.path, info.line_of(info_key)), rule="NET113")
+    out[0x1F87] = cfg.get("revision_number", 0)
+    out[0x1F88] = cfg.get("serial_number", 0)
+    return {k: v for k, v in out.items() if v}
+
+
+def _info_int(info, key: str) -> int | None:
+    if info is None or info.get(key) is None:
+        return None
+    from dcf2bin import values
+    try:
+        return values.parse_int(values.split_numeric_comment(info.get(key))[0])
+    except values.ValueProblem:
+        return None
+
+
+def nmt_entries(net: Network, plc: PlcWriter, diags: Diagnostics) -> None:
+    master = net.master
+    cfg, mw = master.config, master.config_where
+    retry_default = net.options.get("retry_factor", 3)
+    for s in net.slaves:
+        sc, where = s.config, s.where
+        value = (0x01 | (0x04 if sc.get("boot", True) else 0)
+                 | (0x08 if sc.get("mandatory", False) else 0)
+                 | (0x10 if not sc.get("reset_communication", True) else 0)
+                 | (0x20 if sc.get("software_version", 0) else 0)
+                 | (sc.get("retry_factor", retry_default) << 8)
+                 | (sc.get("guard_time", 0) << 16))
+        plc.put(0x1F81, s.node_id, value, f"slave assignment of {s.name}", where)
+        if s.device is not None:
+            s.identity = identity(s, diags)
+        for index, v in sorted(s.identity.items()):
+            plc.put(index, s.node_id, v, f"{s.name}'s {_MISSING_WHY[index]}", where)
+        if "software_version" in sc:
+            plc.put(0x1F55, s.node_id, sc["software_version"], f"{s.name}'s software version",
+                    s.config_where.get("software_version"))
+    _consumers(net, plc, diags)
+    if "heartbeat_producer" in cfg:
+        plc.put(0x1017, 0, cfg["heartbeat_producer"], "producer heartbeat time",
+                mw["heartbeat_producer"])
+    for key, index, why in (("sync_period", 0x1006, "communication cycle period (µs)"),
+                            ("sync_window", 0x1007, "synchronous window length (µs)"),
+                            ("boot_time", 0x1F89, "boot time (ms)")):
+        if key in cfg:
+            plc.put(index, 0, cfg[key], why, mw[key])
+    if cfg.get("sync_period"):
+        dev = master.device
+        can = (entry_int(dev, 0x1005, 0, 0x80) if dev is not None else 0x80) & 0x7FF
+        plc.put(0x1005, 0, 0x40000000 | can, "COB-ID SYNC: the PLC produces SYNC",
+                mw["sync_period"])
+    keys = ("start", "start_nodes", "start_all_nodes", "reset_all_nodes", "stop_all_nodes")
+    given = [k for k in keys if k in cfg]
+    if given:
+        value = (0x01 | (0x02 if cfg.get("start_all_nodes", False) else 0)
+                 | (0x04 if not cfg.get("start", True) else 0)
+                 | (0x08 if not cfg.get("start_nodes", True) else 0)
+                 | (0x10 if cfg.get("reset_all_nodes", False) else 0)
+                 | (0x40 if cfg.get("stop_all_nodes", False) else 0))
+        plc.put(0x1F80, 0, value, "NMT start-up", mw[given[0]])
+
+
+def _consumers(net: Network, plc: PlcWriter, diags: Diagnostics) -> None:
+    master = net.master
+    setting = master.config.get("heartbeat_consumer", True)
+    where = master.config_where.get("heartbeat_consumer", master.where)
+    if setting is False:
+        return
+    explicit = setting if isinstance(setting, dict) else {}
+    names = {s.name: s for s in net.slaves}
+    for name, (_, w) in explicit.items():
+        if name not in names:
+            diags.error(f"heartbeat_consumer: '{name}' is not a slave of the network", w,
+                        rule="NET004")
+    k = 0
+    for s in net.slaves:
+        if not s.heartbeat_producer:
+            continue
+        k += 1
+        if s.name in explicit:
+            t, w = explicit[s.name]
+        else:
+            t, w = times(s.heartbeat_producer, multiplier(net, s)), where
+            if t > 0xFFFF:
+                diags.error(f"{s.name}'s heartbeat time {s.heartbeat_producer} ms x "
+                            f"{multiplier(net, s):g} = {t} ms is over 65535 ms",
+                            s.config_where.get("heartbeat_producer", s.where), rule="NET112")
+                continue
+        master.heartbeat_consumers.append(Heartbeat(s.node_id, t, w))
+        plc.put(0x1016, k, (s.node_id << 16) | t,
+                f"consumer heartbeat time: monitors {s.name} (node {s.node_id}, {t} ms)", w)

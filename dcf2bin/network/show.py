@@ -1,0 +1,321 @@
+"""What `network show` prints (SPEC §10.5): the links of a configured network as data, and
+its text and JSON forms (the picture is :mod:`dcf2bin.network.svg`).
+
+* per COB-ID (D-20's rows): the producer (node, PDO), the consumers, data bytes, frames
+  per second (None: the configuration does not say), bits of a frame, share of the bus;
+  an RPDO whose COB-ID no node produces is listed too, with no producer;
+* per PLC variable: the slave and object it comes from or goes to, and its PLC entry;
+* per slave: the identity the master will enforce (0x1F84…0x1F88; for a .cpj project,
+  which has no master, the identity each node's DCF states);
+* with ``writes``: a slave's decoded D-18 write list (index, sub, name, value, why).
+
+    view = build(network, writes=None | "all" | node-name-or-ID)
+    text(view), as_json(view)
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+from dcf2bin import datatypes as dt
+from dcf2bin.diagnostics import DcfError
+from dcf2bin.network.model import COB_EXTENDED, RPDO, Network, Node, Pdo
+
+IDENTITY_ENTRIES = {0x1F84: (0x1000, 0), 0x1F85: (0x1018, 1), 0x1F86: (0x1018, 2),
+                    0x1F87: (0x1018, 3), 0x1F88: (0x1018, 4)}
+IDENTITY_NAMES = {0x1F84: "device type", 0x1F85: "vendor-ID", 0x1F86: "product code",
+                  0x1F87: "revision number", 0x1F88: "serial number"}
+
+
+@dataclass
+class End:
+    """One end of a link: a node and the PDO it sends or receives the frame with."""
+    node: str
+    node_id: int
+    pdo: str | None            # "TPDO1", "RPDO3"; None for SYNC and heartbeat ends
+    master: bool = False
+
+    def __str__(self) -> str:
+        return f"{self.node} {self.pdo}" if self.pdo else self.node
+
+    def as_dict(self) -> dict:
+        return {"node": self.node, "node_id": self.node_id, "pdo": self.pdo}
+
+
+@dataclass
+class Link:
+    can_id: int
+    extended: bool
+    what: str                          # "TPDO1", "SYNC", "heartbeat", "RPDO2" (no producer)
+    producer: End | None
+    consumers: list[End]
+    content: list[str]                 # what the frame carries: variable or object names
+    bytes: int
+    rate: float | None
+    bits: int
+    share: float
+
+    @property
+    def cob_text(self) -> str:
+        return f"0x{self.can_id:08X}" if self.extended else f"0x{self.can_id:03X}"
+
+    @property
+    def is_pdo(self) -> bool:
+        return self.what not in ("SYNC", "heartbeat")
+
+
+@dataclass
+class VarRow:
+    name: str
+    direction: str
+    datatype: str
+    node: str
+    node_id: int
+    index: int
+    sub: int
+    pi_index: int | None
+    pi_sub: int | None
+    pi_offset: int | None
+
+
+@dataclass
+class WriteRow:
+    index: int
+    sub: int
+    name: str
+    value: object
+    data: bytes
+    why: str
+    where: str
+
+
+@dataclass
+class SlaveRow:
+    name: str
+    node_id: int
+    identity: dict[int, int]
+    writes: list[WriteRow] | None = None      # None: not asked for
+
+
+@dataclass
+class View:
+    path: str
+    bitrate: int
+    nodes: list[End]
+    links: list[Link]
+    total: float
+    unknown: int
+    variables: list[VarRow] = field(default_factory=list)
+    slaves: list[SlaveRow] = field(default_factory=list)
+    kind: str = "yaml"                        # "yaml" or "cpj"
+
+
+def identity_of(network, node) -> dict[int, int]:
+    """What a node must be (0x1F84…0x1F88 → value, the nonzero ones): for a YAML network
+    what the master will enforce; for a .cpj project, which has no master, the node's own
+    DCF (its 0x1000 and 0x1018 sub 1…4)."""
+    if network.kind != "cpj":
+        return {k: v for k, v in node.identity.items() if v}
+    out = {}
+    dev = node.device
+    for key, (index, sub) in IDENTITY_ENTRIES.items():
+        entry = dev.entry(index, sub) if dev is not None else None
+        if entry is None:
+            continue
+        try:
+            value = dev.effective_int(entry)
+        except DcfError:         # a value the file's own findings already report
+            continue
+        if value:
+            out[key] = value
+    return out
+
+
+def _end(node: Node, pdo: Pdo | None) -> End:
+    return End(node.name, node.node_id, pdo.label if pdo is not None else None,
+               node.role == "master")
+
+
+def _content(network: Network, node: Node, pdo: Pdo | None) -> list[str]:
+    """The names of what a PDO carries: each mapped object's PLC variable (a PLC mirror is
+    named by the slave PDO it mirrors), else its index and sub."""
+    if pdo is None:
+        return []
+    names = {(v.node_id, v.index, v.sub): v.name for v in network.variables}
+    source = pdo.mirror_of if pdo.mirror_of is not None else pdo
+    out = []
+    for m in source.mapping:
+        if m.is_dummy:
+            out.append(f"dummy {m.bits} bits")
+            continue
+        name = m.name or names.get((source.node_id, m.index, m.sub))
+        out.append(name or f"0x{m.index:04X}sub{m.sub:X}")
+    return out
+
+
+def find_node(network: Network, which: str) -> Node | None:
+    """A node by its name or its node-ID (decimal or 0x hex)."""
+    for n in network.nodes:
+        if n.name == which:
+            return n
+    try:
+        nid = int(which, 0)
+    except ValueError:
+        return None
+    return network.node(nid)
+
+
+def build(network: Network, writes: str | None = None) -> View:
+    """The view of a configured network. ``writes``: None, "all", or one node's name/ID
+    (the caller has checked it with :func:`find_node`)."""
+    from dcf2bin.network.load import estimate
+    load = estimate(network)
+    nodes = [_end(n, None) for n in sorted(network.nodes, key=lambda n: n.node_id)]
+    links = []
+    produced = set()
+    for r in load.rows:
+        produced.add((r.can_id, r.extended))
+        ends = [_end(n, p) for n, p in r.consumers]
+        if r.pdo is None:          # SYNC, heartbeat: each consuming node once
+            ends = list({e.node_id: _end(n, None) for e, (n, _p) in zip(ends, r.consumers)}
+                        .values())
+        links.append(Link(r.can_id, r.extended, r.what, _end(r.producer, r.pdo), ends,
+                          _content(network, r.producer, r.pdo), r.bytes, r.rate, r.bits,
+                          r.share))
+    orphans: dict[tuple[int, bool], list] = {}
+    for node in network.nodes:
+        for p in node.pdos:
+            key = (p.can_id, bool(p.cob_id & COB_EXTENDED))
+            if p.exists and p.kind == RPDO and key not in produced:
+                orphans.setdefault(key, []).append((node, p))
+    for (can_id, ext), ends in orphans.items():
+        node, p = ends[0]
+        links.append(Link(can_id, ext, p.label, None, [_end(n, q) for n, q in ends],
+                          _content(network, node, p), (p.bits + 7) // 8, None, 0, 0.0))
+    links.sort(key=lambda k: (k.extended, k.can_id))
+    view = View(network.path, network.bitrate, nodes, links, load.total, len(load.unknown),
+                kind=network.kind)
+    by_id = {n.node_id: n for n in network.nodes}
+    for v in network.variables:
+        t = dt.BY_CODE.get(v.datatype)
+        slave = by_id.get(v.node_id)
+        view.variables.append(VarRow(v.name, v.direction, t.name if t else f"0x{v.datatype:04X}",
+                                     slave.name if slave else "?", v.node_id, v.index, v.sub,
+                                     v.pi_index, v.pi_sub, v.pi_offset))
+    chosen = None if writes in (None, "all") else find_node(network, writes)
+    for n in sorted(network.slaves, key=lambda n: n.node_id):
+        row = SlaveRow(n.name, n.node_id, dict(sorted(identity_of(network, n).items())))
+        if writes == "all" or (chosen is not None and chosen is n):
+            row.writes = [WriteRow(w.index, w.sub, w.name, w.value, w.data, w.why,
+                                   str(w.where) if w.where is not None else "")
+                          for w in n.writes]
+        view.slaves.append(row)
+    return view
+
+
+# -- text -----------------------------------------------------------------------------------
+
+def rate_text(rate: float | None) -> str:
+    if rate is None:
+        return "?"
+    return f"{rate:.4g}/s"
+
+
+def value_text(w: WriteRow) -> str:
+    v = w.value
+    if isinstance(v, bool):
+        return str(v).lower()
+    if isinstance(v, int):
+        width = max(2, 2 * len(w.data))
+        return f"0x{v:0{width}X} ({v})" if v > 9 else str(v)
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, (bytes, bytearray)):
+        return bytes(v).hex(" ").upper() or "(0 bytes)"
+    return json.dumps(v) if isinstance(v, str) else str(v)
+
+
+def table(head: list[str], rows: list[list[str]]) -> list[str]:
+    widths = [max(len(head[i]), *(len(r[i]) for r in rows)) if rows else len(head[i])
+              for i in range(len(head))]
+    fmt = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
+    return [fmt(head)] + [fmt(r) for r in rows]
+
+
+def text(view: View) -> str:
+    out = [f"{view.path}: {len(view.nodes)} nodes, {sum(k.is_pdo for k in view.links)} PDO "
+           f"COB-IDs, estimated bus load {view.total:.1f} % of {view.bitrate // 1000} kbit/s"
+           + (f" ({view.unknown} frame{'s' if view.unknown != 1 else ''} of unknown rate "
+              "counted as 0)" if view.unknown else ""), ""]
+    rows = [[k.cob_text, k.what,
+             str(k.producer) if k.producer else "(nobody)",
+             ", ".join(str(c) for c in k.consumers) or "(nobody)",
+             str(k.bytes), rate_text(k.rate), f"{k.share:.2f} %",
+             ", ".join(k.content)] for k in view.links]
+    out += table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load",
+                   "content"], rows)
+    if view.variables:
+        out += ["", "PLC variables:"]
+        out += table(["variable", "dir", "type", "node", "object", "PLC entry", "offset"],
+                      [[v.name, "in" if v.direction == "input" else "out", v.datatype,
+                        f"{v.node} ({v.node_id})", f"0x{v.index:04X}sub{v.sub:X}",
+                        f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
+                        str(v.pi_offset) if v.pi_offset is not None else ""]
+                       for v in view.variables])
+    if view.slaves:
+        out += ["", "Identity the master enforces:" if view.kind != "cpj" else
+                "Identity each node's DCF states (a .cpj project has no master):"]
+        cols = [0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88]
+        out += table(["node", *(IDENTITY_NAMES[c] for c in cols)],
+                      [[f"{s.name} ({s.node_id})",
+                        *(f"0x{s.identity[c]:08X}" if c in s.identity else "-" for c in cols)]
+                       for s in view.slaves])
+    for s in view.slaves:
+        if s.writes is None:
+            continue
+        n = len(s.writes)
+        out += ["", f"{s.name} (node {s.node_id}): {n} SDO write{'s' if n != 1 else ''}"]
+        out += table(["#", "entry", "name", "value", "why", "source"],
+                      [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.name, value_text(w),
+                        w.why, w.where] for k, w in enumerate(s.writes)])
+    return "\n".join(out) + "\n"
+
+
+# -- JSON -----------------------------------------------------------------------------------
+
+def _jvalue(v):
+    if isinstance(v, (bytes, bytearray)):
+        return bytes(v).hex().upper()
+    return v
+
+
+def as_dict(view: View) -> dict:
+    return {
+        "network": view.path,
+        "bitrate": view.bitrate,
+        "bus_load_percent": round(view.total, 4),
+        "unknown_rates": view.unknown,
+        "nodes": [{"name": n.node, "node_id": n.node_id,
+                   "role": "master" if n.master else "slave"} for n in view.nodes],
+        "links": [{"cob_id": k.can_id | (COB_EXTENDED if k.extended else 0),
+                   "can_id": k.can_id, "extended": k.extended, "frame": k.what,
+                   "producer": k.producer.as_dict() if k.producer else None,
+                   "consumers": [c.as_dict() for c in k.consumers],
+                   "content": k.content, "bytes": k.bytes, "rate": k.rate, "bits": k.bits,
+                   "load_percent": round(k.share, 4)} for k in view.links],
+        "variables": [{"name": v.name, "direction": v.direction, "type": v.datatype,
+                       "node": v.node, "node_id": v.node_id, "index": v.index,
+                       "sub": v.sub, "plc_index": v.pi_index, "plc_sub": v.pi_sub,
+                       "offset": v.pi_offset} for v in view.variables],
+        "slaves": [{"name": s.name, "node_id": s.node_id,
+                    "identity": {f"0x{k:04X}": v for k, v in s.identity.items()},
+                    **({"writes": [{"index": w.index, "sub": w.sub, "name": w.name,
+                                    "value": _jvalue(w.value), "data": w.data.hex().upper(),
+                                    "why": w.why, "source": w.where} for w in s.writes]}
+                       if s.writes is not None else {})} for s in view.slaves],
+    }
+
+
+def as_json(view: View) -> str:
+    return json.dumps(as_dict(view), indent=2) + "\n"
+

@@ -1,0 +1,117 @@
+"""A slave's configuration (SPEC §10.3, D-18): the ordered writes of its concise DCF.
+
+For each configured PDO, RPDOs then TPDOs by number: comm sub 1 = COB-ID | 0x80000000;
+the subs the YAML gives; only with ``mapping:``, mapping sub 0 = 0, subs 1..n, sub 0 = n;
+last comm sub 1 = COB-ID (left invalid for ``enabled: false``). Then guard_time (0x100C),
+life_time_factor (0x100D), heartbeat_producer (0x1017), the heartbeat consumer entry for
+the master (0x1016), and the ``sdo`` list in order.
+"""
+from __future__ import annotations
+
+import math
+
+from dcf2bin.diagnostics import Diagnostics
+from dcf2bin.network.entries import sdo_write, write_to
+from dcf2bin.network.model import COB_INVALID, RPDO, TPDO, Network, Node
+from dcf2bin.network.pdos import comm_index, entry_int, map_index
+
+_TPDO_SUBS = (("transmission", 2, "transmission type"), ("inhibit_time", 3, "inhibit time"),
+              ("event_timer", 5, "event timer"), ("sync_start", 6, "SYNC start value"))
+_RPDO_SUBS = (("transmission", 2, "transmission type"), ("event_deadline", 5,
+                                                         "event deadline"))
+
+
+def multiplier(net: Network, node: Node) -> float:
+    own = node.config.get("heartbeat_multiplier")
+    return own if own is not None else net.options.get("heartbeat_multiplier", 3.0)
+
+
+def times(ms: int, factor: float) -> int:
+    """A time multiplied by a heartbeat multiplier, rounded down to whole ms."""
+    return math.floor(ms * factor)
+
+
+def configure_slave(net: Network, node: Node, diags: Diagnostics) -> None:
+    dev = node.device
+    out = node.writes
+
+    def put(index, sub, value, why, where):
+        w = write_to(dev, index, sub, value, why, where, diags, rule="NET114", slave=True,
+                     who=node.name)
+        if w is not None:
+            out.append(w)
+
+    listed = sorted((p for p in node.pdos if p.listed),
+                    key=lambda p: (p.kind != RPDO, p.number))
+    for pdo in listed:
+        pc = pdo.config
+        comm = comm_index(pdo.kind, pdo.number)
+        label = pdo.label
+        put(comm, 1, pdo.cob_id | COB_INVALID, f"{label} COB-ID (invalid while configuring)",
+            pc.wheres.get("cob_id", pc.where))
+        if pc.enabled is False and set(pc.wheres) <= {"enabled"}:
+            continue
+        for key, sub, what in (_TPDO_SUBS if pdo.kind == TPDO else _RPDO_SUBS):
+            value = getattr(pc, key)
+            if value is not None:
+                put(comm, sub, value, f"{label} {what}", pc.wheres.get(key, pc.where))
+        if pc.mapping is not None:
+            mi = map_index(pdo.kind, pdo.number)
+            mwhere = pc.wheres.get("mapping", pc.where)
+            put(mi, 0, 0, f"{label} mapping off while configuring", mwhere)
+            for k, m in enumerate(pdo.mapping, 1):
+                put(mi, k, (m.index << 16) | (m.sub << 8) | m.bits,
+                    f"{label} maps 0x{m.index:04X}sub{m.sub:X} ({m.bits} bits)", m.where)
+            put(mi, 0, len(pdo.mapping), f"{label} maps {len(pdo.mapping)} objects", mwhere)
+        if pc.enabled is not False:
+            put(comm, 1, pdo.cob_id, f"{label} COB-ID", pc.wheres.get("cob_id", pc.where))
+    cw = node.config_where
+    for key, index, what in (("guard_time", 0x100C, "guard time"),
+                             ("life_time_factor", 0x100D, "life time factor"),
+                             ("heartbeat_producer", 0x1017, "producer heartbeat time")):
+        if key in node.config:
+            put(index, 0, node.config[key], what, cw.get(key))
+    if node.config.get("heartbeat_consumer"):
+        _consumer(net, node, put, diags)
+    for item in node.sdo_config:
+        w = sdo_write(dev, item.index, item.sub, item.value, item.where, node.name, diags)
+        if w is not None:
+            out.append(w)
+    for w in out:
+        node.settings[(w.index, w.sub)] = w
+
+
+def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> None:
+    master = net.master
+    where = node.config_where.get("heartbeat_consumer")
+    if master is None:
+        return
+    if not master.heartbeat_producer:
+        diags.warning(f"{node.name} is to monitor the master, but the master produces no "
+                      "heartbeat (heartbeat_producer 0): nothing written", where,
+                      rule="NET116")
+        return
+    dev = node.device
+    obj = dev.objects.get(0x1016)
+    subs = sorted(s for s in (obj.entries if obj else {}) if s)
+    chosen = None
+    for s in subs:
+        if (entry_int(dev, 0x1016, s, 0) >> 16) & 0xFF == master.node_id:
+            chosen = s
+            break
+    if chosen is None:
+        chosen = next((s for s in subs if entry_int(dev, 0x1016, s, 0) == 0), None)
+    if chosen is None:
+        diags.error(f"{node.name} has no free 0x1016 sub for monitoring the master "
+                    f"({len(subs)} subs, all in use)" if obj else
+                    f"{node.name}'s file has no 0x1016 (consumer heartbeat time)", where,
+                    rule="NET115")
+        return
+    t = times(master.heartbeat_producer, multiplier(net, master))
+    if t > 0xFFFF:
+        diags.error(f"the master's heartbeat time {master.heartbeat_producer} ms x "
+                    f"{multiplier(net, master):g} = {t} ms is over 65535 ms", where,
+                    rule="NET112")
+        return
+    put(0x1016, chosen, (master.node_id << 16) | t,
+        f"consumer heartbeat time: monitors the master (node {master.node_id}, {t} ms)", where)

@@ -1,0 +1,189 @@
+"""The network file in YAML (SPEC §10.1, D-16): lely's ``dcfgen`` format, which
+ros2_canopen's ``bus.yml`` also is.
+
+Two layouts: flat (lely: ``options``, ``master``, every other key a slave) and
+ros2_canopen's (``nodes:`` holds the slaves, ``defaults:`` is merged into each, the
+node's own key winning with a warning). Top-level keys starting with ``.`` are templates.
+Every value is checked where it is read, and every finding names its ``file:line``.
+"""
+from __future__ import annotations
+
+import os
+
+from dcf2bin.diagnostics import Where
+from dcf2bin.network.model import MASTER, SLAVE, Network, Node
+from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
+                                      kind_of)
+from dcf2bin.network.yamltree import YamlError, YMap, read_tree
+
+
+def load_network(path: str, data: bytes | None = None) -> Network:
+    """Read a YAML network file. Problems are collected in ``network.diagnostics``; a
+    file that cannot be read raises OSError."""
+    if data is None:
+        with open(path, "rb") as f:
+            data = f.read(MAX_FILE + 1)
+    net = Network(path=path, kind="yaml")
+    diags = net.diagnostics
+    if len(data) > MAX_FILE:
+        diags.error(f"the network file is larger than {MAX_FILE >> 20} MiB", Where(path, 1),
+                    rule="NET001")
+        return net
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        diags.error("the network file is not UTF-8 text", Where(path, line), rule="NET001")
+        return net
+    try:
+        root = read_tree(text, path, diags)
+    except YamlError:
+        return net
+    _Reader(net, os.path.dirname(path)).run(root)
+    return net
+
+
+class _Reader(Items):
+    """The layouts and the nodes."""
+
+    def run(self, root) -> None:
+        if not isinstance(root, YMap):
+            self.err("the network file must be a mapping of 'options', 'master' and the "
+                     "slaves", getattr(root, "line", 1), "NET001")
+            return
+        nodes_layout = "nodes" in root or "defaults" in root
+        self.net.layout = "nodes" if nodes_layout else "flat"
+        options = root.get("options")
+        if options is not None:
+            self.options(options, root.lines["options"])
+        if "master" not in root:
+            self.err("no 'master' in the network file", root.line, "NET005")
+        else:
+            self.net.master_where = self.w(root.lines["master"])
+            self.node("master", root["master"], root.lines["master"], MASTER, None)
+        defaults = None
+        if nodes_layout:
+            defaults = root.get("defaults")
+            if defaults is not None and not isinstance(defaults, YMap):
+                self.err(f"'defaults' must be a mapping, found {kind_of(defaults)}",
+                         root.lines["defaults"])
+                defaults = None
+            slaves = root.get("nodes")
+            line = root.lines.get("nodes", root.line)
+            if slaves is None:
+                slaves = YMap(line)
+            elif not isinstance(slaves, YMap):
+                self.err(f"'nodes' must be a mapping of slaves, found {kind_of(slaves)}", line)
+                slaves = YMap(line)
+            for key in root:
+                if key not in ("options", "master", "defaults", "nodes") and not (
+                        isinstance(key, str) and key.startswith(".")):
+                    self.diags.info(f"top-level key '{key}' is not read in the nodes: "
+                                    "layout; ignored", self.w(root.lines[key]), rule="NET007")
+        else:
+            slaves = YMap(root.line)
+            for key, value in root.items():
+                if key in ("options", "master") or (isinstance(key, str) and key.startswith(".")):
+                    continue
+                slaves[key] = value
+                slaves.lines[key] = root.lines[key]
+        if not slaves:
+            self.err("no slave in the network file", line if nodes_layout else root.line,
+                     "NET005")
+        for key, value in slaves.items():
+            self.node(str(key), value, slaves.lines[key], SLAVE, defaults)
+        self.net.nodes.sort(key=lambda n: (n.role != MASTER, n.node_id))
+        # a finding in defaults: or a template is reported once, not once per node
+        seen, items = set(), []
+        for d in self.diags.items:
+            key = (d.severity, d.message, d.file, d.line, d.rule)
+            if key not in seen:
+                seen.add(key)
+                items.append(d)
+        self.diags.items[:] = items
+
+    # -- options ---------------------------------------------------------------------------
+    def options(self, value, line: int) -> None:
+        if not isinstance(value, YMap):
+            self.err(f"'options' must be a mapping, found {kind_of(value)}", line)
+            return
+        for key, v in value.items():
+            kline = value.lines[key]
+            if key == "dcf_path":
+                self.diags.info("options: dcf_path is not used: the outputs go where -o "
+                                "says", self.w(kline), rule="NET007")
+                continue
+            kind = OPTION_KEYS.get(key)
+            if kind is None:
+                self.unknown(key, kline, OPTION_KEYS)
+                continue
+            got = self.scalar(key, kind, v, kline)
+            if got is not None:
+                self.net.options[key] = got
+
+    # -- a node ----------------------------------------------------------------------------
+    def node(self, name: str, value, line: int, role: str, defaults: YMap | None) -> None:
+        if not isinstance(value, YMap):
+            self.err(f"'{name}' must be a mapping of its keys, found {kind_of(value)}", line)
+            return
+        merged = value
+        if defaults:
+            merged = YMap(value.line)
+            for k, v in defaults.items():
+                merged[k] = v
+                merged.lines[k] = defaults.lines[k]
+            for k, v in value.items():
+                if k in defaults:
+                    self.diags.warning(
+                        f"'{k}' of {name} is also in defaults: (line {defaults.lines[k]}); "
+                        "the node's value is taken", self.w(value.lines[k]), rule="NET009")
+                merged[k] = v
+                merged.lines[k] = value.lines[k]
+        node = Node(name=name, node_id=0, role=role, where=self.w(line))
+        keys = MASTER_KEYS if role == MASTER else SLAVE_KEYS
+        for key, v in merged.items():
+            kline = merged.lines[key]
+            if key == "eds" and role == SLAVE:
+                if "dcf" in merged:
+                    self.diags.warning("'eds' is ignored: 'dcf' is given too", self.w(kline),
+                                       rule="NET008")
+                    continue
+                self.diags.warning("'eds' is read as 'dcf'", self.w(kline), rule="NET008")
+                key = "dcf"
+            kind = keys.get(key)
+            if kind is None:
+                self.unknown(key, kline, keys)
+                continue
+            node.config_where[key] = self.w(kline)
+            if kind == "pdos":
+                self.pdos(node, key, v, kline)
+            elif kind == "sdo":
+                self.sdos(node, v, kline)
+            elif kind == "consumer":
+                self.consumer(node, v, kline)
+            elif kind == "path":
+                got = self.scalar(key, "str", v, kline)
+                if got is not None:
+                    node.config[key] = node.file = self.resolve(got)
+            else:
+                got = self.scalar(key, kind, v, kline)
+                if got is not None:
+                    node.config[key] = got
+        if role == MASTER and "name" in node.config:
+            node.name = node.config["name"]
+        nid = node.config.get("node_id")
+        if nid is None:
+            if "node_id" not in node.config_where:
+                self.err(f"{name} has no node_id", line, "NET005")
+            return
+        if role == SLAVE and "dcf" not in node.config_where:
+            self.err(f"{name} has no dcf (its EDS or DCF file)", line, "NET005")
+        node.node_id = nid
+        node.mandatory = bool(node.config.get("mandatory", False))
+        self.net.nodes.append(node)
+        if role == MASTER:
+            rate = node.config.get("bitrate")
+            if rate is None and "baudrate" in node.config:
+                rate = node.config["baudrate"] * 1000
+            if rate is not None:
+                self.net.bitrate = rate

@@ -1,0 +1,294 @@
+"""The keys and values of the network file (SPEC §10.1, D-16): which keys each part
+reads, their value syntax and ranges, and the readers of the lists (PDOs, mappings, sdo
+writes) that ``yamlfile`` uses. Every finding names its ``file:line``."""
+from __future__ import annotations
+
+import difflib
+import os
+
+from dcf2bin import values
+from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.network.model import RPDO, TPDO, MapConfig, Network, Node, PdoConfig, SdoConfig
+from dcf2bin.network.yamltree import YMap, YSeq
+
+PLACEHOLDER = "@BUS_CONFIG_PATH@/"
+MAX_FILE = 64 << 20
+
+# key -> kind of value: int, bool, float (a number), str, or a special reader
+OPTION_KEYS = {"heartbeat_multiplier": "float", "retry_factor": "int", "dcf_path": "info"}
+MASTER_KEYS = {
+    "node_id": "int", "dcf": "path", "name": "str", "heartbeat_producer": "int",
+    "heartbeat_consumer": "consumer", "heartbeat_multiplier": "float", "sync_period": "int",
+    "sync_window": "int", "start": "bool", "start_nodes": "bool", "start_all_nodes": "bool",
+    "reset_all_nodes": "bool", "stop_all_nodes": "bool", "boot_time": "int",
+    "bitrate": "int", "baudrate": "int",
+}
+SLAVE_KEYS = {
+    "dcf": "path", "node_id": "int", "rpdo": "pdos", "tpdo": "pdos",
+    "heartbeat_producer": "int", "heartbeat_consumer": "bool", "heartbeat_multiplier": "float",
+    "boot": "bool", "mandatory": "bool", "reset_communication": "bool", "retry_factor": "int",
+    "guard_time": "int", "life_time_factor": "int", "vendor_id": "int", "product_code": "int",
+    "revision_number": "int", "serial_number": "int", "software_version": "int",
+    "sdo": "sdo",
+}
+PDO_KEYS = {"enabled": "bool", "cob_id": "cob", "transmission": "int", "inhibit_time": "int",
+            "event_timer": "int", "event_deadline": "int", "sync_start": "int",
+            "mapping": "mapping"}
+MAP_KEYS = {"index": "int", "sub_index": "int", "name": "str"}
+SDO_KEYS = {"index": "int", "sub_index": "int", "value": "any"}
+# keys lely's dcfgen or ros2_canopen read that dcf2bin does not use: info, never a near-miss
+KNOWN_UNUSED = frozenset("""
+dcf_path baud_rate driver package polling period enable_lazy_load position_mode
+sdo_timeout_ms boot_timeout_ms scale_pos_to_dev scale_pos_from_dev scale_vel_to_dev
+scale_vel_from_dev scale_eff_to_dev scale_eff_from_dev switching_state homing_timeout_seconds
+diagnostics use_ros2_control emcy_inhibit_time sync_overflow error_behavior
+nmt_inhibit_time time_cob_id time_producer software_file configuration_file
+restore_configuration offset_pos_to_dev offset_pos_from_dev vendor_id product_code
+revision_number serial_number
+""".split())
+# ranges of the integer keys (inclusive); a time multiplied later is checked there
+RANGES = {
+    "node_id": (1, 127), "heartbeat_producer": (0, 0xFFFF), "sync_period": (0, 0xFFFFFFFF),
+    "sync_window": (0, 0xFFFFFFFF), "boot_time": (0, 0xFFFFFFFF), "bitrate": (1, 10**7),
+    "baudrate": (1, 10**4), "retry_factor": (0, 0xFF), "guard_time": (0, 0xFFFF),
+    "life_time_factor": (0, 0xFF), "vendor_id": (0, 0xFFFFFFFF),
+    "product_code": (0, 0xFFFFFFFF), "revision_number": (0, 0xFFFFFFFF),
+    "serial_number": (0, 0xFFFFFFFF), "software_version": (0, 0xFFFFFFFF),
+    "transmission": (0, 0xFF), "inhibit_time": (0, 0xFFFF), "event_timer": (0, 0xFFFF),
+    "event_deadline": (0, 0xFFFF), "sync_start": (0, 0xFF), "index": (0, 0xFFFF),
+    "sub_index": (0, 0xFF),
+}
+
+
+class _Bad(Exception):
+    """A value that cannot be read; the caller names the line."""
+
+
+def as_int(value, what: str = "") -> int:
+    """D-16: a YAML integer or a string in SPEC §1's integer syntax, never $NODEID."""
+    if isinstance(value, bool):
+        raise _Bad(f"expected an integer, found a boolean ({value})")
+    if isinstance(value, int):
+        return value
+    if isinstance(value, str):
+        if values.uses_nodeid(value):
+            raise _Bad(f"$NODEID is not allowed in the network file: '{value}'")
+        try:
+            return values.parse_int(value)
+        except values.ValueProblem as exc:
+            raise _Bad(str(exc)) from None
+    raise _Bad(f"expected an integer, found {kind_of(value)}")
+
+
+def as_bool(value) -> bool:
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str) and value.lower() in ("true", "false"):
+        return value.lower() == "true"
+    raise _Bad(f"expected true or false, found {kind_of(value)}")
+
+
+def kind_of(value) -> str:
+    if isinstance(value, YMap):
+        return "a mapping"
+    if isinstance(value, YSeq):
+        return "a list"
+    if value is None:
+        return "nothing"
+    if isinstance(value, str):
+        return f"'{value[:40]}'"
+    return f"{type(value).__name__} {value!r}"[:60]
+
+
+
+class _Values:
+    """Where, errors, and the value of one key (``scalar``)."""
+
+    def __init__(self, net: Network, folder: str):
+        self.net = net
+        self.path = net.path
+        self.folder = folder
+        self.diags: Diagnostics = net.diagnostics
+
+    def w(self, line: int | None) -> Where:
+        return Where(self.path, line)
+
+    def err(self, message: str, line: int | None, rule: str = "NET004") -> None:
+        self.diags.error(message, self.w(line), rule=rule)
+
+    def resolve(self, text: str) -> str:
+        if text.startswith(PLACEHOLDER):
+            text = text[len(PLACEHOLDER):]
+        return os.path.normpath(os.path.join(self.folder, text)) if text else text
+
+    def unknown(self, key, line: int, known: dict) -> None:
+        text = str(key)
+        if text not in KNOWN_UNUSED:
+            close = [k for k in known
+                     if difflib.SequenceMatcher(None, text, k).ratio() >= 0.8]
+            if close:
+                best = max(close, key=lambda k: difflib.SequenceMatcher(None, text, k).ratio())
+                self.diags.warning(f"unknown key '{text}': did you mean '{best}'?",
+                                   self.w(line), rule="NET006")
+                return
+        self.diags.info(f"key '{text}' is not used by dcf2bin; ignored", self.w(line),
+                        rule="NET007")
+
+    def scalar(self, key: str, kind: str, value, line: int):
+        """The value of ``key`` as ``kind``, range-checked; None (reported) when bad."""
+        try:
+            if kind == "int":
+                got = as_int(value)
+                lo, hi = RANGES.get(key, (0, 0xFFFFFFFF))
+                if not lo <= got <= hi:
+                    raise _Bad(f"{got} is outside {lo}..{hi}")
+                return got
+            if kind == "bool":
+                return as_bool(value)
+            if kind == "float":
+                if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                    raise _Bad(f"expected a number, found {kind_of(value)}")
+                try:
+                    got = float(value)
+                except ValueError:
+                    raise _Bad(f"expected a number, found {kind_of(value)}") from None
+                if not 0 <= got <= 1000 or got != got:
+                    raise _Bad(f"{value} is outside 0..1000")
+                return got
+            if kind == "str":
+                if not isinstance(value, str) or not value:
+                    raise _Bad(f"expected a text, found {kind_of(value)}")
+                return value
+            if kind == "any":
+                return value
+        except _Bad as exc:
+            self.err(f"{key}: {exc}", line)
+            return None
+        raise AssertionError(kind)
+
+
+class Items(_Values):
+    """The readers of a node's lists and mappings: heartbeat consumers, PDOs, mappings,
+    sdo writes."""
+
+    # -- master heartbeat_consumer ---------------------------------------------------------
+    def consumer(self, node: Node, value, line: int) -> None:
+        if not isinstance(value, YMap):
+            got = self.scalar("heartbeat_consumer", "bool", value, line)
+            if got is not None:
+                node.config["heartbeat_consumer"] = got
+            return
+        times = {}
+        for key, v in value.items():
+            t = self.scalar("heartbeat_consumer", "int", v, value.lines[key])
+            if t is not None:
+                times[str(key)] = (t, self.w(value.lines[key]))
+        node.config["heartbeat_consumer"] = times
+
+    # -- rpdo / tpdo -----------------------------------------------------------------------
+    def pdos(self, node: Node, kind_key: str, value, line: int) -> None:
+        kind = TPDO if kind_key == "tpdo" else RPDO
+        if not isinstance(value, YMap):
+            self.err(f"'{kind_key}' must be a mapping of PDO numbers, found {kind_of(value)}",
+                     line)
+            return
+        for key, v in value.items():
+            kline = value.lines[key]
+            try:
+                number = as_int(key)
+            except _Bad:
+                number = None
+            if number is None or not 1 <= number <= 512:
+                self.err(f"{kind_key}: PDO number '{key}' is not an integer 1..512", kline)
+                continue
+            if (kind, number) in node.pdo_config:
+                first = node.pdo_config[(kind, number)].where.line
+                self.err(f"{kind_key} {number} repeated (first at line {first})", kline,
+                         "NET002")
+                continue
+            pc = PdoConfig(kind, number, self.w(kline))
+            node.pdo_config[(kind, number)] = pc
+            if v is None:
+                continue
+            if not isinstance(v, YMap):
+                self.err(f"{kind_key} {number} must be a mapping, found {kind_of(v)}", kline)
+                continue
+            for k, item in v.items():
+                iline = v.lines[k]
+                pkind = PDO_KEYS.get(k)
+                if pkind is None:
+                    self.unknown(k, iline, PDO_KEYS)
+                    continue
+                pc.wheres[k] = self.w(iline)
+                if pkind == "mapping":
+                    pc.mapping = self.mapping(item, iline)
+                elif pkind == "cob":
+                    if isinstance(item, str) and item.lower() == "auto":
+                        pc.cob_id = "auto"
+                    else:
+                        try:
+                            pc.cob_id = as_int(item)
+                            if not 0 <= pc.cob_id <= 0xFFFFFFFF:
+                                raise _Bad(f"{pc.cob_id} is outside 0..0xFFFFFFFF")
+                        except _Bad as exc:
+                            self.err(f"cob_id: {exc} (auto or an integer)", iline)
+                else:
+                    setattr(pc, k, self.scalar(k, pkind, item, iline))
+
+    def mapping(self, value, line: int) -> list[MapConfig] | None:
+        if value is None:
+            return []
+        if not isinstance(value, YSeq):
+            self.err(f"mapping must be a list of {{index, sub_index}}, found {kind_of(value)}",
+                     line)
+            return None
+        if len(value) > 64:
+            self.err(f"mapping has {len(value)} objects; a PDO maps at most 64", line)
+            return None
+        out = []
+        for item, iline in zip(value, value.lines):
+            got = self.item(item, iline, MAP_KEYS, "mapping")
+            if got is None:
+                continue
+            name = got.get("name")
+            out.append(MapConfig(got["index"], got.get("sub_index", 0), name, self.w(iline),
+                                 self.w(got["_lines"].get("name", iline))))
+        return out
+
+    def item(self, item, line: int, keys: dict, what: str) -> dict | None:
+        if not isinstance(item, YMap):
+            self.err(f"a {what} item must be a mapping with index and sub_index, found "
+                     f"{kind_of(item)}", line)
+            return None
+        got: dict = {"_lines": {}}
+        ok = True
+        for k, v in item.items():
+            kline = item.lines[k]
+            kind = keys.get(k)
+            if kind is None:
+                self.unknown(k, kline, keys)
+                continue
+            x = self.scalar(k, kind, v, kline)
+            if x is None and kind != "any":
+                ok = False
+            got[k] = x
+            got["_lines"][k] = kline
+        if "index" not in got:
+            if ok:
+                self.err(f"a {what} item without index", line, "NET005")
+            return None
+        if what == "sdo" and "value" not in got:
+            self.err("an sdo item without value", line, "NET005")
+            return None
+        return got if ok else None
+
+    def sdos(self, node: Node, value, line: int) -> None:
+        if not isinstance(value, YSeq):
+            self.err(f"sdo must be a list of {{index, sub_index, value}}, found {kind_of(value)}",
+                     line)
+            return
+        for item, iline in zip(value, value.lines):
+            got = self.item(item, iline, SDO_KEYS, "sdo")
+            if got is not None:
+                node.sdo_config.append(SdoConfig(got["index"], got.get("sub_index", 0),
+                                                 got["value"], self.w(iline)))

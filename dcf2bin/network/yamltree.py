@@ -1,0 +1,224 @@
+"""YAML read as PyYAML's ``safe_load`` reads it, but keeping every key's line (SPEC §10.1
+D-16): the document is built from libyaml's parser events (their marks give the lines)
+into :class:`YMap`/:class:`YSeq`, merge keys (``<<``) and aliases resolved.
+
+A repeated key in one mapping is an error naming both lines (``safe_load`` would keep the
+last silently). An alias shares the node of its anchor; the size it stands for is
+counted, so an alias bomb ("billion laughs") is stopped at :data:`MAX_NODES`; a recursive
+alias and nesting deeper than :data:`MAX_DEPTH` are errors too. Scalars become the
+Python values ``safe_load`` gives (YAML 1.1: ``0b1100`` is 12, ``010`` is 8, ``yes`` is
+True).
+"""
+from __future__ import annotations
+
+import re
+
+from dcf2bin.diagnostics import Diagnostics, Where
+
+MAX_NODES = 1_000_000      # expanded nodes: 126 slaves of 8 PDOs are ~50,000
+MAX_DEPTH = 64
+MERGE_TAG = "tag:yaml.org,2002:merge"
+STR_TAG = "tag:yaml.org,2002:str"
+# plain scalars that YAML 1.1 resolves to these integers (decimal without a leading 0,
+# hexadecimal): read directly, the resolver and constructor give the same
+_PLAIN_INT = re.compile(r"0|[1-9][0-9]*|0x[0-9a-fA-F]+")
+
+
+class YMap(dict):
+    """A mapping; ``lines[key]`` is the line of each key, ``line`` the mapping's own."""
+    __slots__ = ("line", "lines")
+
+    def __init__(self, line: int):
+        super().__init__()
+        self.line = line
+        self.lines: dict = {}
+
+
+class YSeq(list):
+    """A sequence; ``lines[i]`` is the line of item i."""
+    __slots__ = ("line", "lines")
+
+    def __init__(self, line: int):
+        super().__init__()
+        self.line = line
+        self.lines: list[int] = []
+
+
+class YamlError(Exception):
+    """The file cannot be read at all; the diagnostics say where."""
+
+
+class _Stop(Exception):  # noqa: N818 - an internal signal, not an error type
+    def __init__(self, message: str, line: int, rule: str):
+        super().__init__(message)
+        self.line, self.rule = line, rule
+
+
+def read_tree(text: str, path: str, diags: Diagnostics):
+    """The document's root as YMap/YSeq/scalars, or None for an empty document. Fatal
+    problems (syntax, an alias bomb) raise YamlError after adding their diagnostic; a
+    repeated key is reported and the document read on.
+
+    The tree is built from libyaml's events with an explicit stack (its parser does not
+    recurse, PyYAML's composer does, and a C stack overflow cannot be caught); an alias
+    shares the anchored node, and the size it stands for is counted."""
+    import yaml
+    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+    builder = _Builder(path, diags, yaml)
+    try:
+        for event in yaml.parse(text, Loader=loader):
+            builder.event(event)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark is not None else None
+        what = exc.problem or exc.context or "invalid YAML"
+        if exc.context and exc.problem:
+            what = f"{exc.context}: {exc.problem}"
+        diags.error(f"YAML syntax: {what}", Where(path, line), rule="NET001")
+        raise YamlError() from None
+    except yaml.YAMLError as exc:
+        diags.error(f"YAML: {str(exc).splitlines()[0] if str(exc) else 'invalid'}",
+                    Where(path, 1), rule="NET001")
+        raise YamlError() from None
+    except _Stop as stop:
+        diags.error(str(stop), Where(path, stop.line), rule=stop.rule)
+        raise YamlError() from None
+    return builder.root
+
+
+class _Frame:
+    __slots__ = ("node", "anchor", "size", "pairs", "key", "merges")
+
+    def __init__(self, node, anchor):
+        self.node = node
+        self.anchor = anchor
+        self.size = 1
+        self.pairs: list = []       # mapping: (key, key line, value)
+        self.key = None             # mapping: the key waiting for its value, (key, line)
+        self.merges: list = []      # mapping: (value, line) of each '<<'
+
+
+_NO_KEY = object()
+_MERGE = object()
+
+
+class _Builder:
+    def __init__(self, path: str, diags: Diagnostics, yaml):
+        from yaml.resolver import Resolver
+        self.yaml = yaml
+        self.path = path
+        self.diags = diags
+        self.resolver = Resolver()
+        self.constructor = yaml.constructor.SafeConstructor()
+        self.stack: list[_Frame] = []
+        self.anchors: dict[str, tuple[object, int]] = {}
+        self.open: set[str] = set()
+        self.root = None
+        self.documents = 0
+
+    def event(self, ev) -> None:
+        yaml = self.yaml
+        kind = type(ev)
+        line = ev.start_mark.line + 1 if ev.start_mark is not None else 1
+        if kind is yaml.ScalarEvent:
+            self.add(self.scalar(ev, line), line, 1, ev.anchor)
+        elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
+            if len(self.stack) >= MAX_DEPTH:
+                raise _Stop(f"the YAML nests deeper than {MAX_DEPTH} levels", line, "NET003")
+            node = YMap(line) if kind is yaml.MappingStartEvent else YSeq(line)
+            if ev.anchor is not None:
+                self.open.add(ev.anchor)
+            self.stack.append(_Frame(node, ev.anchor))
+        elif kind is yaml.MappingEndEvent or kind is yaml.SequenceEndEvent:
+            frame = self.stack.pop()
+            if kind is yaml.MappingEndEvent:
+                self.finish_mapping(frame)
+            if frame.anchor is not None:
+                self.open.discard(frame.anchor)
+            self.add(frame.node, frame.node.line, frame.size, frame.anchor)
+        elif kind is yaml.AliasEvent:
+            if ev.anchor in self.open:
+                raise _Stop("a recursive alias (the node contains itself)", line, "NET003")
+            got = self.anchors.get(ev.anchor)
+            if got is None:
+                raise _Stop(f"alias *{ev.anchor} names no anchor before it", line, "NET001")
+            self.add(got[0], line, got[1], None)
+        elif kind is yaml.DocumentStartEvent:
+            self.documents += 1
+            if self.documents > 1:
+                raise _Stop("more than one YAML document in the network file", line,
+                            "NET001")
+
+    def scalar(self, ev, line: int):
+        yaml = self.yaml
+        tag = ev.tag
+        value = ev.value
+        if tag is None and ev.implicit[0] and len(value) < 100 and _PLAIN_INT.fullmatch(value):
+            return int(value, 16) if value[1:2] == "x" else int(value)
+        if tag is None or tag == "!":
+            tag = self.resolver.resolve(yaml.ScalarNode, ev.value, ev.implicit)
+        if tag == STR_TAG:
+            return ev.value
+        if tag == MERGE_TAG:
+            return _MERGE
+        node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, ev.style)
+        try:
+            return self.constructor.construct_object(node, deep=True)
+        except yaml.YAMLError as exc:
+            raise _Stop(f"YAML: {getattr(exc, 'problem', None) or exc}", line,
+                        "NET001") from None
+        except (ValueError, OverflowError) as exc:
+            raise _Stop(f"YAML: value {ev.value!r} cannot be read ({exc})", line,
+                        "NET001") from None
+
+    def add(self, value, line: int, size: int, anchor) -> None:
+        if anchor is not None:
+            self.anchors[anchor] = (value, size)
+        if not self.stack:
+            self.root = value
+            return
+        frame = self.stack[-1]
+        frame.size += size
+        if frame.size > MAX_NODES:
+            raise _Stop(f"the YAML expands to more than {MAX_NODES} nodes (aliases "
+                        "repeating aliases)", line, "NET003")
+        node = frame.node
+        if type(node) is YSeq:
+            node.append(value)
+            node.lines.append(line)
+            return
+        if frame.key is None:
+            if isinstance(value, (YMap, YSeq)):
+                raise _Stop("a mapping or list as a key", line, "NET004")
+            try:
+                hash(value)
+            except TypeError:
+                raise _Stop(f"a key of type {type(value).__name__}", line, "NET004") from None
+            frame.key = (value, line)
+            return
+        key, kline = frame.key
+        frame.key = None
+        if key is _MERGE:
+            frame.merges.append((value, line))
+        else:
+            frame.pairs.append((key, kline, value))
+
+    def finish_mapping(self, frame: _Frame) -> None:
+        out = frame.node
+        for key, kline, value in frame.pairs:
+            if key in out:
+                self.diags.error(f"key '{key}' repeated (first at line {out.lines[key]})",
+                                 Where(self.path, kline), rule="NET002")
+                continue
+            out[key] = value
+            out.lines[key] = kline
+        for value, line in frame.merges:     # explicit keys win, then earlier sources
+            sources = value if isinstance(value, YSeq) else [value]
+            for src in sources:
+                if not isinstance(src, YMap):
+                    raise _Stop("a merge key '<<' needs a mapping or a list of mappings",
+                                line, "NET004")
+                for k, v in src.items():
+                    if k not in out:
+                        out[k] = v
+                        out.lines[k] = src.lines[k]

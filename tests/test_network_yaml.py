@@ -1,0 +1,310 @@
+"""The network file reader (SPEC §10.1, D-16): YAML as safe_load reads it, with lines.
+
+Every finding is asserted exactly, as the command line prints it.
+"""
+from __future__ import annotations
+
+import pytest
+
+from conftest import ROOT
+from dcf2bin.network import configure, load_network
+from dcf2bin.network.codes import CODES
+from dcf2bin.network.model import MASTER, RPDO, SLAVE, TPDO
+from dcf2bin.network.yamltree import MAX_DEPTH
+
+FIXTURES = ROOT / "tests" / "fixtures" / "network"
+
+
+def load(tmp_path, text: str, name: str = "bus.yml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return load_network(str(p))
+
+
+def found(net, tmp_path, severity=None) -> list[str]:
+    out = []
+    for d in net.diagnostics:
+        if severity is None or d.severity.value == severity:
+            out.append(d.format().replace(str(tmp_path) + "/", ""))
+    return out
+
+
+MINIMAL = "master:\n  node_id: 1\nio:\n  dcf: io.eds\n  node_id: 5\n"
+
+
+def test_flat_layout_nodes_and_roles(tmp_path):
+    net = load(tmp_path, MINIMAL)
+    assert found(net, tmp_path) == []
+    assert [(n.name, n.node_id, n.role) for n in net.nodes] == [
+        ("master", 1, MASTER), ("io", 5, SLAVE)]
+    assert net.nodes[1].file == str(tmp_path / "io.eds")
+    assert net.nodes[1].where.line == 3
+    assert net.layout == "flat"
+
+
+def test_yaml_syntax_error_is_one_line(tmp_path):
+    net = load(tmp_path, "master:\n  node_id: [1\nio: 2\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:3: error: YAML syntax: while parsing a flow sequence: did not find "
+        "expected ',' or ']' [NET001]"]
+    assert net.nodes == []
+
+
+def test_repeated_key_names_both_lines(tmp_path):
+    net = load(tmp_path, MINIMAL + "  node_id: 6\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: error: key 'node_id' repeated (first at line 5) [NET002]"]
+    assert net.node(5) is not None          # the first one is kept
+
+
+def test_alias_bomb_is_stopped(tmp_path):
+    lines = ["a: &a [x, x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, 9):
+        prev = chr(ord("a") + i - 1)
+        cur = chr(ord("a") + i)
+        lines.append(f"{cur}: &{cur} [" + ", ".join([f"*{prev}"] * 10) + "]")
+    net = load(tmp_path, "\n".join(lines) + "\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: error: the YAML expands to more than 1000000 nodes (aliases repeating "
+        "aliases) [NET003]"]
+
+
+def test_recursive_alias(tmp_path):
+    net = load(tmp_path, "master: &m\n  node_id: 1\n  self: *m\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:3: error: a recursive alias (the node contains itself) [NET003]"]
+
+
+@pytest.mark.parametrize("text", ["[" * 100_000, "- " * 100_000,
+                                  "a:\n" + "".join(" " * i + "b:\n" for i in range(1, 80))])
+def test_deep_nesting_is_refused_not_crashed(tmp_path, text):
+    net = load(tmp_path, text)
+    [msg] = found(net, tmp_path)
+    assert msg.endswith(f"error: the YAML nests deeper than {MAX_DEPTH} levels [NET003]")
+
+
+def test_undefined_alias_and_two_documents(tmp_path):
+    assert found(load(tmp_path, "master: *nothing\n"), tmp_path) == [
+        "bus.yml:1: error: alias *nothing names no anchor before it [NET001]"]
+    assert found(load(tmp_path, MINIMAL + "---\n" + MINIMAL), tmp_path) == [
+        "bus.yml:6: error: more than one YAML document in the network file [NET001]"]
+
+
+def test_not_utf8_and_not_a_mapping(tmp_path):
+    p = tmp_path / "bad.yml"
+    p.write_bytes(b"master:\n  name: \xff\n")
+    assert found(load_network(str(p)), tmp_path) == [
+        "bad.yml:2: error: the network file is not UTF-8 text [NET001]"]
+    assert found(load(tmp_path, "- 1\n- 2\n"), tmp_path) == [
+        "bus.yml:1: error: the network file must be a mapping of 'options', 'master' and "
+        "the slaves [NET001]"]
+
+
+def test_no_master_no_slave_no_node_id_no_dcf(tmp_path):
+    assert found(load(tmp_path, "io:\n  dcf: a.eds\n  node_id: 2\n"), tmp_path) == [
+        "bus.yml:1: error: no 'master' in the network file [NET005]"]
+    assert found(load(tmp_path, "master:\n  node_id: 1\n"), tmp_path) == [
+        "bus.yml:1: error: no slave in the network file [NET005]"]
+    assert found(load(tmp_path, "master:\n  node_id: 1\nio:\n  node_id: 2\n"), tmp_path) == [
+        "bus.yml:3: error: io has no dcf (its EDS or DCF file) [NET005]"]
+    assert found(load(tmp_path, "master:\n  node_id: 1\nio:\n  dcf: a.eds\n"), tmp_path) == [
+        "bus.yml:3: error: io has no node_id [NET005]"]
+
+
+def test_templates_placeholder_and_merge_keys(tmp_path):
+    net = load(tmp_path, """\
+.slave: &slave
+  dcf: "@BUS_CONFIG_PATH@/eds/io.eds"
+  heartbeat_producer: 100
+master:
+  node_id: 1
+io1:
+  <<: *slave
+  node_id: 2
+io2:
+  <<: *slave
+  node_id: 3
+  heartbeat_producer: 0x20
+""")
+    assert found(net, tmp_path) == []
+    io1, io2 = net.slaves
+    assert io1.file == str(tmp_path / "eds" / "io.eds")
+    assert (io1.config["heartbeat_producer"], io2.config["heartbeat_producer"]) == (100, 32)
+    assert io1.config_where["dcf"].line == 2       # the line of the text, in the template
+
+
+def test_ros2_layout_defaults_merged_node_wins_with_a_warning(tmp_path):
+    net = load(tmp_path, """\
+master:
+  node_id: 1
+defaults:
+  dcf: drive.eds
+  heartbeat_producer: 100
+  driver: "ros2_canopen::Cia402Driver"
+nodes:
+  d1:
+    node_id: 2
+  d2:
+    node_id: 3
+    heartbeat_producer: 50
+""")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: info: key 'driver' is not used by dcf2bin; ignored [NET007]",
+        "bus.yml:12: warning: 'heartbeat_producer' of d2 is also in defaults: (line 5); the "
+        "node's value is taken [NET009]"]
+    d1, d2 = net.slaves
+    assert net.layout == "nodes"
+    assert (d1.config["heartbeat_producer"], d2.config["heartbeat_producer"]) == (100, 50)
+    assert d1.file == d2.file == str(tmp_path / "drive.eds")
+
+
+def test_eds_is_read_as_dcf_with_a_warning(tmp_path):
+    net = load(tmp_path, "master:\n  node_id: 1\nio:\n  eds: io.eds\n  node_id: 5\n")
+    assert found(net, tmp_path) == ["bus.yml:4: warning: 'eds' is read as 'dcf' [NET008]"]
+    assert net.slaves[0].file == str(tmp_path / "io.eds")
+
+
+def test_near_miss_warns_and_unknown_is_info(tmp_path):
+    net = load(tmp_path, MINIMAL + "  heartbeat_prodcuer: 100\n  polling: true\n"
+               "  colour: blue\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: warning: unknown key 'heartbeat_prodcuer': did you mean "
+        "'heartbeat_producer'? [NET006]",
+        "bus.yml:7: info: key 'polling' is not used by dcf2bin; ignored [NET007]",
+        "bus.yml:8: info: key 'colour' is not used by dcf2bin; ignored [NET007]"]
+
+
+@pytest.mark.parametrize("value,expected", [
+    ("0x1A", 26), ('"0x1A"', 26), ('"010"', 8), ("010", 8), ("0b1100", 12), ("12", 12)])
+def test_integer_values(tmp_path, value, expected):
+    net = load(tmp_path, MINIMAL + f"  heartbeat_producer: {value}\n")
+    assert found(net, tmp_path) == []
+    assert net.slaves[0].config["heartbeat_producer"] == expected
+
+
+@pytest.mark.parametrize("value,message", [
+    ('"$NODEID+0x180"', "heartbeat_producer: $NODEID is not allowed in the network file: "
+                        "'$NODEID+0x180'"),
+    ("true", "heartbeat_producer: expected an integer, found a boolean (True)"),
+    ("1.5", "heartbeat_producer: expected an integer, found float 1.5"),
+    ("70000", "heartbeat_producer: 70000 is outside 0..65535"),
+    ('"ten"', "heartbeat_producer: invalid integer 'ten'"),
+])
+def test_bad_integers(tmp_path, value, message):
+    net = load(tmp_path, MINIMAL + f"  heartbeat_producer: {value}\n")
+    assert found(net, tmp_path) == [f"bus.yml:6: error: {message} [NET004]"]
+
+
+@pytest.mark.parametrize("value,expected", [("true", True), ("False", False),
+                                            ('"TRUE"', True), ("yes", True)])
+def test_booleans(tmp_path, value, expected):
+    net = load(tmp_path, MINIMAL + f"  mandatory: {value}\n")
+    assert found(net, tmp_path) == []
+    assert net.slaves[0].config["mandatory"] is expected
+
+
+def test_bad_boolean(tmp_path):
+    net = load(tmp_path, MINIMAL + "  boot: 1\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: error: boot: expected true or false, found int 1 [NET004]"]
+
+
+def test_pdos_mapping_and_sdo(tmp_path):
+    net = load(tmp_path, MINIMAL + """\
+  tpdo:
+    1:
+      cob_id: auto
+      transmission: 0x01
+      mapping:
+        - {index: 0x6000, sub_index: 1, name: in1}
+        - {index: "0x6401"}
+    "3":
+      enabled: false
+  rpdo:
+    2:
+      cob_id: 0x305
+  sdo:
+    - {index: 0x2000, sub_index: 1, value: 1.5}
+""")
+    assert found(net, tmp_path) == []
+    io = net.slaves[0]
+    t1 = io.pdo_config[(TPDO, 1)]
+    assert (t1.cob_id, t1.transmission, t1.where.line) == ("auto", 1, 7)
+    assert [(m.index, m.sub, m.name, m.where.line) for m in t1.mapping] == [
+        (0x6000, 1, "in1", 11), (0x6401, 0, None, 12)]
+    assert io.pdo_config[(TPDO, 3)].enabled is False
+    assert io.pdo_config[(RPDO, 2)].cob_id == 0x305
+    [sdo] = io.sdo_config
+    assert (sdo.index, sdo.sub, sdo.value, sdo.where.line) == (0x2000, 1, 1.5, 19)
+
+
+@pytest.mark.parametrize("key,message", [
+    ("0", "tpdo: PDO number '0' is not an integer 1..512"),
+    ("513", "tpdo: PDO number '513' is not an integer 1..512"),
+    ("one", "tpdo: PDO number 'one' is not an integer 1..512"),
+])
+def test_bad_pdo_numbers(tmp_path, key, message):
+    net = load(tmp_path, MINIMAL + f"  tpdo:\n    {key}:\n      enabled: true\n")
+    assert found(net, tmp_path) == [f"bus.yml:7: error: {message} [NET004]"]
+
+
+def test_wrong_shapes(tmp_path):
+    net = load(tmp_path, MINIMAL + "  tpdo: [1, 2]\n  sdo: {index: 1}\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:6: error: 'tpdo' must be a mapping of PDO numbers, found a list [NET004]",
+        "bus.yml:7: error: sdo must be a list of {index, sub_index, value}, found a mapping "
+        "[NET004]"]
+
+
+def test_master_keys(tmp_path):
+    net = load(tmp_path, """\
+master:
+  node_id: 0x7F
+  name: plc
+  heartbeat_consumer: {io: 500}
+  baudrate: 250
+  start_nodes: "false"
+io:
+  dcf: io.eds
+  node_id: 5
+""")
+    assert found(net, tmp_path) == []
+    m = net.master
+    assert (m.name, m.node_id, net.bitrate) == ("plc", 127, 250_000)
+    assert m.config["start_nodes"] is False
+    assert list(m.config["heartbeat_consumer"]) == ["io"]
+
+
+def test_a_missing_slave_file_is_one_line(tmp_path):
+    net = configure(load(tmp_path, MINIMAL))
+    assert found(net, tmp_path) == [
+        "bus.yml:4: error: cannot read io.eds: No such file or directory "
+        "[NET010]"]
+    (tmp_path / "d.eds").mkdir()
+    net = configure(load(tmp_path, MINIMAL.replace("io.eds", "d.eds")))
+    assert found(net, tmp_path) == [
+        "bus.yml:4: error: cannot read d.eds: Is a directory [NET010]"]
+
+
+@pytest.mark.parametrize("name", ["ros2_cia402_bus.yml", "ros2_simple_bus.yml",
+                                  "ros2_robot_bus.yml"])
+def test_real_ros2_canopen_layouts_load_and_configure(name):
+    net = configure(load_network(str(FIXTURES / name)))
+    assert [d.format() for d in net.diagnostics if d.severity.value != "info"] == []
+    assert len(net.slaves) >= 2
+    for s in net.slaves:
+        assert any(p.exists for p in s.pdos)
+
+
+def test_code_table_is_consistent():
+    codes = [c for c, _, _ in CODES]
+    assert codes == sorted(set(codes))
+    assert all(c.startswith("NET0") or c.startswith("NET1") for c in codes)
+    assert {sev for _, sev, _ in CODES} <= {"error", "warning", "info"}
+
+
+def test_docs_list_every_code():
+    """docs/network.md's code table is the code table of dcf2bin/network/codes.py."""
+    text = (ROOT / "docs" / "network.md").read_text()
+    rows = [line for line in text.splitlines() if line.startswith("| NET")]
+    assert rows == [f"| {c} | {s} | {t} |" for c, s, t in CODES]
