@@ -3,8 +3,8 @@
 * text   -- ``file:line: severity: message [RULE]`` (``format_text``, ``render_text``,
             ``text_report``): the one text form every command prints, at most ``CAP``
             per rule and file
-* json   -- a versioned document with stable keys (``json_report``; schema in
-            ``dcf2bin/lint/report_schema.py``)
+* json   -- a versioned document with stable keys (``json_report``; schema
+            ``dcf2bin/schemas/validate.json``, the rule list ``rules.json``)
 * sarif  -- SARIF 2.1.0 for GitHub code scanning (``sarif_report``)
 * github -- GitHub Actions workflow annotation lines (``github_report``)
 

@@ -243,7 +243,7 @@ def test_from_json_raises_with_the_line():
     with pytest.raises(dcf2bin.ReadError) as info:
         dcf2bin.from_json('{\n "format": "dcf2bin-container",\n "oops": 1\n}', name="x.json")
     assert [d.format() for d in info.value.diagnostics] == [
-        "x.json:3: error: oops: unknown key 'oops' (expected one of format, schema_version, "
+        "x.json:3: error: oops: unknown key 'oops' (expected one of format, version, "
         "layout, header, entries, extra_attributes, addresses, pi_parameters, gaps) [JSN002]"]
 
 

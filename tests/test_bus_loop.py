@@ -51,7 +51,7 @@ def map_addresses(dcf_path: str) -> dict[tuple[int, int], int]:
     """Network variable -> PI address, as `dcf2bin map --format json` gives it."""
     r = run("map", dcf_path, "--format", "json")
     assert r.exit_code == 0, r.output
-    return {(v["index"], v["subindex"]): v["address"]
+    return {(int(v["index"], 16), v["subindex"]): v["address"]     # index: "0xA040"
             for v in json.loads(r.stdout)["variables"]}
 
 

@@ -168,9 +168,9 @@ def test_docs_json_schema_is_the_one_in_the_code():
     assert json.loads(block) == dump.JSON_SCHEMA
 
 
-def test_docs_show_the_current_schema_version_and_keys():
+def test_docs_show_the_current_version_and_keys():
     doc = (ROOT / "docs" / "dump.md").read_text()
-    assert f'"schema_version": {dump.SCHEMA_VERSION}' in doc
+    assert f'"version": {dump.SCHEMA_VERSION}' in doc
     for key in ["format", "layout", "header", "entries", "extra_attributes", "addresses",
                 "pi_parameters", "gaps"]:
         assert f"`{key}`" in doc, key
@@ -198,7 +198,7 @@ def documents(draw) -> dict:
     data = c.to_bytes()
     h = dict(zip(schema.HEADER_FIELDS, schema.HEADER.unpack_from(data)))
     attrs = c.attributes or b""
-    doc = {"format": "dcf2bin-container", "schema_version": 1, "layout": "canonical",
+    doc = {"format": "dcf2bin-container", "version": 1, "layout": "canonical",
            "header": h,
            "entries": [{"index": f"0x{i:04X}", "subindex": s, "data": d.hex().upper(),
                         "attribute": f"0x{attrs[k]:02X}" if k < len(attrs) else None}
@@ -319,8 +319,8 @@ def _compile_json(tmp_path, text: str):
     (lambda t: t.replace('"attribute": "0x30"', '"attribute": null', 1),
      "x.json:20: error: entries[1].attribute: entry 1 has an attribute but entry 0 has none: "
      "the extended info segment holds one byte per entry from the first [JSN002]"),
-    (lambda t: t.replace('"schema_version": 1', '"schema_version": 2'),
-     "x.json:3: error: schema_version: schema version 2 is not supported; this dcf2bin reads "
+    (lambda t: t.replace('  "version": 1,', '  "version": 2,', 1),
+     "x.json:3: error: version: schema version 2 is not supported; this dcf2bin reads "
      "version 1 (written by a newer dcf2bin?) [JSN002]"),
     (lambda t: t.replace('"layout": "canonical"', '"layout": "stored"').replace(
         '"total_size": 127', '"total_size": 4000000000'),
@@ -331,11 +331,11 @@ def _compile_json(tmp_path, text: str):
      "x.json:10: error: header.index_size: 52, but the entries make 53 bytes of the index "
      "segment [JSN002]"),
     (lambda t: t.replace('"gaps": []', '"gaps": [], "colour": 1'),
-     "x.json:31: error: colour: unknown key 'colour' (expected one of format, schema_version, "
+     "x.json:31: error: colour: unknown key 'colour' (expected one of format, version, "
      "layout, header, entries, extra_attributes, addresses, pi_parameters, gaps) [JSN002]"),
     (lambda t: t.replace('"entries": [', '"entries": [,', 1),
      "x.json:18: error: invalid JSON: Expecting value [JSN001]"),
-    (lambda t: t.replace('"version": 1,', '"version": 1, "version": 2,'),
+    (lambda t: t.replace('    "version": 1,', '    "version": 1, "version": 2,'),
      "x.json:7: error: key 'version' repeated in one object [JSN001]"),
 ])
 def test_json_errors_name_line_and_path(tmp_path, edit, line):
@@ -361,9 +361,11 @@ def test_compile_from_json_by_option(tmp_path):
     assert r.exit_code == 0 and r.stdout_bytes == (SAMPLES / "bild8.bin").read_bytes()
 
 
-def test_hand_written_minimal_json(tmp_path):
-    text = ('{"format": "dcf2bin-container", "schema_version": 1, "entries": ['
-            '{"index": "0x2000", "subindex": 0, "data": "0102", "attribute": "0x70"}]}')
+@pytest.mark.parametrize("version_key", ["version", "schema_version"])   # new and old name
+def test_hand_written_minimal_json(tmp_path, version_key):
+    text = ('{"format": "dcf2bin-container", "%s": 1, "entries": ['
+            '{"index": "0x2000", "subindex": 0, "data": "0102", "attribute": "0x70"}]}'
+            % version_key)
     r = _compile_json(tmp_path, text)
     assert r.exit_code == 0, r.stderr
     c, _ = read((tmp_path / "x.bin").read_bytes())
@@ -514,3 +516,29 @@ def test_large_container_is_linear():
     assert dump.from_json_bytes(text.encode(), "x")[0] == data
     dump.report(back, "x")
     assert time.perf_counter() - t < 10   # generous: catches quadratic behaviour only
+
+
+# -- old documents still compile (README "JSON outputs") ------------------------------------
+
+OLD_FORMAT = ROOT / "tests" / "fixtures" / "json" / "plc.old-format.dump.json"
+
+
+def test_an_old_format_dump_still_compiles_to_the_same_bytes(tmp_path):
+    """A dump written before the JSON convention ("schema_version", not "version") is the
+    same container: compile accepts both names."""
+    text = OLD_FORMAT.read_text()
+    assert '"schema_version": 1' in text and '\n  "version"' not in text
+    r = _compile_json(tmp_path, text)
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "x.bin").read_bytes() == (SAMPLES / "plc.bin").read_bytes()
+    new = dump.to_json(read((SAMPLES / "plc.bin").read_bytes())[0])
+    assert new == text.replace('"schema_version": 1', '"version": 1')
+
+
+def test_version_and_its_old_name_together_is_an_error(tmp_path):
+    text = OLD_FORMAT.read_text().replace('"schema_version": 1,',
+                                          '"schema_version": 1, "version": 1,')
+    r = _compile_json(tmp_path, text)
+    assert r.exit_code == 1
+    assert "x.json:3: error: schema_version: both 'version' and 'schema_version' (the old name " \
+           "of 'version'): give one [JSN002]" in r.stderr

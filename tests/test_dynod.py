@@ -198,8 +198,9 @@ def test_0x31_and_0x32_without_extended_info(tmp_path):
 def test_unknown_static_od_without_extended_info_assumes_and_warns():
     out = run(BinContainer(entries=[(0x2001, 0, b"\x01"), (0x2002, 0, b"\x01")]))
     assert out.ok
-    assert out.warnings == ["2 entries could not be checked: no extended info segment and no "
-                            "static OD, so they are assumed to exist"]
+    assert [(w.rule, w.message) for w in out.warnings] == [
+        ("TGT101", "2 entries could not be checked: no extended info segment and no static OD, "
+                   "so they are assumed to exist")]
 
 
 def test_0x31_pdo_becomes_valid_without_its_mapping_object(tmp_path):
@@ -401,9 +402,10 @@ def test_dummy_entries_are_mappable():
 def test_unknown_static_od_mapped_object_passes_with_a_warning():
     out = run(app(pdo(0x1800, 0x181, [0x60000108, 0x20000008])))
     assert out.ok
-    assert out.warnings == ["mapped object 0x6000sub1 is not in the container and the static "
-                            "OD is unknown: its existence, access and length were not checked "
-                            "(give --static-od)"]
+    assert [(w.rule, w.message) for w in out.warnings] == [
+        ("TGT103", "mapped object 0x6000sub1 is not in the container and the static OD is "
+                   "unknown: its existence, access and length were not checked "
+                   "(give --static-od)")]
     assert out.pdos[0].bits == 16           # the mapped length still counts
 
 
@@ -473,3 +475,74 @@ def test_target_entry_access_is_one_rule_for_emit_od_and_the_node(readable, writ
     from dcf2bin.dynod import TargetEntry
     e = TargetEntry(0x2000, 0, b"\x00", None, "numeric", readable, writable, False)
     assert e.access == access
+
+
+# -- an unknown static OD: one rule for what the container has not created (SPEC §8.2) -----
+
+def test_unknown_static_od_index_not_created_counts_as_having_all_subs():
+    # no extended info segment: 0x1A00 is written, never created, so sub 1 is assumed
+    c = BinContainer(entries=[(0x1A00, 0, b"\x00"), (0x1A00, 0x40, u32(0)),
+                              (0x1A00, 0, b"\x01")])
+    out = run(c)
+    assert out.ok, out.reason
+    assert [(w.rule, w.message) for w in out.warnings] == [
+        ("TGT101", "2 entries could not be checked: no extended info segment and no static OD, "
+                   "so they are assumed to exist"),
+        ("TGT104", "0x1A00 sub 0 at entry 3 counts sub 1, which the container has not written "
+                   "before it: taken to be in the static OD; the target answers 0x32 "
+                   "kCopObdSubindexNotExist if it is not (give --static-od)")]
+    # sub 0 = 255 with no sub written was, and stays, a pass
+    assert run(BinContainer(entries=[(0x1A00, 0, b"\xff")])).ok
+
+
+def test_unknown_static_od_created_index_has_exactly_its_created_subs():
+    # the container creates 0x1A00 (attribute bytes): sub 1 was never created -> 0x32
+    c = BinContainer(entries=[(0x1A00, 0, b"\x00"), (0x1A00, 0x40, u32(0)),
+                              (0x1A00, 0, b"\x01")], attributes=bytes([RW] * 3))
+    out = run(c)
+    expect(out, C.SUBINDEX_NOT_EXIST, 3, c)
+    assert out.reason == "sub 0 = 1, but the mapping has no sub 1"
+    # the creating write itself: sub 0 = 1 creates 0x1A00 with sub 0 only
+    c = BinContainer(entries=[(0x1A00, 0, b"\x01")], attributes=bytes([RW]))
+    expect(run(c), C.SUBINDEX_NOT_EXIST, 1, c)
+
+
+def test_mapped_object_written_later_says_so():
+    # RPDO1 maps 0xA580sub1 before the entry that creates 0xA580
+    entries = pdo(0x1400, 0x201, [0xA5800108]) + [(0xA580, 0, b"\x01"), (0xA580, 1, b"\x00")]
+    c = BinContainer(entries=entries, attributes=bytes([RW] * len(entries)))
+    out = run(c)
+    assert out.ok, out.reason
+    assert [(w.rule, w.message) for w in out.warnings] == [
+        ("TGT103", "mapped object 0xA580sub1 is mapped at entry 3, but the container writes "
+                   "it only at entry 7: it is taken to be in the static OD; the target refuses "
+                   "the mapping (0x31 kCopObdIndexNotExist) if it is not")]
+
+
+def test_mapping_object_written_later_says_so():
+    # TPDO1 made valid before its mapping object is written (first entry of the container)
+    entries = [(0x1800, 1, u32(0x181)), (0x1A00, 1, u32(0))]
+    c = BinContainer(entries=entries, attributes=bytes([RW] * 2))
+    out = run(c)
+    assert out.ok, out.reason
+    assert [(w.rule, w.message) for w in out.warnings] == [
+        ("TGT102", "TPDO1 (0x1800) is made valid at entry 1, but the container writes its "
+                   "mapping object 0x1A00 only at entry 2: it is taken to be in the static OD; "
+                   "the target answers 0x31 kCopObdIndexNotExist if it is not")]
+
+
+def test_mapped_object_written_without_attribute_is_not_called_absent():
+    entries = [(0x2000, 0, b"\x00")] + pdo(0x1800, 0x181, [0x20000008])
+    out = run(BinContainer(entries=entries))
+    assert out.ok, out.reason
+    assert [w.rule for w in out.warnings] == ["TGT101", "TGT103"]
+    assert out.warnings[1].message == (
+        "mapped object 0x2000sub0 is written by the container without an attribute byte and "
+        "the static OD is unknown: its access and length were not checked (give --static-od)")
+
+
+def test_every_warning_rule_is_registered():
+    from dcf2bin.lint.registry import RULES, WARNING
+    for rid in (C.UNCHECKED_ENTRY, C.UNCHECKED_MAPPING_OBJECT, C.UNCHECKED_MAPPED_OBJECT,
+                C.UNCHECKED_MAPPING_ENTRY):
+        assert RULES[rid].severity is WARNING and RULES[rid].name.startswith("target-")

@@ -45,11 +45,12 @@ def test_bild8_numbers_in_json():
     doc = json.loads(run("map", SAMPLES / "bild8.dcf", "-f", "json").stdout)
     rows = [(v["index"], v["subindex"], v["type"], v["direction"], v["offset"], v["address"],
              v["size"]) for v in doc["variables"]]
-    assert rows == [(0xA4C0, 1, "UNSIGNED8", "output", 0, 0, 1),
-                    (0xA4C0, 2, "UNSIGNED8", "output", 1, 1, 1),
-                    (0xA4C0, 3, "UNSIGNED8", "output", 2, 2, 1),
-                    (0xA580, 3, "UNSIGNED16", "output", 4, 4, 2)]
-    assert doc["areas"] == {"complete_size": 6, "input_offset": 0, "input_size": 0,
+    assert (doc["format"], doc["version"], doc["file"]) == ("dcf2bin-map", 1, "bild8.dcf")
+    assert rows == [("0xA4C0", 1, "UNSIGNED8", "output", 0, 0, 1),
+                    ("0xA4C0", 2, "UNSIGNED8", "output", 1, 1, 1),
+                    ("0xA4C0", 3, "UNSIGNED8", "output", 2, 2, 1),
+                    ("0xA580", 3, "UNSIGNED16", "output", 4, 4, 2)]
+    assert doc["areas"] == {"pi_size": 6, "input_offset": 0, "input_size": 0,
                             "output_offset": 0, "output_size": 6}
 
 
@@ -208,7 +209,7 @@ def test_c_header_compiles_and_holds_the_map(tmp_path, sample):
     got = [int(x) for x in subprocess.run([str(exe)], capture_output=True, text=True,
                                            check=True).stdout.split()]
     a = doc["areas"]
-    assert got == [a["complete_size"], a["input_offset"], a["input_size"], a["output_offset"],
+    assert got == [a["pi_size"], a["input_offset"], a["input_size"], a["output_offset"],
                    a["output_size"]] + [v["address"] for v in doc["variables"]]
 
 

@@ -88,7 +88,7 @@ def test_built_plc_compiles_and_simulates_to_0x00(name):
     r = run("simulate", plc, "-f", "json")
     assert r.exit_code == 0, r.output
     doc = json.loads(r.stdout)
-    assert (doc["code"], doc["name"]) == (0, "kCopSuccessful")
+    assert (doc["code"], doc["name"]) == ("0x00", "kCopSuccessful")
 
 
 def test_concise_dcf_replays_the_write_list():

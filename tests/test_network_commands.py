@@ -79,13 +79,14 @@ def test_show_json():
     r = run("network", "show", NETWORK, "-f", "json", "--writes")
     d = json.loads(r.stdout)
     assert [n["name"] for n in d["nodes"]] == ["io1", "dev3", "ai5", "plc"]
-    link = next(k for k in d["links"] if k["cob_id"] == 0x182)
+    assert (d["format"], d["version"], d["file"]) == ("dcf2bin-network-show", 1, NETWORK)
+    link = next(k for k in d["links"] if k["cob_id"] == "0x00000182")
     assert link["producer"] == {"node": "io1", "node_id": 2, "pdo": "TPDO1"}
     assert link["consumers"] == [{"node": "plc", "node_id": 16, "pdo": "RPDO1"}]
     assert (link["bytes"], link["rate"], link["bits"]) == (2, 100.0, 75)
-    assert d["slaves"][1]["identity"] == {"0x1F84": 0x000F0191, "0x1F85": 0xAB}
+    assert d["slaves"][1]["identity"] == {"0x1F84": "0x000F0191", "0x1F85": "0x000000AB"}
     assert d["slaves"][1]["writes"][0] == {
-        "index": 0x1800, "sub": 1, "name": "COB-ID used by TPDO", "value": 0x80000183,
+        "index": "0x1800", "subindex": 1, "name": "COB-ID used by TPDO", "value": "0x80000183",
         "data": "83010080", "why": "TPDO1 COB-ID (invalid while configuring)",
         "source": f"{NETWORK}:32"}
 
@@ -165,12 +166,16 @@ def test_scan_json(bench):
             *bus(bench, "--listen", "0", "--timeout", "0.2"))
     assert r.exit_code == 1
     d = json.loads(r.stdout)
+    assert (d["format"], d["version"], d["file"]) == ("dcf2bin-network-scan", 1, NETWORK)
     assert d["at_most_seconds"] == 1.0
     io1 = d["nodes"][0]
     assert (io1["node_id"], io1["answered"], io1["entries"]["0x1018sub1"]) == (
-        2, True, {"value": 0xAB})
+        2, True, {"value": "0x000000AB"})
     assert [(f["kind"], f["node_id"]) for f in d["findings"]] == [("missing", 3),
                                                                   ("missing", 5)]
+    jsonschema = pytest.importorskip("jsonschema")
+    from dcf2bin import schemas
+    jsonschema.validate(d, schemas.load("network-scan"))     # README "JSON outputs"
 
 
 def test_scan_an_interface_that_cannot_be_opened():

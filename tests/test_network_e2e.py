@@ -50,7 +50,9 @@ def wait_for(got, cob: int, n: int = 1, timeout: float = 3.0) -> list[bytes]:
 def map_of(dcf: str) -> dict[str, dict]:
     r = run("map", dcf, "--format", "json")
     assert r.exit_code == 0, r.output
-    return {v["name"]: v for v in json.loads(r.stdout)["variables"]}
+    # the map writes indexes as "0xA040" strings; SDO wants the number
+    return {v["name"]: dict(v, index=int(v["index"], 16))
+            for v in json.loads(r.stdout)["variables"]}
 
 
 def test_build_download_and_the_pdos_reach_the_plcs_process_image(channel, tmp_path):

@@ -87,8 +87,9 @@ def test_simulate_the_edited_dcf(tmp_path, line, text, error):
     r = run("simulate", src, "-f", "json")
     assert r.exit_code == 1
     doc = json.loads(r.stdout)
-    code = int(error.split("return 0x")[1][:2], 16)
-    assert (doc["code"], doc["where"], doc["rule"]) == (code, f"{src}:{line}", f"TGT{code:03X}")
+    code = error.split("return ")[1][:4]
+    assert (doc["code"], doc["where"], doc["rule"]) == (code, f"{src}:{line}", f"TGT0{code[2:]}")
+    assert doc["index"] == "0x" + error.split(": 0x")[1][:4]
 
 
 def test_a_dcf_that_does_not_compile_has_nothing_to_simulate(tmp_path):
@@ -161,17 +162,19 @@ def test_simulate_json_form_of_a_container(tmp_path):
     assert r.exit_code == 0
     doc = json.loads(r.stdout)
     assert {k: doc[k] for k in ("code", "name", "ok", "entry", "index", "subindex", "offset",
-                                "reason")} == {"code": 0, "name": "kCopSuccessful", "ok": True,
+                                "reason")} == {"code": "0x00", "name": "kCopSuccessful", "ok": True,
                                                "entry": None, "index": None, "subindex": None,
                                                "offset": None, "reason": None}
     assert doc["descriptor"] == {"memory": None, "pi_size": 16, "input_offset": 0,
                                  "input_size": 8, "output_offset": 8, "output_size": 8}
-    assert doc["pdos"][1] == {"direction": "tx", "comm_index": 0x1800, "cob_id": 0x190,
-                              "can_id": 0x190, "bits": 48, "mapped": [
-                                  {"index": 0xA4C0, "subindex": 1, "bits": 8, "pi_address": 8},
-                                  {"index": 0xA4C0, "subindex": 2, "bits": 8, "pi_address": 9},
-                                  {"index": 0xA680, "subindex": 2, "bits": 32,
+    assert (doc["format"], doc["version"]) == ("dcf2bin-simulate", 1)
+    assert doc["pdos"][1] == {"direction": "tx", "comm_index": "0x1800", "cob_id": "0x00000190",
+                              "can_id": "0x00000190", "bits": 48, "mapped": [
+                                  {"index": "0xA4C0", "subindex": 1, "bits": 8, "pi_address": 8},
+                                  {"index": "0xA4C0", "subindex": 2, "bits": 8, "pi_address": 9},
+                                  {"index": "0xA680", "subindex": 2, "bits": 32,
                                    "pi_address": 12}]}
+    assert doc["created"]["objects"][:2] == ["0x1017", "0x1400"]
 
 
 def test_simulate_pi_memory_failure_exit_1():
@@ -181,7 +184,7 @@ def test_simulate_pi_memory_failure_exit_1():
                                         "process image needs 16 bytes, the target gives 15")
     doc = json.loads(run("simulate", SAMPLES / "plc.bin", "--pi-size", "15", "-f",
                          "json").stdout)
-    assert (doc["code"], doc["name"], doc["entry"], doc["step"]) == (0xA0, "kCopDynNoMemory",
+    assert (doc["code"], doc["name"], doc["entry"], doc["step"]) == ("0xA0", "kCopDynNoMemory",
                                                                      None, "memory")
 
 
@@ -213,7 +216,10 @@ def test_simulate_failing_entry_in_a_container(tmp_path):
 def test_simulate_static_od_for_a_container():
     r = run("simulate", SAMPLES / "dis2.bin")
     assert r.exit_code == 0
-    assert "warning: mapped object 0x6040sub0 is not in the container" in r.stderr
+    assert r.stderr.splitlines()[0] == (
+        f"{SAMPLES / 'dis2.bin'}: warning: mapped object 0x6040sub0 is not in the container and "
+        "the static OD is unknown: its existence, access and length were not checked "
+        "(give --static-od) [TGT103]")
     r = run("simulate", SAMPLES / "dis2.bin", "--static-od", SAMPLES / "dis2.dcf")
     assert r.exit_code == 0 and r.stderr == ""
 

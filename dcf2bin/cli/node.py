@@ -129,7 +129,8 @@ def _target(path, node_id, static_od, pi_size, tx_cobs, rx_cobs, granularity,
                          address_base=address_base)
     outcome = emulate(c, opts, static=static)
     # what was not checked without --static-od: the same warnings as simulate's
-    emit([Diagnostic(Severity.WARNING, w, name) for w in outcome.warnings], quiet)
+    emit([Diagnostic(Severity.WARNING, w.message, name, rule=w.rule) for w in outcome.warnings],
+         quiet)
     if not outcome.ok:
         where = name if outcome.offset is None else f"{name}:0x{outcome.offset:X}"
         entry = f"{outcome.label}: " if outcome.label else ""

@@ -107,7 +107,8 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
                 out = emulate_bytes(data, topts)
             else:
                 out = emulate(c, topts, static)
-    emit([Diagnostic(Severity.WARNING, w, name) for w in out.warnings], quiet)
+    emit([Diagnostic(Severity.WARNING, w.message, name, rule=w.rule) for w in out.warnings],
+         quiet)
     text = report.to_json(out, name) if fmt == "json" else report.text(out, name)
     inputs = [input] + ([static_od] if static_od else []) + list(append)
     write_output(text, output, inputs, binary=False)   # a full disk or closed stdout: exit 3

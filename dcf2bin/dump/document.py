@@ -57,7 +57,7 @@ def _obj(value, path: tuple, allowed: list[str], required: list[str]) -> dict:
     return value
 
 
-_TOP_KEYS = ["format", "schema_version", "layout", "header", "entries", "extra_attributes",
+_TOP_KEYS = ["format", "version", "layout", "header", "entries", "extra_attributes",
              "addresses", "pi_parameters", "gaps"]
 _ENTRY_KEYS = ["index", "subindex", "data", "attribute"]
 
@@ -71,16 +71,25 @@ class Parsed:
 
 def from_dict(doc) -> Parsed:
     """Check a document and turn it into a container model. Raises JsonProblem."""
-    doc = _obj(doc, (), _TOP_KEYS, ["format", "schema_version", "entries"])
+    # "schema_version" is what dcf2bin wrote before "version": old dumps still compile
+    old_name = isinstance(doc, dict) and "schema_version" in doc
+    allowed = _TOP_KEYS + ["schema_version"] if old_name else _TOP_KEYS
+    doc = _obj(doc, (), allowed, ["format", "entries"])
     if doc["format"] != FORMAT:
         got = json.dumps(doc["format"])[:40]
         raise JsonProblem(("format",), f"expected \"{FORMAT}\", got {got}")
-    version = doc["schema_version"]
+    if "version" in doc and "schema_version" in doc:
+        raise JsonProblem(("schema_version",), "both 'version' and 'schema_version' (the old "
+                                               "name of 'version'): give one")
+    vkey = "version" if "version" in doc else "schema_version"
+    if vkey not in doc:
+        raise JsonProblem((), "missing key 'version'")
+    version = doc[vkey]
     if isinstance(version, bool) or not isinstance(version, int):
-        raise JsonProblem(("schema_version",), f"expected an integer, got {_kind(version)}")
+        raise JsonProblem((vkey,), f"expected an integer, got {_kind(version)}")
     if version != SCHEMA_VERSION:
         newer = " (written by a newer dcf2bin?)" if version > SCHEMA_VERSION else ""
-        raise JsonProblem(("schema_version",),
+        raise JsonProblem((vkey,),
                           f"schema version {version} is not supported; this dcf2bin reads "
                           f"version {SCHEMA_VERSION}{newer}")
     layout = doc.get("layout", CANONICAL)

@@ -9,10 +9,11 @@ import json
 from dcf2bin import schema
 from dcf2bin.container import BinContainer
 from dcf2bin.dump.binary import header_of
+from dcf2bin.schemas import load as load_schema
 
 
 FORMAT = "dcf2bin-container"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 1            # the document's "version" (written as "schema_version" before)
 CANONICAL, STORED = "canonical", "stored"
 
 RULE_JSON_SYNTAX = "JSN001"   # not JSON at all
@@ -26,55 +27,10 @@ _HEADER_MAX = {name: (_WORD if name in ("version", "segment_count") else _DWORD)
                for name in HEADER_FIELDS}
 _ADDR_PER_LINE = 16
 
-# JSON Schema (draft 2020-12) of the document ``to_dict`` writes; docs/dump.md explains it.
-_HEX = {"type": "string", "pattern": "^([0-9A-Fa-f]{2})*$"}
-_U32 = {"type": "integer", "minimum": 0, "maximum": _DWORD}
-JSON_SCHEMA = {
-    "$schema": "https://json-schema.org/draft/2020-12/schema",
-    "$id": "https://dcf2bin.invalid/schema/dcf2bin-container-1.json",
-    "title": "dcf2bin lossless container dump",
-    "type": "object",
-    "required": ["format", "schema_version", "entries"],
-    "additionalProperties": False,
-    "properties": {
-        "format": {"const": FORMAT},
-        "schema_version": {"const": SCHEMA_VERSION},
-        "layout": {"enum": [CANONICAL, STORED]},
-        "header": {
-            "type": "object", "additionalProperties": False,
-            "required": HEADER_FIELDS,
-            "properties": {name: {"type": "integer", "minimum": 0, "maximum": mx}
-                           for name, mx in _HEADER_MAX.items()},
-        },
-        "entries": {
-            "type": "array",
-            "items": {
-                "type": "object", "additionalProperties": False,
-                "required": ["index", "subindex", "data", "attribute"],
-                "properties": {
-                    "index": {"type": "string", "pattern": "^0x[0-9A-Fa-f]{1,4}$"},
-                    "subindex": {"type": "integer", "minimum": 0, "maximum": 255},
-                    "data": _HEX,
-                    "attribute": {"oneOf": [{"type": "null"}, {
-                        "type": "string", "pattern": "^0x[0-9A-Fa-f]{1,2}$"}]},
-                },
-            },
-        },
-        "extra_attributes": _HEX,
-        "addresses": {"oneOf": [{"type": "null"}, {
-            "type": "array", "items": {"type": "integer", "minimum": 0, "maximum": _WORD}}]},
-        "pi_parameters": {"oneOf": [
-            {"type": "null"},
-            {"type": "object", "additionalProperties": False, "required": PIPARAM_FIELDS,
-             "properties": {name: _U32 for name in PIPARAM_FIELDS}},
-            {"type": "object", "additionalProperties": False, "required": ["raw"],
-             "properties": {"raw": _HEX}},
-        ]},
-        "gaps": {"type": "array", "items": {
-            "type": "object", "additionalProperties": False, "required": ["offset", "data"],
-            "properties": {"offset": _U32, "data": _HEX}}},
-    },
-}
+# JSON Schema (draft 2020-12) of the document ``to_dict`` writes: dcf2bin/schemas/dump.json,
+# explained in docs/dump.md. The reader (``document.from_dict``) also takes what older
+# versions wrote: ``schema_version`` for ``version``, indexes as integers or short hex.
+JSON_SCHEMA = load_schema("dump")
 
 
 # -- container -> JSON ----------------------------------------------------------------------
@@ -96,7 +52,7 @@ def to_dict(c: BinContainer) -> dict:
         pi = None
     return {
         "format": FORMAT,
-        "schema_version": SCHEMA_VERSION,
+        "version": SCHEMA_VERSION,
         "layout": STORED if c.header is not None else CANONICAL,
         "header": {k: h[k] for k in HEADER_FIELDS},
         "entries": entries,

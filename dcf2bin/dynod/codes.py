@@ -37,6 +37,15 @@ MEANINGS = {
 }
 
 
+# The warnings of an emulation with an unknown static OD (SPEC §8.1): what the model could not
+# check because the container does not hold it (yet). TGT1xx: never a return code (those are
+# one byte, TGT0xx).
+UNCHECKED_ENTRY = "TGT101"           # written without attribute byte: assumed to exist
+UNCHECKED_MAPPING_OBJECT = "TGT102"  # a PDO made valid, its mapping object not (yet) held
+UNCHECKED_MAPPED_OBJECT = "TGT103"   # a mapped object not (yet) held, or held without type
+UNCHECKED_MAPPING_ENTRY = "TGT104"   # mapping sub 0 = n counts a sub not (yet) held
+
+
 def rule_id(code: int) -> str:
     """TGT + the code in three hex digits: TGT078, TGT0A1 (the same in compile and validate)."""
     return f"TGT{code:03X}"
@@ -46,4 +55,5 @@ def name(code: int) -> str:
     return NAMES.get(code, f"0x{code:02X}")
 
 
-__all__ = ["MEANINGS", "NAMES", "name", "rule_id"]
+__all__ = ["MEANINGS", "NAMES", "UNCHECKED_ENTRY", "UNCHECKED_MAPPED_OBJECT",
+           "UNCHECKED_MAPPING_ENTRY", "UNCHECKED_MAPPING_OBJECT", "name", "rule_id"]

@@ -18,7 +18,7 @@ import gc
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.entries import _EntriesStep
 from dcf2bin.dynod.outcome import (_Fail, _le, can_id_problem, Created, Descriptor, Outcome, Pdo,
-                                   RX, TargetEntry, TargetOptions, TX)
+                                   RX, TargetEntry, TargetOptions, TargetWarning, TX)
 from dcf2bin.dynod.pdo import _PdoSemantics
 from dcf2bin.dynod.results import _Results
 from dcf2bin.dynod.structure import _StructureStep
@@ -34,20 +34,30 @@ class _Engine(_StructureStep, _EntriesStep, _PdoSemantics, _Results):
         self.sources = sources
         self.cur: dict[int, dict[int, tuple]] = {}
         self.created_objects: list[int] = []
+        self.created_set: set[int] = set()              # the same, for lookups
         self.n_created = 0
         self.created_bytes = 0
         self.valid: dict[int, int] = {}                 # comm index -> CAN-ID
         self.owner: dict[tuple[str, int], int] = {}     # (direction, CAN-ID) -> comm index
         self.counts = {RX: 0, TX: 0}
-        self.warned: dict[str, int] = {}
+        self.warned: dict[tuple, int] = {}              # warning key -> how many times
+        self.warned_at: dict[tuple, int] = {}           # warning key -> first entry position
         self.nv_first: list[int] = []                   # positions of first NV occurrences
         self.image: list[int] | None = None             # image address per NV (address order)
         self.applied = 0
         self.creating: int | None = None                # the index the current entry creates
 
     # -- helpers ---------------------------------------------------------------------------
-    def warn(self, key: str) -> None:
+    def warn(self, key: tuple, pos: int | None = None) -> None:
         self.warned[key] = self.warned.get(key, 0) + 1
+        if pos is not None:
+            self.warned_at.setdefault(key, pos)
+
+    def made_here(self, index: int) -> bool:
+        """Has the container created ``index`` (so far, or with the entry being applied)?
+        Such an index has exactly the subs created so far; any other index, with an unknown
+        static OD, counts as having all its subs (SPEC §8.2 step 3)."""
+        return index in self.created_set or index == self.creating
 
     def exists_index(self, index: int) -> bool | None:
         """True/False, or None when the static OD is unknown and the container never
@@ -99,7 +109,7 @@ class _Engine(_StructureStep, _EntriesStep, _PdoSemantics, _Results):
                     self.applied = f.pos
         out.entries_applied = self.applied
         out.created = Created(sorted(self.created_objects), self.n_created, self.created_bytes)
-        out.warnings = self.warning_texts()
+        out.warnings = self.warnings()
         if out.ok:
             out.pdos = self.pdos()
         return out
@@ -152,6 +162,7 @@ __all__ = [
     "Pdo",
     "TargetEntry",
     "TargetOptions",
+    "TargetWarning",
     "can_id_problem",
     "emulate",
     "emulate_bytes",

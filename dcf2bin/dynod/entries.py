@@ -70,7 +70,7 @@ class _EntriesStep:
                     new = (attrs[pos], data, None)
                     create = True
                 elif self.partial:
-                    self.warn("assumed")
+                    self.warn(("assumed",))
                     new = (None, data, None)
                 elif subs is None and not static.has(index):
                     raise _Fail(C.INDEX_NOT_EXIST, f"object 0x{index:04X} does not exist and "
@@ -94,13 +94,15 @@ class _EntriesStep:
                 if attr is not None and st is None:
                     self.created_bytes += len(data) - len(old)
                 new = (attr, data, st)
+            new_object = create and subs is None and (static is None or not static.has(index))
             if 0x1400 <= index <= 0x1BFF:
-                self.creating = index if create else None
+                self.creating = index if new_object else None
                 self.pdo_write(pos, index, sub, data)
             if subs is None:
                 subs = cur[index] = {}
-                if create and (static is None or not static.has(index)):
+                if new_object:
                     self.created_objects.append(index)
+                    self.created_set.add(index)
             if create:
                 self.n_created += 1
                 self.created_bytes += len(data)

@@ -65,6 +65,17 @@ class Pdo:
         return sum(m[2] for m in self.mapped)
 
 
+@dataclass(frozen=True)
+class TargetWarning:
+    """What the emulation could not check (an unknown static OD): a TGT1xx rule id and one
+    line saying what was assumed and what the target answers if the assumption is wrong."""
+    rule: str
+    message: str
+
+    def __str__(self) -> str:
+        return self.message
+
+
 @dataclass
 class Descriptor:
     """tProcessImageDscrpt: IN the PI memory the caller gives, OUT the five numbers."""
@@ -90,7 +101,7 @@ class Outcome:
     where: str | None = None          # DCF file:line that produced the entry
     value: bytes | None = None        # the failing entry's data
     step: str = ""                    # "structure", "memory", "entries" or "" (success)
-    warnings: list[str] = field(default_factory=list)
+    warnings: list[TargetWarning] = field(default_factory=list)
     descriptor: Descriptor | None = None
     created: Created = field(default_factory=Created)
     pdos: list[Pdo] = field(default_factory=list)

@@ -43,7 +43,7 @@ class _PdoSemantics:
         mapping = comm + 0x200
         has = self.exists_index(mapping)
         if has is None:
-            self.warn(f"mapping:{mapping:04X}")
+            self.warn(("mapping", mapping), pos)
         elif not has:
             raise _Fail(C.INDEX_NOT_EXIST, f"{_pdo_name(comm)} becomes valid but its mapping "
                                            f"object 0x{mapping:04X} does not exist", pos)
@@ -70,7 +70,7 @@ class _PdoSemantics:
         self.valid[comm] = can
         self.owner[(d, can)] = comm
 
-    def mapped_object(self, value: int, direction: str):
+    def mapped_object(self, value: int, direction: str, pos: int | None = None):
         """(bits of the object, reason it cannot be mapped or None, code); None when the
         object cannot be checked (unknown static OD)."""
         m_idx, m_sub, bits = value >> 16, (value >> 8) & 0xFF, value & 0xFF
@@ -81,8 +81,8 @@ class _PdoSemantics:
                                        direction)
         rec = self.record(m_idx, m_sub)
         if rec is None:
-            if self.partial and m_idx not in self.created_objects:
-                self.warn(f"mapped:{label}")
+            if self.partial and not self.made_here(m_idx):
+                self.warn(("mapped", m_idx, m_sub), pos)
                 return None
             if self.exists_index(m_idx):
                 return C.SUBINDEX_NOT_EXIST, f"the mapped object {label} does not exist (no " \
@@ -96,8 +96,8 @@ class _PdoSemantics:
             return self.length_problem(label, is_bool, obits, bits, st.pdo_mapping,
                                        st.access in dt.READABLE, st.access in dt.WRITABLE,
                                        direction)
-        if attr is None:
-            self.warn(f"mapped:{label}")
+        if attr is None:            # written earlier without an attribute byte
+            self.warn(("mapped-untyped", m_idx, m_sub), pos)
             return None
         return self.length_problem(label, bool(attr & dt.ATTR_BOOLEAN), len(data) * 8, bits,
                                    bool(attr & dt.ATTR_PDO), bool(attr & dt.ATTR_READ),
@@ -125,7 +125,7 @@ class _PdoSemantics:
         return None
 
     def check_mapped(self, pos: int, value: int, direction: str) -> None:
-        problem = self.mapped_object(value, direction)
+        problem = self.mapped_object(value, direction, pos)
         if problem is not None:
             raise _Fail(problem[0], problem[1], pos)
 
@@ -134,8 +134,8 @@ class _PdoSemantics:
         for k in range(1, n + 1):
             rec = self.record(index, k)
             if rec is None:
-                if self.partial and index not in self.cur and index != self.creating:
-                    self.warn(f"mapping:{index:04X}")
+                if self.partial and not self.made_here(index):
+                    self.warn(("mapping-sub", index, k), pos)
                     continue
                 raise _Fail(C.SUBINDEX_NOT_EXIST, f"sub 0 = {n}, but the mapping has no "
                                                   f"sub {k}", pos)

@@ -71,7 +71,16 @@ def text(out: Outcome, name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+FORMAT, VERSION = "dcf2bin-simulate", 1     # schema: dcf2bin/schemas/simulate.json
+
+
+def _index(i: int | None) -> str | None:
+    return None if i is None else f"0x{i:04X}"
+
+
 def to_dict(out: Outcome, name: str) -> dict:
+    """The result as the JSON document of ``simulate --format json``: indexes ``"0x1A00"``,
+    COB-IDs and CAN-IDs ``"0x%08X"``, the return code ``"0x78"``, the rest JSON integers."""
     d = out.descriptor
     desc = None
     if d is not None:
@@ -79,27 +88,29 @@ def to_dict(out: Outcome, name: str) -> dict:
         keys = ("pi_size", "input_offset", "input_size", "output_offset", "output_size")
         desc.update(dict(zip(keys, d.out)) if d.out is not None else dict.fromkeys(keys))
     return {
+        "format": FORMAT,
+        "version": VERSION,
         "file": name,
-        "code": out.code,
+        "code": f"0x{out.code:02X}",
         "name": out.name,
         "ok": out.ok,
         "rule": None if out.ok else out.rule,
         "step": out.step or None,
         "entry": out.entry,
-        "index": out.index,
+        "index": _index(out.index),
         "subindex": out.subindex,
         "offset": out.offset,
         "where": out.where,
         "value": None if out.value is None else out.value.hex().upper(),
         "reason": out.reason or None,
         "entries_applied": out.entries_applied,
-        "warnings": list(out.warnings),
+        "warnings": [{"rule": w.rule, "message": w.message} for w in out.warnings],
         "descriptor": desc,
-        "created": {"objects": out.created.objects, "entries": out.created.entries,
-                    "bytes": out.created.bytes},
-        "pdos": [{"direction": p.direction, "comm_index": p.comm_index, "cob_id": p.cob_id,
-                  "can_id": p.can_id, "bits": p.bits,
-                  "mapped": [{"index": i, "subindex": s, "bits": b, "pi_address": a}
+        "created": {"objects": [_index(i) for i in out.created.objects],
+                    "entries": out.created.entries, "bytes": out.created.bytes},
+        "pdos": [{"direction": p.direction, "comm_index": _index(p.comm_index),
+                  "cob_id": f"0x{p.cob_id:08X}", "can_id": f"0x{p.can_id:08X}", "bits": p.bits,
+                  "mapped": [{"index": _index(i), "subindex": s, "bits": b, "pi_address": a}
                              for i, s, b, a in p.mapped]} for p in out.pdos],
     }
 

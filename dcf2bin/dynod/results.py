@@ -2,10 +2,12 @@
 """
 from __future__ import annotations
 
+from bisect import bisect_right
 from operator import itemgetter
 
 from dcf2bin import datatypes as dt
-from dcf2bin.dynod.outcome import _dir, Pdo, TargetEntry
+from dcf2bin.dynod import codes as C
+from dcf2bin.dynod.outcome import _dir, _pdo_name, Pdo, TargetEntry, TargetWarning
 from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 
@@ -46,21 +48,74 @@ class _Results:
                            mapped))
         return out
 
-    def warning_texts(self) -> list[str]:
-        out = []
+    def warnings(self) -> list[TargetWarning]:
+        """One warning per thing the model could not check (an unknown static OD), saying
+        what it assumed and what the target answers when the assumption is wrong. Where the
+        container does hold the object, but only at a later entry, the warning says so."""
         w = self.warned
-        if "assumed" in w:
-            n = w["assumed"]
-            out.append(f"{n} entr{'y' if n == 1 else 'ies'} could not be checked: no extended "
-                       "info segment and no static OD, so they are assumed to exist")
-        for key in sorted(k for k in w if k.startswith("mapping:")):
-            out.append(f"PDO mapping object 0x{key[8:]} is not in the container and the static "
-                       "OD is unknown: not checked (give --static-od)")
-        for key in sorted(k for k in w if k.startswith("mapped:")):
-            out.append(f"mapped object {key[7:]} is not in the container and the static OD is "
-                       "unknown: its existence, access and length were not checked "
-                       "(give --static-od)")
+        out = []
+        if ("assumed",) in w:
+            n = w[("assumed",)]
+            out.append(TargetWarning(C.UNCHECKED_ENTRY, f"{n} entr{'y' if n == 1 else 'ies'} "
+                                     "could not be checked: no extended info segment and no "
+                                     "static OD, so they are assumed to exist"))
+        if len(w) == len(out):
+            return out
+        later = _Later(self.c.entries)
+        at = self.warned_at
+        for key in sorted(k for k in w if k[0] == "mapping"):
+            out.append(self._mapping_object_warning(key[1], at[key], later))
+        subs: dict[int, list[int]] = {}
+        for key in sorted(k for k in w if k[0] == "mapping-sub"):
+            subs.setdefault(key[1], []).append(key[2])
+        for index, ks in subs.items():
+            pos = min(at[("mapping-sub", index, k)] for k in ks)
+            some = "sub " + str(ks[0]) if len(ks) == 1 else \
+                "subs " + ", ".join(str(k) for k in ks)
+            out.append(TargetWarning(
+                C.UNCHECKED_MAPPING_ENTRY,
+                f"0x{index:04X} sub 0 at entry {pos + 1} counts {some}, which the container has "
+                f"not written before it: taken to be in the static OD; the target answers "
+                f"0x{C.SUBINDEX_NOT_EXIST:02X} {C.name(C.SUBINDEX_NOT_EXIST)} if "
+                f"{'it is' if len(ks) == 1 else 'they are'} not (give --static-od)"))
+        for key in sorted(k for k in w if k[0] in ("mapped", "mapped-untyped")):
+            if key[0] == "mapped-untyped":
+                out.append(TargetWarning(
+                    C.UNCHECKED_MAPPED_OBJECT,
+                    f"mapped object 0x{key[1]:04X}sub{key[2]:X} is written by the container "
+                    "without an attribute byte and the static OD is unknown: its access and "
+                    "length were not checked (give --static-od)"))
+            else:
+                out.append(self._mapped_object_warning(key[1], key[2], at[key], later))
         return out
+
+    def _mapping_object_warning(self, mapping: int, pos: int, later) -> TargetWarning:
+        q = later.index(mapping, pos)
+        if q is None:
+            text = f"PDO mapping object 0x{mapping:04X} is not in the container and the " \
+                   "static OD is unknown: not checked (give --static-od)"
+        else:
+            text = f"{_pdo_name(mapping - 0x200)} is made valid at entry {pos + 1}, but the " \
+                   f"container writes its mapping object 0x{mapping:04X} only at entry " \
+                   f"{q + 1}: it is taken to be in the static OD; the target answers " \
+                   f"0x{C.INDEX_NOT_EXIST:02X} {C.name(C.INDEX_NOT_EXIST)} if it is not"
+        return TargetWarning(C.UNCHECKED_MAPPING_OBJECT, text)
+
+    def _mapped_object_warning(self, index: int, sub: int, pos: int, later) -> TargetWarning:
+        label = f"0x{index:04X}sub{sub:X}"
+        q = later.entry(index, sub, pos)
+        if q is None:
+            text = f"mapped object {label} is not in the container and the static OD is " \
+                   "unknown: its existence, access and length were not checked " \
+                   "(give --static-od)"
+        else:
+            has = later.index_before(index, pos) or \
+                (self.static is not None and self.static.has(index))
+            code = C.SUBINDEX_NOT_EXIST if has else C.INDEX_NOT_EXIST
+            text = f"mapped object {label} is mapped at entry {pos + 1}, but the container " \
+                   f"writes it only at entry {q + 1}: it is taken to be in the static OD; " \
+                   f"the target refuses the mapping (0x{code:02X} {C.name(code)}) if it is not"
+        return TargetWarning(C.UNCHECKED_MAPPED_OBJECT, text)
 
     def build_od(self) -> dict[int, dict[int, TargetEntry]]:
         od: dict[int, dict[int, TargetEntry]] = {}
@@ -122,3 +177,34 @@ def _numeric_type(index: int, sub: int, size: int) -> dt.DataType | None:
         if ch is not None and ch.dtype.size == size:
             return ch.dtype
     return dt.UNSIGNED_BY_SIZE.get(size)
+
+
+class _Later:
+    """Where the container writes an index or an entry, for the warnings (built once, only
+    when a warning needs it)."""
+
+    def __init__(self, entries):
+        self.first_index: dict[int, list[int]] = {}
+        self.first_entry: dict[tuple[int, int], list[int]] = {}
+        for pos, (index, sub, _) in enumerate(entries):
+            self.first_index.setdefault(index, []).append(pos)
+            self.first_entry.setdefault((index, sub), []).append(pos)
+
+    @staticmethod
+    def _after(positions, pos):
+        if positions:
+            k = bisect_right(positions, pos)
+            if k < len(positions):
+                return positions[k]
+        return None
+
+    def index(self, index: int, pos: int) -> int | None:
+        """The first position after ``pos`` that writes ``index``."""
+        return self._after(self.first_index.get(index), pos)
+
+    def entry(self, index: int, sub: int, pos: int) -> int | None:
+        return self._after(self.first_entry.get((index, sub)), pos)
+
+    def index_before(self, index: int, pos: int) -> bool:
+        positions = self.first_index.get(index)
+        return bool(positions) and positions[0] < pos

@@ -38,6 +38,7 @@ FAMILIES = {
     "DCF4": "PDOs",
     "CNT0": "containers",
     "TGT0": "target emulation (DynBuildOd)",
+    "TGT1": "target emulation: what could not be checked",
     "IO0": "inputs",
     "INT0": "internal",
 }

@@ -5,10 +5,14 @@ runs on what it writes, so ``compile`` and ``validate`` report one fault under o
 the rule id is TGT + the return code in hex. On a DCF, the file is compiled as
 ``compile`` would (nothing is checked when compile would stop on other errors first);
 on a container, the emulation runs without a static OD.
+
+TGT1xx are the warnings of such a run (``simulate`` of a container without --static-od):
+what the model could not check because the container does not hold it, or holds it only
+at a later entry. They are never a return code (those are one byte: TGT0xx).
 """
 from __future__ import annotations
 
-from dcf2bin.lint.registry import ANY, ERROR, core
+from dcf2bin.lint.registry import ANY, BIN, ERROR, core, WARNING
 
 _HINT = "see 'dcf2bin simulate' for the whole run and the PDO table"
 
@@ -48,3 +52,22 @@ core("TGT078", "target-pdo-mapping", ERROR,
      "cannot be mapped so, exceeds 64 bits, or is changed while not allowed.",
      hint="map existing, mappable objects with their exact bit length, in the right "
           "direction", kind=ANY)
+
+_UNCHECKED = "give --static-od (the firmware's EDS) to check it"
+core("TGT101", "target-unchecked-entry", WARNING,
+     "An entry of a container without extended info segment could not be checked: with no "
+     "static OD it is assumed to exist (0x31/0x32 on a target that lacks it).",
+     hint=_UNCHECKED, kind=BIN)
+core("TGT102", "target-unchecked-mapping-object", WARNING,
+     "A PDO is made valid, but the container does not write its mapping object before: it "
+     "is taken to be in the static OD (0x31 on a target that lacks it).",
+     hint=_UNCHECKED, kind=BIN)
+core("TGT103", "target-unchecked-mapped-object", WARNING,
+     "A PDO maps an object the container does not hold yet (or holds without an attribute "
+     "byte): it is taken to be in the static OD with a fitting type and access (0x31/0x32/0x78 "
+     "on a target where it is not).",
+     hint=_UNCHECKED, kind=BIN)
+core("TGT104", "target-unchecked-mapping-entry", WARNING,
+     "A mapping's sub 0 counts a sub the container has not written, in a mapping object it "
+     "did not create: it is taken to be in the static OD (0x32 on a target that lacks it).",
+     hint=_UNCHECKED, kind=BIN)

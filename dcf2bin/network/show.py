@@ -283,36 +283,53 @@ def text(view: View) -> str:
 
 # -- JSON -----------------------------------------------------------------------------------
 
-def _jvalue(v):
+def _jvalue(v, size: int):
+    """A written value: an unsigned number as hex of its entry's width (a COB-ID
+    ``"0x80000183"``, a count ``"0x00"``), a signed or real number as a JSON number, a
+    string as it is, a domain as hex pairs."""
     if isinstance(v, (bytes, bytearray)):
         return bytes(v).hex().upper()
+    if isinstance(v, int) and not isinstance(v, bool) and v >= 0 and 1 <= size <= 8:
+        return f"0x{v:0{2 * size}X}"
     return v
 
 
+FORMAT, VERSION = "dcf2bin-network-show", 1     # schema: dcf2bin/schemas/network-show.json
+
+
+def _hex16(v: int | None) -> str | None:
+    return None if v is None else f"0x{v:04X}"
+
+
 def as_dict(view: View) -> dict:
+    """The JSON document (README "JSON outputs"): indexes ``"0x1800"``, COB-IDs, CAN-IDs and
+    identity values ``"0x%08X"``, every other number a JSON integer."""
     return {
-        "network": view.path,
+        "format": FORMAT,
+        "version": VERSION,
+        "file": view.path,
         "bitrate": view.bitrate,
         "bus_load_percent": round(view.total, 4),
         "unknown_rates": view.unknown,
         "nodes": [{"name": n.node, "node_id": n.node_id,
                    "role": "master" if n.master else "slave"} for n in view.nodes],
-        "links": [{"cob_id": k.can_id | (COB_EXTENDED if k.extended else 0),
-                   "can_id": k.can_id, "extended": k.extended, "frame": k.what,
+        "links": [{"cob_id": f"0x{k.can_id | (COB_EXTENDED if k.extended else 0):08X}",
+                   "can_id": f"0x{k.can_id:08X}", "extended": k.extended, "frame": k.what,
                    "producer": k.producer.as_dict() if k.producer else None,
                    "consumers": [c.as_dict() for c in k.consumers],
                    "content": k.content, "bytes": k.bytes, "rate": k.rate, "bits": k.bits,
                    "load_percent": round(k.share, 4)} for k in view.links],
         "variables": [{"name": v.name, "direction": v.direction, "type": v.datatype,
-                       "node": v.node, "node_id": v.node_id, "index": v.index,
-                       "sub": v.sub, "plc_index": v.pi_index, "plc_sub": v.pi_sub,
-                       "offset": v.pi_offset} for v in view.variables],
+                       "node": v.node, "node_id": v.node_id, "index": _hex16(v.index),
+                       "subindex": v.sub, "plc_index": _hex16(v.pi_index),
+                       "plc_subindex": v.pi_sub, "offset": v.pi_offset}
+                      for v in view.variables],
         "slaves": [{"name": s.name, "node_id": s.node_id,
-                    "identity": {f"0x{k:04X}": v for k, v in s.identity.items()},
-                    **({"writes": [{"index": w.index, "sub": w.sub, "name": w.name,
-                                    "value": _jvalue(w.value), "data": w.data.hex().upper(),
-                                    "why": w.why, "source": w.where} for w in s.writes]}
-                       if s.writes is not None else {})} for s in view.slaves],
+                    "identity": {f"0x{k:04X}": f"0x{v:08X}" for k, v in s.identity.items()},
+                    "writes": None if s.writes is None else [
+                        {"index": _hex16(w.index), "subindex": w.sub, "name": w.name,
+                         "value": _jvalue(w.value, len(w.data)), "data": w.data.hex().upper(), "why": w.why,
+                         "source": w.where} for w in s.writes]} for s in view.slaves],
     }
 
 

@@ -43,19 +43,27 @@ def to_csv(vm: VarMap) -> str:
     return buf.getvalue()
 
 
+FORMAT, VERSION = "dcf2bin-map", 1     # schema: dcf2bin/schemas/map.json
+
+
 def to_json(vm: VarMap) -> str:
-    """``{"variables": [...], "areas": {...}}``, numbers as JSON integers, one variable a
-    line (diff-friendly)."""
+    """``{"format": "dcf2bin-map", "version": 1, "file": ..., "variables": [...],
+    "areas": {...}}``: indexes as ``"0xA040"`` strings, every other number a JSON integer,
+    one variable a line (diff-friendly)."""
     d = json.dumps
-    lines = ["{", '  "variables": [']
+    total, in_off, in_size, out_off, out_size = vm.pi
+    areas = {"pi_size": total, "input_offset": in_off, "input_size": in_size,
+             "output_offset": out_off, "output_size": out_size}
+    lines = ["{", f'  "format": "{FORMAT}",', f'  "version": {VERSION},',
+             f'  "file": {d(vm.source, ensure_ascii=False)},', '  "variables": [']
     last = len(vm.rows) - 1
     for i, r in enumerate(vm.rows):
         lines.append(
-            f'    {{"name": {d(r.name, ensure_ascii=False)}, "index": {r.index}, '
+            f'    {{"name": {d(r.name, ensure_ascii=False)}, "index": "0x{r.index:04X}", '
             f'"subindex": {r.sub}, "type": "{r.dtype.name}", "direction": "{r.direction}", '
             f'"offset": {r.offset}, "address": {r.address}, "size": {r.size}}}'
             + ("," if i < last else ""))
     lines.append("  ],")
-    lines.append(f'  "areas": {d(vm.areas)}')
+    lines.append(f'  "areas": {d(areas)}')
     lines.append("}")
     return "\n".join(lines) + "\n"

@@ -128,20 +128,34 @@ def _text(path, result, expected, findings, bound) -> str:
     return "\n".join(out) + "\n"
 
 
+def _hex32(v):
+    return None if v is None else f"0x{v:08X}"
+
+
 def _json(path, result, expected, findings, bound) -> str:
+    """The JSON document (README "JSON outputs"; dcf2bin/schemas/network-scan.json):
+    identity values and SDO abort codes "0x%08X", indexes "0x1018"."""
     nodes = []
     for nid, e, f in _rows(result, expected):
         d = {"node_id": nid, "name": e.name if e else None, "in_network": e is not None,
              "master": bool(e and e.master), "heard": f.heard if f else None,
-             "answered": bool(f and f.answered), "entries": {}}
+             "answered": bool(f and f.answered), "entries": {}, "enforced": None}
         if f is not None:
             for (index, sub), a in f.entries.items():
                 d["entries"][f"0x{index:04X}sub{sub}"] = (
-                    {"value": a.value} if a.value is not None
-                    else {"abort": a.code} if a.code is not None else {"answer": None})
+                    {"value": _hex32(a.value)} if a.value is not None
+                    else {"abort": _hex32(a.code)} if a.code is not None else {"answer": None})
         if e is not None and not e.master:
-            d["enforced"] = {f"0x{k:04X}": v for k, v in sorted(e.identity.items())}
+            d["enforced"] = {f"0x{k:04X}": _hex32(v) for k, v in sorted(e.identity.items())}
         nodes.append(d)
-    return json.dumps({"network": path, "seconds": round(result.seconds, 3),
+    out = []
+    for f in findings:
+        index, sub = f.entry if f.entry is not None else (None, None)
+        out.append({"kind": f.kind, "node_id": f.node_id, "name": f.name, "text": f.text,
+                    "index": None if index is None else f"0x{index:04X}", "subindex": sub,
+                    "expected": _hex32(f.expected), "actual": _hex32(f.actual),
+                    "code": _hex32(f.code)})
+    return json.dumps({"format": "dcf2bin-network-scan", "version": 1, "file": path,
+                       "seconds": round(result.seconds, 3),
                        "at_most_seconds": round(bound, 3), "nodes": nodes,
-                       "findings": [f.as_dict() for f in findings]}, indent=2) + "\n"
+                       "findings": out}, indent=2) + "\n"
