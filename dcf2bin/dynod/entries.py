@@ -17,6 +17,9 @@ class _EntriesStep:
     """Step 3 of ``_Engine``: the index entries one by one, checked (existence, size, PDO
     semantics) and then created or written.
     """
+    # a run of entries that creates a whole object is applied at once (the tests compare
+    # the results with this off: entry by entry)
+    _whole_objects = True
 
     # -- step 3 ----------------------------------------------------------------------------
     def entries(self) -> None:
@@ -32,7 +35,8 @@ class _EntriesStep:
             run = list(run)
             subs = cur.get(index)
             sdict = static.entries(index) if static is not None else no_static
-            if subs is None and not sdict and attrs is not None and not 0x1400 <= index <= 0x1BFF:
+            if subs is None and not sdict and attrs is not None and self._whole_objects \
+                    and not 0x1400 <= index <= 0x1BFF:
                 # a whole object created (a network variable, say): no entry can fail
                 # (nothing to compare a size with, no PDO semantics) unless a subindex
                 # comes twice; then entry by entry below
@@ -42,6 +46,7 @@ class _EntriesStep:
                     cur[index] = dict(zip(run_subs, zip(attrs[pos:pos + n], datas, repeat(None))))
                     if static is None or not static.has(index):
                         self.created_objects.append(index)
+                        self.created_set.add(index)
                     self.n_created += n
                     self.created_bytes += sum(map(len, datas))
                     pos += n
