@@ -42,6 +42,13 @@ def _compact(index, name, n=127):
             f"AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj={n}\n\n")
 
 
+def _mapping(index: int, pdo: str) -> str:
+    """A PDO mapping record with 8 empty subs (nothing mapped)."""
+    return (_rec(index, f"{pdo} mapping", 9) + _var(f"{index:04X}sub0", "n", "0x0005", "rw", "0")
+            + "".join(_var(f"{index:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0")
+                      for s in range(1, 9)))
+
+
 def plc_dcf(n_rx: int, n_tx: int) -> str:
     """A PLC with n_rx RPDOs, n_tx TPDOs (8 mapping subs each) and the NMT master objects."""
     out = [f"[FileInfo]\nFileName=plc.dcf\nEDSVersion=4.0\n\n[DeviceInfo]\nVendorNumber=0x3F\n"
@@ -67,11 +74,7 @@ def plc_dcf(n_rx: int, n_tx: int) -> str:
             if kind == "TPDO":
                 out.append(_var(f"{c:04X}sub3", "Inhibit time", "0x0006", "rw", "0"))
             out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
-            m = c + 0x200
-            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
-            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
-            for s in range(1, 9):
-                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+            out.append(_mapping(c + 0x200, f"{kind}{i + 1}"))
     for index, name in ((0x1F81, "Slave assignment"), (0x1F84, "Device type"),
                         (0x1F85, "Vendor"), (0x1F86, "Product"), (0x1F87, "Revision"),
                         (0x1F88, "Serial")):
@@ -100,11 +103,7 @@ def slave_eds() -> str:
                             f"$NODEID+0x{cob + 0x100 * i:X}"))
             out.append(_var(f"{c:04X}sub2", "Transmission type", "0x0005", "rw", "255"))
             out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
-            m = c + 0x200
-            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
-            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
-            for s in range(1, 9):
-                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+            out.append(_mapping(c + 0x200, f"{kind}{i + 1}"))
     for index, access in ((0x6000, "ro"), (0x6200, "rw")):
         out.append(_rec(index, "inputs" if access == "ro" else "outputs", 17, "0x8"))
         out.append(_var(f"{index:04X}sub0", "n", "0x0005", "ro", "16"))
