@@ -8,8 +8,9 @@ objects (at 126 slaves: 1,008 links, 4,032 PLC variables).
 
 Both tools run as a fresh process on the same YAML (dcfgen ignores the master's dcf: and
 the mapping's name:), so each time includes its start-up and its writing of the files;
-`build` is the CPU time of `dcf2bin.network.build_network` alone, whose time per node
-shows how the work grows. The ratio is taken on CPU time (user +
+`check` is the CPU time of `dcf2bin network check` on the same file (issue 20: no slower
+than the build); `build` is the CPU time of `dcf2bin.network.build_network` alone, whose
+time per node shows how the work grows. The ratio is taken on CPU time (user +
 system of the process), which a machine shared with other jobs disturbs far less than
 wall time (both are printed). Files go to benchmarks/out/network_N/.
 """
@@ -41,6 +42,13 @@ def _compact(index, name, n=127):
             f"AccessType=rw\nDefaultValue=0\nPDOMapping=0\nCompactSubObj={n}\n\n")
 
 
+def _mapping(index: int, pdo: str) -> str:
+    """A PDO mapping record with 8 empty subs (nothing mapped)."""
+    return (_rec(index, f"{pdo} mapping", 9) + _var(f"{index:04X}sub0", "n", "0x0005", "rw", "0")
+            + "".join(_var(f"{index:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0")
+                      for s in range(1, 9)))
+
+
 def plc_dcf(n_rx: int, n_tx: int) -> str:
     """A PLC with n_rx RPDOs, n_tx TPDOs (8 mapping subs each) and the NMT master objects."""
     out = [f"[FileInfo]\nFileName=plc.dcf\nEDSVersion=4.0\n\n[DeviceInfo]\nVendorNumber=0x3F\n"
@@ -66,11 +74,7 @@ def plc_dcf(n_rx: int, n_tx: int) -> str:
             if kind == "TPDO":
                 out.append(_var(f"{c:04X}sub3", "Inhibit time", "0x0006", "rw", "0"))
             out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
-            m = c + 0x200
-            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
-            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
-            for s in range(1, 9):
-                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+            out.append(_mapping(c + 0x200, f"{kind}{i + 1}"))
     for index, name in ((0x1F81, "Slave assignment"), (0x1F84, "Device type"),
                         (0x1F85, "Vendor"), (0x1F86, "Product"), (0x1F87, "Revision"),
                         (0x1F88, "Serial")):
@@ -99,11 +103,7 @@ def slave_eds() -> str:
                             f"$NODEID+0x{cob + 0x100 * i:X}"))
             out.append(_var(f"{c:04X}sub2", "Transmission type", "0x0005", "rw", "255"))
             out.append(_var(f"{c:04X}sub5", "Event timer", "0x0006", "rw", "0"))
-            m = c + 0x200
-            out.append(_rec(m, f"{kind}{i + 1} mapping", 9))
-            out.append(_var(f"{m:04X}sub0", "n", "0x0005", "rw", "0"))
-            for s in range(1, 9):
-                out.append(_var(f"{m:04X}sub{s}", f"Mapped object {s}", "0x0007", "rw", "0"))
+            out.append(_mapping(c + 0x200, f"{kind}{i + 1}"))
     for index, access in ((0x6000, "ro"), (0x6200, "rw")):
         out.append(_rec(index, "inputs" if access == "ro" else "outputs", 17, "0x8"))
         out.append(_var(f"{index:04X}sub0", "n", "0x0005", "ro", "16"))
@@ -198,16 +198,18 @@ def main() -> None:
         ours = _timed([sys.executable, "-m", "dcf2bin", "network", "build", "bus.yml", "-o",
                        "out_dcf2bin", "-q"], folder, os.path.join(folder, "out_dcf2bin"),
                       args.repeat)
+        check = _timed([sys.executable, "-m", "dcf2bin", "network", "check", "bus.yml", "-q"],
+                       folder, os.path.join(folder, "out_check"), args.repeat)
         inproc = _in_process(folder, args.repeat)
         theirs = (_timed([dcfgen, "-r", "-d", "out_dcfgen", "bus.yml"], folder,
                          os.path.join(folder, "out_dcfgen"), args.repeat)
                   if dcfgen else None)
-        rows.append((n, ours, inproc, theirs))
-    print(f"{'slaves':>6} {'links':>6} {'vars':>6} | {'dcf2bin':>8} {'cpu':>6} "
+        rows.append((n, ours, check, inproc, theirs))
+    print(f"{'slaves':>6} {'links':>6} {'vars':>6} | {'dcf2bin':>8} {'cpu':>6} {'check':>6} "
           f"{'build':>6} {'ms/node':>8} | {'dcfgen -r':>9} {'cpu':>6} {'ms/node':>8} | "
           f"{'ratio cpu':>9} {'wall':>5}")
-    for n, (wall, cpu), inproc, theirs in rows:
-        line = (f"{n:>6} {8 * n:>6} {32 * n:>6} | {wall:>8.3f} {cpu:>6.3f} "
+    for n, (wall, cpu), (_, check_cpu), inproc, theirs in rows:
+        line = (f"{n:>6} {8 * n:>6} {32 * n:>6} | {wall:>8.3f} {cpu:>6.3f} {check_cpu:>6.3f} "
                 f"{inproc:>6.3f} {1000 * inproc / n:>8.2f} |")
         if theirs is not None:
             twall, tcpu = theirs
@@ -215,8 +217,8 @@ def main() -> None:
                      f"{tcpu / cpu:>9.1f} {twall / wall:>5.1f}")
         print(line)
     print("seconds, best of the repeats. dcf2bin/dcfgen -r: the command, wall and cpu (user "
-          "+ system) time; build: cpu time of build_network alone, ms/node its share per "
-          "slave; ratio: dcfgen / dcf2bin")
+          "+ system) time; check: cpu time of 'network check' on the same file; build: cpu "
+          "time of build_network alone, ms/node its share per slave; ratio: dcfgen / dcf2bin")
     print(f"load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 

@@ -488,3 +488,64 @@ def test_nmt_entry_beyond_the_plc_objects_subs(tmp_path):
     got, res = build(tmp_path, SLAVE, plc=plc)
     assert got == ["bus.yml:5: error: the PLC's file has no 0x1F81sub5 (slave assignment of "
                    "io): that sub-index is missing [NET111]"]
+
+
+def test_heartbeat_times_are_rounded_down_from_the_decimal_multiplier():
+    """D-16: every time multiplied by the multiplier is rounded down to whole ms — of the
+    decimal product the YAML states (100 ms x 0.29 is 29 ms, though 100 * 0.29 is
+    28.999999999999996 in binary floating point)."""
+    from dcf2bin.network.slaveconfig import times
+    assert times(100, 0.29) == 29
+    assert times(100, 0.57) == 57
+    assert times(7, 2.7) == 18            # 18.9: rounded down
+    assert times(33, 1.5) == 49
+    assert times(30000, 2.18) == 65400
+
+
+def test_plc_0x1016_per_slave_multiplier_and_mapping(tmp_path):
+    """0x1016 subs 1, 2, ... in node-ID order, (node-ID << 16) | time x the slave's own
+    multiplier (else options'), rounded down; a {slave: ms} mapping gives the time."""
+    def slave(name, nid, extra=""):
+        return f"{name}:\n  dcf: mini.eds\n  node_id: {nid}\n" + extra
+    body = (slave("c", 9, "  heartbeat_producer: 33\n  heartbeat_multiplier: 1.5\n")
+            + slave("a", 3, "  heartbeat_producer: 7\n") + slave("b", 4)
+            + slave("d", 10, "  heartbeat_producer: 100\n"))
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text("options:\n  heartbeat_multiplier: 2.7\n" + HEAD + body)
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
+        (1, 0x00030012), (2, 0x00090031), (3, 0x000A010E)]   # 18, 49, 270 ms
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {d: 500, a: 40}\n" + body)
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [(w.sub, w.value) for w in res.network.master.writes if w.index == 0x1016] == [
+        (1, 0x00030028), (2, 0x00090031), (3, 0x000A01F4)]
+
+
+def test_master_consumer_time_of_the_mapping_over_65535_is_an_error(tmp_path):
+    """D-17: a consumer time over 65535 ms is an error, never truncated — also one the
+    {slave: ms} mapping gives (70000 ms once became (5 << 16) | 70000 = 0x00051170)."""
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {io: 70000}\n" + SLAVE
+                                      + "  heartbeat_producer: 100\n")
+    res = build_network(str(tmp_path / "bus.yml"))
+    errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+              if d.severity.value == "error"]
+    assert errors == ["bus.yml:5: error: heartbeat_consumer: 70000 is outside 0..65535 "
+                      "[NET004]"]
+    assert not any(w.index == 0x1016 and w.value == 0x00051170
+                   for w in res.network.master.writes)
+
+
+def test_master_mapping_names_a_slave_without_heartbeat(tmp_path):
+    """D-19: monitoring a node whose producer time is 0 is an error — also when the
+    master's {slave: ms} mapping asks for it (it was dropped without a word)."""
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text(HEAD + "  heartbeat_consumer: {io: 500}\n" + SLAVE)
+    res = build_network(str(tmp_path / "bus.yml"))
+    errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+              if d.severity.value == "error"]
+    assert errors == ["bus.yml:5: error: master (node 1) monitors io (node 5), which "
+                      "produces no heartbeat (producer time 0) [NET251]"]

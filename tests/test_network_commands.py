@@ -295,3 +295,35 @@ def test_cpj_scan_and_download(bench):
         f"{CPJ}: 2 configured, 1 failed, 0 skipped"]
     # io's DCF reached it: its TPDO1 COB-ID and transmission type as the DCF states them
     assert nodes[2].sdo[0x1800][1].raw == 0x182 and nodes[2].sdo[0x1800][2].raw == 1
+
+
+# -- a node's file that cannot be read: exit 3 in every network command ---------------------
+
+@pytest.mark.parametrize("command", [("check",), ("show",), ("show", "-f", "svg"),
+                                     ("download", "--dry-run"), ("build", "-o", "OUT")])
+@pytest.mark.parametrize("dcf", ["nope.eds", "folder.eds"])
+def test_a_node_file_that_cannot_be_read_is_exit_3(tmp_path, command, dcf):
+    """README's exit-code table: 3 when an input cannot be read (missing, a directory),
+    for a node's file as for the network file; one file:line line, no traceback."""
+    (tmp_path / "folder.eds").mkdir()
+    bus_yml = tmp_path / "bus.yml"
+    bus_yml.write_text(f"master:\n  node_id: 1\nio:\n  dcf: {dcf}\n  node_id: 5\n")
+    args = [a.replace("OUT", str(tmp_path / "out")) for a in command]
+    r = run("network", args[0], str(bus_yml), *args[1:])
+    why = "No such file or directory" if dcf == "nope.eds" else "Is a directory"
+    text = r.stdout + r.stderr
+    assert r.exit_code == 3, text
+    assert f"{bus_yml}:4: error: cannot read {tmp_path / dcf}: {why} [NET010]" in text
+    assert "Traceback" not in text
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("command", [("check",), ("show",), ("download", "--dry-run"),
+                                     ("build", "-o", "OUT")])
+def test_a_directory_as_the_network_file_is_exit_3(tmp_path, command):
+    """README's table: a directory given as an input is exit 3 (build said 2, a usage
+    error, where the other network commands said 3)."""
+    args = [a.replace("OUT", str(tmp_path / "out")) for a in command]
+    r = run("network", args[0], str(tmp_path), *args[1:])
+    assert r.exit_code == 3, r.stdout + r.stderr
+    assert f"{tmp_path}: error: cannot read: Is a directory" in r.stdout + r.stderr

@@ -314,3 +314,17 @@ def test_rule_names_are_unique_beside_validates():
     table = rule_table()
     names = [r.name for r in table.values()]
     assert len(names) == len(set(names)) == len(table)
+
+
+def test_validate_and_network_check_share_the_rule_options():
+    """One decorator (cli.common.rule_options): --select/--ignore/--strict read and are
+    worded alike in validate and network check."""
+    from dcf2bin.cli.network.check import check_cmd
+    from dcf2bin.cli.validate import validate_cmd
+
+    def helps(cmd):
+        return {p.name: (p.opts, p.help) for p in cmd.params
+                if p.name in ("select_", "ignore", "strict")}
+    assert helps(check_cmd) == helps(validate_cmd)
+    assert helps(check_cmd)["select_"][1].startswith("Check only these rules: codes, code "
+                                                     "prefixes (DCF4, CNT, NET2), names")

@@ -308,3 +308,32 @@ def test_docs_list_every_code():
     text = (ROOT / "docs" / "network.md").read_text()
     rows = [line for line in text.splitlines() if line.startswith("| NET")]
     assert rows == [f"| {c} | {s} | {t} |" for c, s, t in CODES]
+
+
+@pytest.mark.parametrize("value,message", [
+    ("0x1FFFFFFFF", "cob_id: 8589934591 is outside 0..0xFFFFFFFF (auto or an integer)"),
+    ("0x800", "cob_id: 0x800 has bits 11-28 set but not bit 29 (an 11-bit CAN-ID is at "
+              "most 0x7FF; bit 29 marks a 29-bit one)"),
+])
+def test_bad_cob_ids_are_one_error_each(tmp_path, value, message):
+    """A cob_id outside 32 bits, or an 11-bit COB-ID (bit 29 clear, CiA 301) with a CAN-ID
+    above 0x7FF: one error at its line, and the value is not used further (0x800 was
+    read as CAN-ID 0x000 and reported as NMT's ID)."""
+    (tmp_path / "io.eds").write_text((ROOT / "tests/fixtures/network/IoX4_8AI.eds").read_text(
+        encoding="latin-1"), encoding="latin-1")
+    (tmp_path / "bus.yml").write_text("master:\n  node_id: 1\nio:\n  dcf: io.eds\n  node_id: 5\n"
+                                      f"  tpdo:\n    1:\n      cob_id: {value}\n")
+    from dcf2bin.network import check_network
+    res = check_network(str(tmp_path / "bus.yml"))
+    errors = [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+              if d.severity.value == "error"]
+    assert errors == [f"bus.yml:8: error: {message} [NET004]"]
+
+
+def test_a_tab_that_indents_is_named(tmp_path):
+    """YAML indents with spaces only; libyaml's words for a tab ("found character that
+    cannot start any token") get the reason added, at the tab's line."""
+    net = load(tmp_path, "master:\n\tnode_id: 1\nio:\n  dcf: io.eds\n  node_id: 5\n")
+    assert found(net, tmp_path) == [
+        "bus.yml:2: error: YAML syntax: while scanning for the next token: found character "
+        "that cannot start any token (a tab: YAML indents with spaces) [NET001]"]

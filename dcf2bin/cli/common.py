@@ -517,6 +517,10 @@ SHARED_HELP = {
     "force": "Replace an existing file at the default output name.",
     "from_": "Input kind (default: by its content; by the name's suffix where the content is "
              "not clear).",
+    "select": "Check only these rules: codes, code prefixes (DCF4, CNT, NET2), names, or ALL; "
+              "comma-separated or repeated.",
+    "ignore": "Skip these rules (codes, code prefixes or names).",
+    "strict": "Warnings fail the run too (exit 1).",
 }
 
 
@@ -529,6 +533,14 @@ def node_id_option(more: str = "", required: bool = False):
     return click.option("-n", "--node-id", "--node", "node_id", cls=Option,
                         hidden_names=("--node",), type=NODE_ID, metavar="N",
                         required=required, help=_help("node_id", more))
+
+
+def rule_options(fn):
+    """--select/--ignore RULES and --strict, as validate and network check read them."""
+    fn = click.option("--strict", is_flag=True, help=_help("strict"))(fn)
+    fn = click.option("--ignore", multiple=True, metavar="RULES", help=_help("ignore"))(fn)
+    return click.option("--select", "select_", multiple=True, metavar="RULES",
+                        help=_help("select"))(fn)
 
 
 def quiet_option(more: str = ""):

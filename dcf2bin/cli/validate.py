@@ -12,7 +12,7 @@ import click
 
 from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
                                 guarded, load_static_od, node_id_option, output_option,
-                                quiet_option, read_input, static_od_option,
+                                quiet_option, read_input, rule_options, static_od_option,
                                 target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
@@ -23,12 +23,7 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.argument("paths", nargs=-1, type=click.Path(allow_dash=True))
 @format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
 @output_option("Default: standard output.")
-@click.option("--select", "select_", multiple=True, metavar="RULES",
-              help="Run only these rules: ids, id prefixes (DCF4, CNT), names, or ALL; "
-                   "comma-separated or repeated.")
-@click.option("--ignore", multiple=True, metavar="RULES",
-              help="Do not run these rules (ids, prefixes or names).")
-@click.option("--strict", is_flag=True, help="Warnings fail the run too (exit 1).")
+@rule_options
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
 @click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
               show_default=True, help="Device profile for the PDO checks (dis2: Metronix DIS-2).")

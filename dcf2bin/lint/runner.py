@@ -168,6 +168,20 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     return res
 
 
+def lint_model(name: str, data: bytes, dev, opts: Options) -> FileResult:
+    """``lint_bytes`` of a DCF/EDS whose model the caller built already from ``data``, as
+    ``model.build(ini.parse_bytes(data, name), node_id=opts.node_id)`` does (network check:
+    each node's file as configure read it): the same findings, without reading it twice."""
+    if dev is None or _kind_of(name, data) != KIND_DCF:
+        return lint_bytes(name, data, opts)
+    res = FileResult(name, KIND_DCF)
+    _Run(res, opts).dcf(data, dev)
+    note = _misnamed(name, KIND_DCF)
+    if note is not None and "IO002" in (opts.active if opts.active is not None else RULES):
+        res.diagnostics.insert(0, note)
+    return res
+
+
 def _misnamed(name: str, kind: str) -> Diagnostic | None:
     """IO002: a file whose content is another kind than its name says (checked by content)."""
     from dcf2bin import filekind
@@ -225,14 +239,15 @@ class _Run:
         return Diagnostic(r.severity, f.message, self.res.path, f.line, f.column, f.offset,
                           r.id, f.hint or r.hint)
 
-    def dcf(self, data: bytes) -> None:
+    def dcf(self, data: bytes, dev=None) -> None:
         from dcf2bin import ini, layout, model
         from dcf2bin import select as select_mod
         from dcf2bin.profiles import get_profile
         opts, path = self.opts, self.res.path
-        ok, dev = self.guard("reading the file", lambda: model.build(
-            ini.parse_bytes(data, path), node_id=opts.node_id,
-            allow_external_files=opts.allow_external_files))
+        ok, dev = (True, dev) if dev is not None else self.guard(
+            "reading the file", lambda: model.build(
+                ini.parse_bytes(data, path), node_id=opts.node_id,
+                allow_external_files=opts.allow_external_files))
         if not ok:
             return self.finish()
         ctx = DcfContext(path, data, opts, dev.ini, dev)

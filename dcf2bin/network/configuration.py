@@ -8,8 +8,6 @@ node's heartbeat, SYNC and EMCY facts are filled in for the rules.
 """
 from __future__ import annotations
 
-import os
-
 from dcf2bin.diagnostics import Diagnostics
 from dcf2bin.network import cobids, links, nmt, pdos, slaveconfig, variables
 from dcf2bin.network.model import TPDO, Heartbeat, Network, Node

@@ -140,7 +140,9 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             continue
         node.file = os.path.join(folder, dcf[0])
         try:
-            node.device = model.load(node.file, node_id=x, data=read_node_file(node.file))
+            node_data = read_node_file(node.file)
+            node.device = model.load(node.file, node_id=x, data=node_data)
+            network.files.setdefault(node.file, node_data)     # network check lints these
         except OSError as exc:
             _add(diags, "NET055", f"{dcf[2]}: cannot read '{dcf[0]}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))

@@ -27,8 +27,10 @@ def multiplier(net: Network, node: Node) -> float:
 
 
 def times(ms: int, factor: float) -> int:
-    """A time multiplied by a heartbeat multiplier, rounded down to whole ms."""
-    return math.floor(ms * factor)
+    """A time multiplied by a heartbeat multiplier, rounded down to whole ms (D-16): the
+    product of the decimal the YAML states, not of its binary float (100 x 0.29 = 29)."""
+    from decimal import Decimal
+    return math.floor(ms * Decimal(repr(float(factor))))
 
 
 def configure_slave(net: Network, node: Node, diags: Diagnostics) -> None:

@@ -56,7 +56,7 @@ RANGES = {
     "serial_number": (0, 0xFFFFFFFF), "software_version": (0, 0xFFFFFFFF),
     "transmission": (0, 0xFF), "inhibit_time": (0, 0xFFFF), "event_timer": (0, 0xFFFF),
     "event_deadline": (0, 0xFFFF), "sync_start": (0, 0xFF), "index": (0, 0xFFFF),
-    "sub_index": (0, 0xFF),
+    "sub_index": (0, 0xFF), "heartbeat_consumer": (0, 0xFFFF),   # {slave: ms}: 16 bits
 }
 
 
@@ -227,11 +227,19 @@ class Items(_Values):
                         pc.cob_id = "auto"
                     else:
                         try:
-                            pc.cob_id = as_int(item)
-                            if not 0 <= pc.cob_id <= 0xFFFFFFFF:
-                                raise _Bad(f"{pc.cob_id} is outside 0..0xFFFFFFFF")
+                            cob = as_int(item)
+                            if not 0 <= cob <= 0xFFFFFFFF:
+                                raise _Bad(f"{cob} is outside 0..0xFFFFFFFF")
                         except _Bad as exc:
                             self.err(f"cob_id: {exc} (auto or an integer)", iline)
+                            continue
+                        if not cob & 0x20000000 and cob & 0x1FFFF800:
+                            # CiA 301: bit 29 clear is an 11-bit CAN-ID (bits 0-10)
+                            self.err(f"cob_id: 0x{cob:X} has bits 11-28 set but not bit 29 "
+                                     "(an 11-bit CAN-ID is at most 0x7FF; bit 29 marks a "
+                                     "29-bit one)", iline)
+                            continue
+                        pc.cob_id = cob
                 else:
                     setattr(pc, k, self.scalar(k, pkind, item, iline))
 

@@ -54,6 +54,12 @@ class _Stop(Exception):  # noqa: N818 - an internal signal, not an error type
         self.line, self.rule = line, rule
 
 
+def _at_tab(text: str, index: int) -> bool:
+    """Whether the problem mark points at a tab (libyaml says only that the character
+    cannot start a token)."""
+    return 0 <= index < len(text) and text[index] == "\t"
+
+
 def read_tree(text: str, path: str, diags: Diagnostics):
     """The document's root as YMap/YSeq/scalars, or None for an empty document. Fatal
     problems (syntax, an alias bomb) raise YamlError after adding their diagnostic; a
@@ -74,6 +80,8 @@ def read_tree(text: str, path: str, diags: Diagnostics):
         what = exc.problem or exc.context or "invalid YAML"
         if exc.context and exc.problem:
             what = f"{exc.context}: {exc.problem}"
+        if mark is not None and _at_tab(text, mark.index):
+            what += " (a tab: YAML indents with spaces)"
         diags.error(f"YAML syntax: {what}", Where(path, line), rule="NET001")
         raise YamlError() from None
     except yaml.YAMLError as exc:

@@ -6,14 +6,14 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, debug_option, emit, fail, guarded, quiet_option,
+from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, fail, guarded, quiet_option,
                                 read_input, register_input, say, stop_on_errors,
                                 verbose_option, write_output)
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.diagnostics import ExitCode, Severity
 
 
 @click.command("build", context_settings=CONTEXT)
-@click.argument("network", metavar="NETWORK.yml", type=click.Path(dir_okay=False))
+@click.argument("network", metavar="NETWORK.yml", type=click.Path())
 @click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
               help="Output folder (made when missing); its files are written atomically, "
                    "never over an input.")
@@ -35,7 +35,11 @@ def build_cmd(network, output, verbose, quiet, debug):
         fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
     res = build_network(network, data=data)
     emit(res.diagnostics, quiet)
-    stop_on_errors(res, "network build", "nothing written")
+    try:
+        stop_on_errors(res, "network build", "nothing written")
+    except Failure:
+        from dcf2bin.cli.network.show import exit_code
+        raise Failure(exit_code(d for d in res.diagnostics if d.severity is Severity.ERROR))
     net = res.network
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file

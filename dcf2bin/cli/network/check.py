@@ -11,7 +11,8 @@ import sys
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, format_option,
-                                guarded, output_option, quiet_option, write_output)
+                                guarded, output_option, quiet_option, rule_options,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -21,12 +22,7 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.argument("network", required=False, type=click.Path(dir_okay=True))
 @format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
 @output_option("Default: standard output.")
-@click.option("--select", "select_", multiple=True, metavar="RULES",
-              help="Report only these rules: codes, code prefixes (NET2, DCF4), names, or "
-                   "ALL; comma-separated or repeated.")
-@click.option("--ignore", multiple=True, metavar="RULES",
-              help="Do not report these rules (codes, prefixes or names).")
-@click.option("--strict", is_flag=True, help="Warnings fail the run too (exit 1).")
+@rule_options
 @click.option("--max-load", type=click.FloatRange(0, 100), default=80.0, show_default=True,
               metavar="PERCENT", help="Warn when the estimated bus load is above this.")
 @click.option("--net", "net", type=Integer(1), metavar="N",

@@ -28,11 +28,20 @@ def configured_network(path: str, quiet: bool, outcome: str, net: int | None = N
         from dcf2bin.network import configure
         configure(network)
     emit(network.diagnostics, quiet)
-    n = len(network.diagnostics.errors)
-    if n:
+    errors = network.diagnostics.errors
+    if errors:
+        n = len(errors)
         say(f"{path}: {n} error{'s' if n != 1 else ''}, {outcome}")
-        raise Failure(ExitCode.FINDINGS)
+        raise Failure(exit_code(errors))
     return network
+
+
+def exit_code(errors) -> ExitCode:
+    """3 when a node's file could not be read (README's table: an input that cannot be
+    read), else 1."""
+    from dcf2bin.network.check import UNREADABLE
+    return (ExitCode.UNREADABLE if any(d.rule in UNREADABLE for d in errors)
+            else ExitCode.FINDINGS)
 
 
 def net_option(fn):
