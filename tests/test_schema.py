@@ -106,3 +106,44 @@ def test_container_rebuilds_header_fields():
 def test_fast_struct_rejects_variable_fields():
     with pytest.raises(TypeError):
         schema.fast_struct(schema.Entry)
+
+
+def test_packers_are_those_of_the_schemas():
+    """The struct packers and field lists written beside the schemas (compile uses them
+    without importing construct) are the ones the schemas declare."""
+    assert schema.HEADER.format == schema.fast_struct(schema.Header).format
+    assert schema.ENTRY_HEAD.format == schema.fast_struct(schema.EntryHead).format
+    assert schema.PIPARAMS.format == schema.fast_struct(schema.PIParams).format
+    assert schema.COUNT.format == "<" + schema.IndexCount.fmtstr[1:]
+    assert schema.HEADER_FIELDS == [sc.name for sc in schema.Header.subcons]
+    assert schema.PIPARAM_FIELDS == [sc.name for sc in schema.PIParams.subcons]
+    assert schema.ADDRESS_SIZE == schema.Address.sizeof()
+    with pytest.raises(AttributeError):
+        schema.NoSuchSchema
+
+
+@pytest.mark.parametrize("segs", [
+    dict(index=b"\x00" * 4, address=b"", extinfo=b"", piparam=b"\x01" * 20),
+    dict(index=b"\x02\x00\x00\x00" + b"\x00\x10\x01\x01\x00\x00\x00\x05" * 2,
+         address=b"\x00\x00\x02\x00", extinfo=b"\x03\x01", piparam=b""),
+    dict(index=b"", address=b"\x04\x00", extinfo=b"", piparam=b"\x00" * 20),
+])
+def test_canonical_container_without_construct_is_the_schemas(segs):
+    """BinContainer.to_bytes/canonical_header pack the header with struct (no construct
+    in a compile): byte for byte what schema.Container builds (D-5..D-7)."""
+    from dcf2bin.container import canonical_header
+    built = schema.Container.build(dict(version=7, **segs))
+    header = schema.Header.parse(built)
+    assert canonical_header(segs, 7) == {k: header[k] for k in schema.HEADER_FIELDS}
+    packed = schema.HEADER.pack(*canonical_header(segs, 7).values())
+    assert packed + b"".join(segs[n] for n in schema.SEGMENTS) == built
+
+
+def test_compile_does_not_import_construct():
+    import subprocess
+    import sys
+    code = ("import sys; from dcf2bin.compiler import compile_file; "
+            "compile_file('samples/plc.dcf'); print('construct' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=str(__import__("pathlib").Path(__file__).parent.parent))
+    assert out.stdout.split() == ["False"], out.stderr
