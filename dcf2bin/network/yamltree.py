@@ -74,6 +74,10 @@ def read_tree(text: str, path: str, diags: Diagnostics):
         what = exc.problem or exc.context or "invalid YAML"
         if exc.context and exc.problem:
             what = f"{exc.context}: {exc.problem}"
+        if "maximum nesting depth" in what:   # the libyaml of PyYAML 6.0.4 wheels stops first
+            diags.error(f"the YAML nests deeper than {MAX_DEPTH} levels", Where(path, line),
+                        rule="NET003")
+            raise YamlError() from None
         diags.error(f"YAML syntax: {what}", Where(path, line), rule="NET001")
         raise YamlError() from None
     except yaml.YAMLError as exc:
