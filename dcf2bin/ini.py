@@ -46,24 +46,41 @@ class Section:
     the values that were cut out (None: that line is not cut out of the template).
     The model builds such entries once. The exact reader leaves them None.
     """
-    __slots__ = ("name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
+    __slots__ = ("_name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
                  "denotation")
 
-    def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
+    def __init__(self, name: str | None, line: int, values: dict[str, str] | None = None,
                  keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
                  param_name: str | None = None, rest: dict[str, str] | None = None,
                  denotation: str | None = None):
-        self.name = name            # as written
+        self._name = name           # as written; None: read from the header when asked
         self.line = line
         if values is None and rest is None:
             values = {}
         self._values = values       # None: built from ``rest`` when first asked for
         self._keys = keys
-        self._text = text           # the file's text; the section's header line starts at _at
+        self._text = text           # the file's text (or its bytes, see parse_bytes); the
+                                    # section's header line starts at _at
         self._at = at
         self.param_name = param_name
         self.rest = rest
         self.denotation = denotation
+
+    @property
+    def name(self) -> str:
+        """The section's name as written (blanks around it trimmed)."""
+        if self._name is None:              # the fast reader's: from its header line
+            text, at = self._text or "", self._at
+            if isinstance(text, bytes):
+                name = text[at + 1:text.find(b"]", at + 1)].decode("latin-1")
+            else:
+                name = text[at + 1:text.find("]", at + 1)]
+            self._name = name.strip(" \t")
+        return self._name
+
+    @name.setter
+    def name(self, value: str) -> None:
+        self._name = value
 
     @property
     def values(self) -> dict[str, str]:
@@ -82,8 +99,13 @@ class Section:
         if self._keys is None:
             keys: dict[str, Key] = {}
             text = self._text or ""
-            end = text.find("\n[", self._at)
-            lines = text[self._at:end if end >= 0 else len(text)].split("\n")
+            if isinstance(text, bytes):           # the file's bytes: see parse_bytes
+                end = text.find(b"\n[", self._at)
+                own = text[self._at:end if end >= 0 else len(text)].decode("latin-1")
+            else:
+                end = text.find("\n[", self._at)
+                own = text[self._at:end if end >= 0 else len(text)]
+            lines = own.split("\n")
             for i, raw in enumerate(lines[1:], self.line + 1):   # after the header line
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
@@ -93,11 +115,24 @@ class Section:
         return self._keys
 
     def has(self, key: str) -> bool:
-        return key in self.values
+        if self._values is None:         # from the template, without building ``values``
+            return key in self.rest     # the names' lines are in it, with empty values
+        return key in self._values
 
     def get(self, key: str) -> str | None:
         """The value of ``key`` (lower case), or None when absent or empty."""
-        return self.values.get(key) or None
+        if self._values is None:         # from the template, without building ``values``
+            if key == "parametername" and self.param_name is not None:
+                return self.param_name or None
+            if key == "denotation" and self.denotation is not None:
+                return self.denotation or None
+            return self.rest.get(key) or None
+        return self._values.get(key) or None
+
+    def key_names(self):
+        """The lower-case key names, in file order (``values.keys()``, without building
+        ``values`` for a section read through a shared template)."""
+        return (self.rest if self._values is None else self._values).keys()
 
     def line_of(self, key: str) -> int:
         if key not in self.values:
@@ -186,7 +221,12 @@ def parse_bytes(data: bytes, path: str) -> IniFile:
         message, line, hint = problem
         return _rejected(path, message, line, hint)
     text, encoding = decode_bytes(data)
-    return parse_text(text, path, encoding)
+    # When the text has as many characters as the file has bytes, each byte is one
+    # character (ASCII read as UTF-8, or Latin-1), and Latin-1 decodes any slice of the
+    # bytes to the same characters: the sections point into the bytes (which the caller
+    # holds anyway) for the lines they look up on demand, and the decoded copy is freed
+    # after parsing.
+    return parse_text(text, path, encoding, data if len(text) == len(data) else None)
 
 
 def _rejected(path: str, message: str, line: int, hint: str,
@@ -201,11 +241,13 @@ def read(path: str) -> IniFile:
         return parse_bytes(f.read(), path)
 
 
-def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
+def parse_text(text: str, path: str, encoding: str = "utf-8",
+               source: bytes | None = None) -> IniFile:
     """Parse INI text. A fast path handles clean files; anything unusual (a bad line,
     a duplicate, a comment after a header) goes through the exact line-by-line
-    reader, which reports every problem with its line."""
-    fast = _parse_fast(text, path, encoding)
+    reader, which reports every problem with its line. ``source``: the bytes ``text``
+    was decoded from, when Latin-1 decodes them to ``text`` (ASCII, or a Latin-1 file)."""
+    fast = _parse_fast(text, path, encoding, source)
     if fast is not None:
         parsed = fast
     else:
@@ -226,7 +268,8 @@ def parse_text(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     return parsed
 
 
-def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
+def _parse_fast(text: str, path: str, encoding: str,
+                source: bytes | None = None) -> IniFile | None:
     """The common case, a clean file, one section at a time instead of one line at a time.
 
     The text is cut at every line that starts with '[' (a header: INI has no other
@@ -238,14 +281,17 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     this return None, and the exact reader takes the file.
     """
     nl = "\n"
+    lfs = None                                 # the number of line ends (counted once)
     if "\r" in text:
         crlf = text.count("\r\n")
         if text.count("\r") != crlf:
             return None                        # a lone CR: let the exact reader deal with it
-        if crlf == text.count("\n"):
+        lfs = text.count("\n")
+        if crlf == lfs:
             nl = "\r\n"                        # every line ends in CRLF
         else:
             text = text.replace("\r\n", "\n")   # mixed line ends
+            source = None                      # other offsets than the bytes
     sep, close = nl + "[", "]" + nl
     n_sep = len(sep)
     chunks = text.split(sep)                   # each a section, from just after its '['
@@ -261,6 +307,8 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
     lines: dict[str, tuple] = {}               # see _body_values
+    n_name = len(_NAME_KEY)
+    src = text if source is None else source
     for chunk in chunks:
         name, sep_found, body = chunk.partition(close)
         if not sep_found:                      # the last line of the file is a header
@@ -272,9 +320,17 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None                    # text after a header, or a broken header
             if name.strip() != name.strip(" \t"):
                 return None                    # other blanks: canonical_section's business
+            name = name.strip(" \t")
         # the names differ between the sub-sections of an array: cut their values out,
         # and the rest, with those lines left empty, is the template
-        pname, rest = _cut(body, _NAME_KEY, nl)
+        if body[:n_name] == _NAME_KEY:         # the first line, as configurators write it
+            j = body.find(nl, n_name)
+            if j < 0:
+                pname, rest = body[n_name:].strip(" \t"), _NAME_KEY
+            else:
+                pname, rest = body[n_name:j].strip(" \t"), _NAME_KEY + body[j:]
+        else:
+            pname, rest = _cut(body, _NAME_KEY, nl)
         denotation = None
         if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
             denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
@@ -283,7 +339,6 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
             shape = shapes[rest] = _body_values(rest, nl, lines)
             if shape is None:
                 return None
-        name = name.strip(" \t")
         canon = name.lower()
         if (len(canon) > 8 and canon[7] == "0") or not canon:
             canon = canonical_section(name)
@@ -291,11 +346,14 @@ def _parse_fast(text: str, path: str, encoding: str) -> IniFile | None:
                 return None
         if canon in sections:
             return None                        # a repeated section
-        sections[canon] = Section(name, line, None, None, text, at - 1, pname, shape,
+        # the name as written is read again from the header line when a message needs it
+        sections[canon] = Section(None, line, None, None, src, at - 1, pname, shape,
                                   denotation)
         line += chunk.count(nl) + 1
         at += len(chunk) + n_sep
-    return IniFile(path, encoding, sections, [], Diagnostics(), text.count("\n") + 1)
+    if lfs is None:
+        lfs = text.count("\n")
+    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1)
 
 
 # The two keys whose values are names, cut out of a section's template, as configurators

@@ -94,6 +94,19 @@ def test_fast_path_equals_exact_reader_on_real_files(path):
     _agree(text)
 
 
+@pytest.mark.parametrize("data", [
+    b"[2000]\r\nParameterName=Temp\xe9rature\r\nDataType=0x0007\r\n\r\n[ 2001 ]\r\nA=\xb0C\r\n",
+    "[2000]\nParameterName=Temp\u00e9rature\nDataType=0x0007\n".encode("utf-8"),
+    b"[2000]\nParameterName=T\nDataType=0x0007\n",
+], ids=["latin-1", "utf-8", "ascii"])
+def test_sections_read_from_the_bytes_give_the_text(data):
+    # an ASCII or Latin-1 file's sections read their names and key lines from the bytes
+    # when asked; they must read what the text says (a Latin-1 byte is no ASCII)
+    parsed = ini.parse_bytes(data, "t.dcf")
+    text, encoding = ini.decode_bytes(data)
+    assert _snapshot(parsed) == _snapshot(ini._parse_exact(text, "t.dcf", encoding))
+
+
 _LINE = st.one_of(
     st.sampled_from(["", " ", "; c=1", "# c", "[2000]", "[2000sub1]", "[2000SUB01]", " [2001]",
                      "[2001] ; x", "[]", "[a]b]", "Key=v", "key=V2", "KEY = v ", "k\t=\tv",

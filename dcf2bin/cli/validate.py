@@ -10,10 +10,10 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, format_option, guarded,
-                                load_static_od, node_id_option, output_option, quiet_option,
-                                read_input, static_od_option, target_stack_options,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
+                                guarded, load_static_od, node_id_option, output_option,
+                                quiet_option, read_input, static_od_option,
+                                target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -50,13 +50,17 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
+@click.option("-j", "--jobs", type=Integer(1), metavar="N",
+              help="Check up to N files at a time, in this process and N-1 worker processes "
+                   "(default: one per usable CPU core; 1: one after the other). The report "
+                   "is the same.")
 @quiet_option("Text format: no summary line either.")
 @debug_option
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
                  pi_size, pi_align, address_base, allow_external_files, no_target_check,
                  tx_cobs, rx_cobs, granularity, no_bit_mapping, static_od, stdin_filename,
-                 hints, quiet, debug):
+                 hints, jobs, quiet, debug):
     """Lint DCF/EDS files and binary containers: every problem, with rule ids.
 
     PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
@@ -92,7 +96,10 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
                    target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                    granularity=int(granularity), bit_mapping=not no_bit_mapping,
                    static_od=static_od)
-    result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename)
+    if jobs is None:
+        from dcf2bin.lint.parallel import usable_cores
+        jobs = usable_cores()
+    result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename, jobs=jobs)
     diags = result.diagnostics
     code = result.exit_code(strict)
     table = {r.id: r.as_dict() for r in rules}

@@ -2,15 +2,24 @@
 """
 from __future__ import annotations
 
+from itertools import groupby, repeat
+from operator import itemgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _NUMERIC_OR_BOOL
+
+
+_INDEX = itemgetter(0)
 
 
 class _EntriesStep:
     """Step 3 of ``_Engine``: the index entries one by one, checked (existence, size, PDO
     semantics) and then created or written.
     """
+    # a run of entries that creates a whole object is applied at once (the tests compare
+    # the results with this off: entry by entry)
+    _whole_objects = True
 
     # -- step 3 ----------------------------------------------------------------------------
     def entries(self) -> None:
@@ -19,14 +28,39 @@ class _EntriesStep:
         attrs = self.c.attributes
         static = self.static
         cur = self.cur
-        last = None
-        subs = sdict = None
         no_static: dict = {}
-        for pos, (index, sub, data) in enumerate(self.c.entries):
-            if index != last:           # entries come in runs of one index: look it up once
-                last = index
-                subs = cur.get(index)
-                sdict = static.entries(index) if static is not None else no_static
+        pos = 0
+        # entries come in runs of one index: look it up once per run
+        for index, run in groupby(self.c.entries, key=_INDEX):
+            run = list(run)
+            subs = cur.get(index)
+            sdict = static.entries(index) if static is not None else no_static
+            if subs is None and not sdict and attrs is not None and self._whole_objects \
+                    and not 0x1400 <= index <= 0x1BFF:
+                # a whole object created (a network variable, say): no entry can fail
+                # (nothing to compare a size with, no PDO semantics) unless a subindex
+                # comes twice; then entry by entry below
+                _, run_subs, datas = zip(*run)
+                n = len(run)
+                if len(set(run_subs)) == n:
+                    cur[index] = dict(zip(run_subs, zip(attrs[pos:pos + n], datas, repeat(None))))
+                    if static is None or not static.has(index):
+                        self.created_objects.append(index)
+                        self.created_set.add(index)
+                    self.n_created += n
+                    self.created_bytes += sum(map(len, datas))
+                    pos += n
+                    continue
+            pos = self._run(pos, run, subs, sdict)
+        self.applied = len(self.c.entries)
+
+    def _run(self, pos: int, run: list, subs, sdict) -> int:
+        """The entries of ``run`` (one index), the first at ``pos``, one by one; the
+        position after them."""
+        attrs = self.c.attributes
+        static = self.static
+        cur = self.cur
+        for pos, (index, sub, data) in enumerate(run, pos):
             rec = subs.get(sub) if subs is not None else None
             create = False
             if rec is None:
@@ -78,4 +112,4 @@ class _EntriesStep:
                 self.n_created += 1
                 self.created_bytes += len(data)
             subs[sub] = new
-        self.applied = len(self.c.entries)
+        return pos + 1

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from bisect import bisect_right
+from operator import itemgetter
 
 from dcf2bin import datatypes as dt
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _dir, _pdo_name, Pdo, TargetEntry, TargetWarning
 from dcf2bin.indexes import NV_FIRST, NV_LAST
+
+
+_INDEX_SUB = itemgetter(slice(0, 2))     # (index, sub, data) -> (index, sub)
 
 
 class _Results:
@@ -17,8 +21,9 @@ class _Results:
     def nv_addresses(self) -> dict[tuple[int, int], int]:
         if self.image is None:
             return {}
-        entries = self.c.entries
-        return {entries[p][:2]: a for p, a in zip(self.nv_first, self.image)}
+        # (index, sub) of each first occurrence -> its address, built in C
+        keys = map(_INDEX_SUB, map(self.c.entries.__getitem__, self.nv_first))
+        return dict(zip(keys, self.image))
 
     def pdos(self) -> list[Pdo]:
         out = []

@@ -2,6 +2,9 @@
 """
 from __future__ import annotations
 
+from itertools import accumulate
+from operator import add, le, lt
+
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
 from dcf2bin.indexes import NV_FIRST, NV_LAST
@@ -54,6 +57,8 @@ class _StructureStep:
         self.image = image
         sizes = [len(entries[p][2]) for p in first]
         total = pi[0] if pi is not None else None
+        if _clean(image, sizes, total):
+            return                  # nothing for the byte map below to find
         # variable by variable in address order: beyond the image, then overlapping an
         # earlier one; a byte map of the image answers "is any of these bytes taken?" in C
         taken = bytearray(max(a + z for a, z in zip(image, sizes)) if image else 0)
@@ -83,3 +88,24 @@ class _StructureStep:
 
     def first_entry(self, i: int) -> tuple:
         return self.c.entries[self.nv_first[i]]
+
+
+def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
+    """True when no variable ends beyond ``total`` and none overlaps another, told in C.
+    False means "maybe": the loop over the byte map finds which variable fails, and says
+    it as the target would."""
+    if not image:
+        return True
+    ends = list(map(add, image, sizes))
+    if total is not None and max(ends) > total:
+        return False
+    starts = image
+    if not all(map(le, image, image[1:])):
+        # in address order (a compiled PLC's addresses are a few ascending runs, one per
+        # type and direction, which the sort merges in linear time)
+        order = sorted(range(len(image)), key=image.__getitem__)
+        starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
+    # in address order, a variable overlaps an earlier one when it starts before the
+    # furthest end so far (a variable of 0 bytes may count as overlapping: "maybe")
+    reach = accumulate(ends, max)
+    return not any(map(lt, starts[1:], reach))

@@ -83,6 +83,9 @@ class DcfContext:
     @staticmethod
     def key_names(sec: ini_mod.Section):
         """Lower-case key names of a section without building per-key line records."""
+        names = getattr(sec, "key_names", None)     # ini.Section: without building values
+        if names is not None:
+            return names()
         vals = getattr(sec, "values", None)
         return vals.keys() if isinstance(vals, dict) else sec.keys.keys()
 

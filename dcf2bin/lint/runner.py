@@ -7,6 +7,7 @@ one check becomes an INT001 diagnostic (exit 70) and the others still run.
 """
 from __future__ import annotations
 
+import gc
 import os
 import traceback
 from dataclasses import dataclass, field
@@ -95,27 +96,47 @@ def _kind_of(path: str, data: bytes) -> str:
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
-        stdin_name: str = "<stdin>") -> RunResult:
+        stdin_name: str = "<stdin>", jobs: int = 1) -> RunResult:
+    """Lint every input of ``paths`` (see ``discover``); with ``jobs`` > 1 the files are
+    checked in that many worker processes (``parallel``), with the same results in the
+    same order."""
     result = RunResult()
+    files: list[tuple[int, str]] = []          # (place in result.files, path) to lint
     for path, error in discover(paths):
         shown = stdin_name if path == "-" else path
-        if error is None:
-            try:
-                if path == "-":
-                    data = stdin if stdin is not None else b""
-                else:
-                    with open(path, "rb") as f:
-                        data = f.read()
-            except OSError as exc:
-                error = exc.strerror or str(exc)
         if error is not None:
-            rule = RULES["IO001"]
-            message = error if error is NOTHING_FOUND else f"cannot read: {error}"
-            result.files.append(FileResult(shown, KIND_UNREADABLE, [Diagnostic(
-                Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)]))
-            continue
-        result.files.append(lint_bytes(shown, data, opts))
+            result.files.append(_unreadable(shown, error))
+        elif path == "-":
+            result.files.append(lint_bytes(shown, stdin if stdin is not None else b"", opts))
+        else:
+            files.append((len(result.files), path))
+            result.files.append(None)  # type: ignore[arg-type]
+    if jobs > 1 and len(files) > 1:
+        from dcf2bin.lint.parallel import lint_paths
+        done = lint_paths([(p, p) for _, p in files], opts, jobs, lint_path)
+    else:
+        done = [lint_path(p, p, opts) for _, p in files]
+    for (at, _), res in zip(files, done):
+        result.files[at] = res
     return result
+
+
+def lint_path(path: str, shown: str, opts: Options) -> FileResult:
+    """Read and lint the file ``path`` (named ``shown`` in the diagnostics); an unreadable
+    file is one IO001 finding."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        return _unreadable(shown, exc.strerror or str(exc))
+    return lint_bytes(shown, data, opts)
+
+
+def _unreadable(shown: str, error: str) -> FileResult:
+    rule = RULES["IO001"]
+    message = error if error is NOTHING_FOUND else f"cannot read: {error}"
+    return FileResult(shown, KIND_UNREADABLE, [Diagnostic(
+        Severity.ERROR, message, shown, rule="IO001", hint=rule.hint)])
 
 
 def lint_bytes(name: str, data: bytes, opts: Options | None = None,
@@ -128,10 +149,20 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
         res.diagnostics.append(_not_lintable(name))
         return res
     note = _misnamed(name, kind)
-    if kind == KIND_BIN:
-        _Run(res, opts).container(data)
-    else:
-        _Run(res, opts).dcf(data)
+    # As in a compile: a large file makes hundreds of thousands of small objects and no
+    # reference cycles worth collecting; the cyclic GC would only rescan them, more often
+    # the larger the file (a cost that grows faster than the file). The caller's setting
+    # is restored.
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        if kind == KIND_BIN:
+            _Run(res, opts).container(data)
+        else:
+            _Run(res, opts).dcf(data)
+    finally:
+        if was_enabled:
+            gc.enable()
     if note is not None and "IO002" in (opts.active if opts.active is not None else RULES):
         res.diagnostics.insert(0, note)
     return res
@@ -234,8 +265,6 @@ class _Run:
     def target_dcf(self, dev, sel, lay) -> None:
         """TGT0xx on a DCF: the container ``compile`` would write, checked as compile checks
         it (SPEC §8.1); nothing when compile would stop on other errors first."""
-        import gc
-
         from dcf2bin import compiler
         if compiler.blocked(dev, sel):
             return
@@ -245,14 +274,8 @@ class _Run:
             address_base=o.address_base, allow_external_files=o.allow_external_files,
             profile=o.profile, tx_cobs=o.tx_cobs, rx_cobs=o.rx_cobs,
             granularity=o.granularity, bit_mapping=o.bit_mapping, static_od=o.static_od)
-        was_enabled = gc.isenabled()
-        gc.disable()        # as compile_path: no reference cycles worth a full rescan here
-        try:
-            found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
-                                          opts)
-        finally:
-            if was_enabled:
-                gc.enable()
+        found = compiler.target_check(dev, sel, compiler.container_of(dev, sel, lay, opts),
+                                      opts)        # the cyclic GC is off: see lint_bytes
         for d in found:
             self.core.append(self._core(d, d.rule))
 

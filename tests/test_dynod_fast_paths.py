@@ -1,0 +1,85 @@
+"""The DynBuildOd model's shortcuts for large PLC containers (issue 22) answer as the slow
+paths they skip: a shortcut may only say "nothing to find" when the slow path finds
+nothing."""
+from __future__ import annotations
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from dcf2bin.dynod import structure
+
+
+def _brute(image, sizes, total):
+    """What the byte-map loop decides: does any variable end beyond total or overlap?"""
+    for i, (a, z) in enumerate(zip(image, sizes)):
+        if total is not None and a + z > total:
+            return False
+        for b, y in zip(image[:i], sizes[:i]):
+            if z and y and b < a + z and a < b + y:
+                return False
+    return True
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 4)), max_size=12),
+       st.one_of(st.none(), st.integers(0, 48)))
+def test_placement_shortcut_never_hides_a_failure(vars_, total):
+    image, sizes = [a for a, _ in vars_], [z for _, z in vars_]
+    if structure._clean(image, sizes, total):
+        assert _brute(image, sizes, total)
+
+
+def test_placement_shortcut_takes_ascending_runs():
+    # a PLC's addresses: a few ascending runs (one per type and direction), no overlap
+    image = list(range(100, 200)) + list(range(0, 100)) + list(range(200, 300, 2))
+    sizes = [1] * 200 + [2] * 50
+    assert structure._clean(image, sizes, 300)
+    assert not structure._clean(image, sizes, 299)                  # the last ends at 300
+    assert not structure._clean(image + [150], sizes + [1], None)   # byte 150 twice
+
+
+def _emulated(container, static, whole: bool):
+    from dcf2bin.dynod import TargetOptions, emulate
+    from dcf2bin.dynod.entries import _EntriesStep
+    old = _EntriesStep._whole_objects
+    _EntriesStep._whole_objects = whole
+    try:
+        out = emulate(container, TargetOptions(), static)
+    finally:
+        _EntriesStep._whole_objects = old
+    od = out.od if out.ok else None
+    return (repr(out), sorted((k, repr(v)) for k, v in od.items()) if od else None)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_whole_objects_at_once_equal_entry_by_entry(data):
+    # compiled PLC DCFs, then one entry repeated, dropped or given another attribute byte:
+    # the run that creates a whole object at once gives the outcome (code, reason, entry,
+    # warnings, created objects, PDOs) and the OD of the entry-by-entry run
+    import copy
+
+    from test_dynod_random import build, plc_dcfs
+    text, _ = data.draw(plc_dcfs())
+    res, static = build(text)
+    c = copy.deepcopy(res.container)
+    k = data.draw(st.integers(0, len(c.entries) - 1))
+    change = data.draw(st.sampled_from(["none", "repeat", "drop", "attr", "unmapped"]))
+    attrs = bytearray(c.attributes)
+    maps = [j for j, (i, s, d) in enumerate(c.entries)
+            if (0x1600 <= i <= 0x17FF or 0x1A00 <= i <= 0x1BFF) and s and d != bytes(4)]
+    if change == "unmapped" and maps:            # a mapped sub the created object lacks
+        j = data.draw(st.sampled_from(maps))
+        i, s, d = c.entries[j]
+        c.entries[j] = (i, s, (int.from_bytes(d, "little") | 0xFE00).to_bytes(4, "little"))
+    elif change == "repeat":
+        c.entries.insert(k, c.entries[k])
+        attrs.insert(k, attrs[k])
+    elif change == "drop":
+        del c.entries[k]
+        del attrs[k]
+    elif change == "attr":
+        attrs[k] = data.draw(st.integers(0, 255))
+    c.attributes = bytes(attrs)
+    for s in (static, None):
+        assert _emulated(c, s, True) == _emulated(c, s, False)
