@@ -288,3 +288,11 @@ def test_three_digit_subindex_section_is_named_by_compile_as_by_validate(tmp_pat
     assert (tmp_path / "odd.bin").read_bytes() == (tmp_path / "canon.bin").read_bytes()
     v = run("validate", str(odd))
     assert [x for x in findings(v) if "DCF061" in x] == [line]
+
+
+def test_both_ini_readers_note_a_respelled_section():
+    # the fast reader keeps names lazily; both readers list the sections written otherwise
+    from dcf2bin import ini
+    text = "[2001]\nSubNumber=1\n\n[2001sub001]\nDataType=0x0005\n\n[2001sub02]\nX=1\n"
+    assert ini.parse_bytes(text.encode(), "f").respelled == ["2001sub1", "2001sub2"]
+    assert ini._parse_exact(text, "f").respelled == ["2001sub1", "2001sub2"]

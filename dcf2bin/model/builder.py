@@ -51,9 +51,9 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         mains: dict[int, ini_mod.Section] = {}
         section_match, aux_match = _SECTION_RE.fullmatch, _AUX_RE.fullmatch
         hex4: dict[str, int] = {}   # the object indexes seen, as their section names
+        for canon in self.ini.respelled:       # [1018sub001]: DCF061
+            self._sub_spelling(canon, self.ini.sections[canon])
         for canon, sec in self.ini.sections.items():
-            if len(sec.name) != len(canon):
-                self._sub_spelling(canon, sec)
             # the common case, a sub-section "<index>sub<n>" of an object already seen
             obj_hex, is_sub, sub_hex = canon.partition("sub")
             if is_sub:
