@@ -7,7 +7,7 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from dcf2bin.diagnostics import Diagnostics, Where
 
@@ -164,6 +164,9 @@ class IniFile:
     diagnostics: Diagnostics
     line_count: int = 0
     rejected: bool = False     # not CiA 306 text at all (see ``not_text``): nothing was read
+    # canonical names of sections whose name is written otherwise ("[1018sub001]", "[1018SUB01]"),
+    # so that the model words DCF061 without reading every lazily kept name
+    respelled: list[str] = field(default_factory=list)
 
     def section(self, name: str) -> Section | None:
         return self.sections.get(name)
@@ -304,6 +307,7 @@ def _parse_fast(text: str, path: str, encoding: str,
             return None
         line, at = head.count(nl) + 2, len(head) + n_sep
     sections: dict[str, Section] = {}
+    respelled: list[str] = []
     shapes: dict[str, dict[str, str] | None] = {}
     shapes_get = shapes.get
     lines: dict[str, tuple] = {}               # see _body_values
@@ -344,6 +348,7 @@ def _parse_fast(text: str, path: str, encoding: str,
             canon = canonical_section(name)
             if not canon or "[" in canon or "]" in canon:
                 return None
+            respelled.append(canon)
         if canon in sections:
             return None                        # a repeated section
         # the name as written is read again from the header line when a message needs it
@@ -353,7 +358,7 @@ def _parse_fast(text: str, path: str, encoding: str,
         at += len(chunk) + n_sep
     if lfs is None:
         lfs = text.count("\n")
-    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1)
+    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1, respelled=respelled)
 
 
 # The two keys whose values are names, cut out of a section's template, as configurators
@@ -415,6 +420,7 @@ def _line(raw: str) -> tuple | None:
 def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
     diags = Diagnostics()
     sections: dict[str, Section] = {}
+    respelled: list[str] = []
     duplicates: list[Duplicate] = []
     current: Section | None = None
     skipping = False  # inside a repeated section: its keys are not merged into the first
@@ -459,6 +465,8 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
                 current = Section(name, lineno, keys={})
                 sections[canon] = current
                 skipping = False
+                if canon != name.lower():
+                    respelled.append(canon)
             continue
         eq = s.find("=")
         if eq <= 0:
@@ -480,7 +488,7 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
             duplicates.append(Duplicate(canonical_section(current.name), klow, prev.line, lineno))
             continue
         current.add(Key(kname, value, lineno))
-    return IniFile(path, encoding, sections, duplicates, diags, lineno)
+    return IniFile(path, encoding, sections, duplicates, diags, lineno, respelled=respelled)
 
 
 def _clip(s: str, n: int = 60) -> str:

@@ -222,3 +222,37 @@ def test_readme_opens_with_the_two_commands_and_ci_runs_the_second_verbatim():
     assert second.endswith("python3 -m pip install -q -e '.[test]' && python3 -m pytest -q")
     ci = (ROOT / ".ci" / "run").read_text().splitlines()
     assert second in ci
+
+
+def _table_commands(cell: str) -> set[str]:
+    """The README's "commands" cell as command names: "a, b", "every command",
+    "every command but a, b and c", "network check/show/scan"."""
+    every = {n for n in COMMANDS if n != "bin2dcf (program)"}
+    if cell.startswith("every command"):
+        but = cell.partition(" but ")[2]
+        return every - _table_commands(but) if but else every
+    names = set()
+    for part in cell.replace(" and ", ", ").split(", "):
+        head, _, subs = part.rpartition(" ")
+        names |= {f"{head} {s}".strip() for s in subs.split("/")}
+    return names
+
+
+def test_readme_option_table_lists_the_commands_that_have_each_option():
+    text = (ROOT / "README.md").read_text()
+    table = text[text.index("### Options every command shares"):]
+    table = table[:table.index("\n### ", 5)]
+    rows = {}
+    for line in table.splitlines():
+        cells = [c.strip() for c in line.replace("\\|", "/").strip("|").split("|")]
+        if line.startswith("| `") and len(cells) == 3:
+            rows[cells[0].split("`")[1].split(", ")[-1].split(" ")[0]] = cells[2]
+    by_option = {"--node-id": "node_id", "--output": "output", "--format": "fmt",
+                 "--quiet": "quiet", "--verbose": "verbose", "--debug": "debug",
+                 "--from": "from_", "--entries": "entries", "--static-od": "static_od",
+                 "--force": "force"}
+    assert set(by_option) <= set(rows)
+    for opt, param in by_option.items():
+        have = {n for n, cmd in COMMANDS.items() if n != "bin2dcf (program)"
+                and any(p.name == param for p in _options(cmd))}
+        assert _table_commands(rows[opt]) == have, opt

@@ -267,3 +267,32 @@ def test_network_variable_default_behind_its_parameter_value(tmp_path):
     assert r.exit_code == 1
     assert lines(r)[0] == (f"{src}:8: error: 0xA4C0sub1: value 256 out of range for UNSIGNED8 "
                            "(0..255) [DCF200]")
+
+
+def test_three_digit_subindex_section_is_named_by_compile_as_by_validate(tmp_path):
+    # [2001sub001] is read as [2001sub1]: compile says so in validate's words (DCF061),
+    # and the bytes are those of the canonical spelling
+    body = ("[2001]\nParameterName=Rec\nObjectType=0x9\nSubNumber=2\n\n"
+            "[2001sub0]\nParameterName=n\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\n\n"
+            "[2001{sub}]\nParameterName=v\nDataType=0x0006\nAccessType=rw\n"
+            "ParameterValue=7\n")
+    odd = write(tmp_path, body.format(sub="sub001"), "odd.dcf")
+    canon = write(tmp_path, body.format(sub="sub1"), "canon.dcf")
+    r = run("compile", str(odd), "-o", str(tmp_path / "odd.bin"))
+    assert r.exit_code == 0
+    line = (f"{odd}:15: warning: [2001sub001] has a subindex of 3 digits; it is read as "
+            "[2001sub1], the canonical spelling [DCF061]")
+    assert lines(r) == [line, "    hint: a subindex has 1 or 2 hex digits: write the "
+                              "canonical section name"]
+    assert run("compile", str(canon), "-o", str(tmp_path / "canon.bin")).stderr == ""
+    assert (tmp_path / "odd.bin").read_bytes() == (tmp_path / "canon.bin").read_bytes()
+    v = run("validate", str(odd))
+    assert [x for x in findings(v) if "DCF061" in x] == [line]
+
+
+def test_both_ini_readers_note_a_respelled_section():
+    # the fast reader keeps names lazily; both readers list the sections written otherwise
+    from dcf2bin import ini
+    text = "[2001]\nSubNumber=1\n\n[2001sub001]\nDataType=0x0005\n\n[2001sub02]\nX=1\n"
+    assert ini.parse_bytes(text.encode(), "f").respelled == ["2001sub1", "2001sub2"]
+    assert ini._parse_exact(text, "f").respelled == ["2001sub1", "2001sub2"]

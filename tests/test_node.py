@@ -4,6 +4,7 @@ runs it until Ctrl-C (or --duration)."""
 from __future__ import annotations
 
 import _thread
+import signal
 import threading
 import time
 
@@ -157,6 +158,9 @@ def test_node_command_runs_for_its_duration(channel):
 
 def test_ctrl_c_stops_the_node_cleanly(channel):
     """An injected KeyboardInterrupt (Ctrl-C) ends the node with exit 0, nothing left."""
+    # a suite started in the background by a non-interactive shell inherits SIGINT ignored,
+    # and interrupt_main() then does nothing: start from the handler a terminal gives
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
     b = Bench(channel)
     try:
         boot = Frames(b.network(), 0x70A)
@@ -172,6 +176,7 @@ def test_ctrl_c_stops_the_node_cleanly(channel):
         t.join()
     finally:
         b.close()
+        signal.signal(signal.SIGINT, old)
     assert time.monotonic() - start < 5
     assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
 

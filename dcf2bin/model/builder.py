@@ -51,6 +51,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         mains: dict[int, ini_mod.Section] = {}
         section_match, aux_match = _SECTION_RE.fullmatch, _AUX_RE.fullmatch
         hex4: dict[str, int] = {}   # the object indexes seen, as their section names
+        for canon in self.ini.respelled:       # [1018sub001]: DCF061
+            self._sub_spelling(canon, self.ini.sections[canon])
         for canon, sec in self.ini.sections.items():
             # the common case, a sub-section "<index>sub<n>" of an object already seen
             obj_hex, is_sub, sub_hex = canon.partition("sub")
@@ -95,6 +97,21 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                                  self.w(sec.line), rule="DCF007")
         self._compact_pdo()
         layout.attach_channels(self.dev)
+
+    def _sub_spelling(self, canon: str, sec: ini_mod.Section) -> None:
+        """[1018sub001] is read as [1018sub1]: say so in validate's words (DCF061)."""
+        obj_hex, is_sub, _ = canon.partition("sub")
+        digits = sec.name.strip().lower().partition("sub")[2]
+        if not is_sub or len(digits) <= 2 or digits.strip("0123456789abcdef"):
+            return
+        sub = int(digits, 16)
+        if sub > 0xFF:
+            return   # DCF005
+        self.dev.warning(f"[{sec.name}] has a subindex of {len(digits)} digits; it is read "
+                         f"as [{obj_hex.upper()}sub{sub:X}], the canonical spelling",
+                         self.w(sec.line), int(obj_hex, 16), sub, rule="DCF061",
+                         hint="a subindex has 1 or 2 hex digits: write the canonical "
+                              "section name")
 
     # -- file-level keys ---------------------------------------------------------------
     def _duplicates(self) -> None:

@@ -80,6 +80,10 @@ def read_tree(text: str, path: str, diags: Diagnostics):
         what = exc.problem or exc.context or "invalid YAML"
         if exc.context and exc.problem:
             what = f"{exc.context}: {exc.problem}"
+        if "maximum nesting depth" in what:   # the libyaml of PyYAML 6.0.4 wheels stops first
+            diags.error(f"the YAML nests deeper than {MAX_DEPTH} levels", Where(path, line),
+                        rule="NET003")
+            raise YamlError() from None
         if mark is not None and _at_tab(text, mark.index):
             what += " (a tab: YAML indents with spaces)"
         diags.error(f"YAML syntax: {what}", Where(path, line), rule="NET001")
