@@ -8,8 +8,8 @@ the tests check that construct (plain and compiled), ``fast_struct`` and the pac
 agree field by field. All fields are little-endian.
 
 The construct schemas are built on first use (``schema.Header``, ``from
-dcf2bin.schema import Entry``): importing construct costs a compile of a large
-file about 6 MiB and 15 ms, and compile needs only the packers.
+dcf2bin.schema import Entry``): importing construct costs about 6 MiB and 15 ms,
+and compile needs only the packers.
 """
 from __future__ import annotations
 

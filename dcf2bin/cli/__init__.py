@@ -23,7 +23,7 @@ class _Entry(Group):
     a ``compile`` that ran to its exit code leaves without the interpreter's teardown: its
     output is written, fsynced and renamed by then, and freeing the tens of thousands of
     objects of a big file's model and the imported modules one by one would only add to
-    the run's time (about 20 ms; nothing of it is observable). Every other way of calling
+    the run's time (10-20 ms; nothing of it is observable). Every other way of calling
     it -- with arguments, ``CliRunner``, ``standalone_mode=False``, the Python API --, and
     every other command, exit as click does.
     """
