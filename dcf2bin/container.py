@@ -28,22 +28,6 @@ class ContainerError(Exception):
         self.rule = rule      # the validate rule that names this (CNT0xx)
 
 
-def canonical_header(segs: dict[str, bytes], version: int) -> dict[str, int]:
-    """The header of the canonical layout (SPEC §3.1, D-5..D-7): the segments follow
-    the header back to back in table order; an absent (empty) one has offset 0 and
-    is not counted."""
-    h = {"total_size": schema.HEADER_SIZE + sum(len(segs[n]) for n in schema.SEGMENTS),
-         "version": version,
-         "segment_count": sum(1 for n in schema.SEGMENTS if segs[n])}
-    pos = schema.HEADER_SIZE
-    for name in schema.SEGMENTS:
-        size = len(segs[name])
-        h[f"{name}_offset"] = pos if size else 0
-        h[f"{name}_size"] = size
-        pos += size
-    return {k: h[k] for k in schema.HEADER_FIELDS}
-
-
 @dataclass
 class BinContainer:
     entries: list[tuple[int, int, bytes]] = field(default_factory=list)
@@ -86,16 +70,15 @@ class BinContainer:
 
     # -- bytes --------------------------------------------------------------------------------
     def canonical_header(self) -> dict[str, int]:
-        return canonical_header(self.segments(), self.version)
+        segs = self.segments()
+        built = schema.Container.build(dict(version=self.version, **segs))
+        parsed = schema.HeaderC.parse(built[:schema.HEADER_SIZE])
+        return {k: parsed[k] for k in schema.HEADER_FIELDS}
 
     def to_bytes(self, segs: dict[str, bytes] | None = None) -> bytes:
         segs = segs if segs is not None else self.segments()
         if self.header is None:
-            # what schema.Container builds (the tests compare the two), without
-            # importing construct for every compile
-            h = canonical_header(segs, self.version)
-            return b"".join([schema.HEADER.pack(*(h[k] for k in schema.HEADER_FIELDS)),
-                             *(segs[name] for name in schema.SEGMENTS)])
+            return schema.Container.build(dict(version=self.version, **segs))
         return self._build_as_stored(segs)
 
     def _build_as_stored(self, segs: dict[str, bytes]) -> bytes:
