@@ -201,28 +201,3 @@ def test_refuses_binary_to_a_terminal():
     assert out.returncode == 2
     assert out.stderr == ("dcf2bin: error: refusing to write binary data to a terminal; "
                           "use -o FILE or a pipe\n")
-
-
-def test_console_compile_leaves_everything_flushed(tmp_path):
-    """The console entry point ends a finished compile with os._exit (no interpreter
-    teardown): the container, its bytes on standard output and the -v line on standard
-    error are all out first, with the exit code click chose."""
-    from dcf2bin.compiler import compile_file
-    expected = compile_file(str(SAMPLES / "plc.dcf"))
-    env = {**os.environ, "PYTHONPATH": str(pathlib.Path(__file__).resolve().parent.parent)}
-    out = subprocess.run([sys.executable, "-m", "dcf2bin", "compile", str(SAMPLES / "plc.dcf"),
-                          "-o", "-", "-v"], capture_output=True, env=env, cwd=tmp_path)
-    assert out.returncode == 0
-    assert out.stdout == expected
-    assert out.stderr.decode().startswith(f"{SAMPLES / 'plc.dcf'} -> -: {len(expected)} bytes")
-    target = tmp_path / "x.bin"
-    code = ("import sys; sys.argv = ['dcf2bin', 'compile', sys.argv[1], '-o', sys.argv[2]]\n"
-            "from dcf2bin.cli import main\nmain()\nprint('not reached')")
-    out = subprocess.run([sys.executable, "-c", code, str(SAMPLES / "plc.dcf"), str(target)],
-                         capture_output=True, text=True, env=env, cwd=tmp_path)
-    assert (out.returncode, out.stdout, out.stderr) == (0, "", "")
-    assert target.read_bytes() == expected
-    # called in-process with arguments: click's own exit, nothing skipped
-    with pytest.raises(SystemExit) as exc:
-        main(["compile", str(SAMPLES / "plc.dcf"), "-o", str(target), "--force"])
-    assert exc.value.code == 0
