@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from bisect import bisect_right
+from itertools import compress
 from operator import itemgetter
 
 from dcf2bin import datatypes as dt
@@ -18,16 +19,22 @@ class _Results:
     """What ``_Engine`` reports after a run: NV addresses, PDOs, warnings, the created OD."""
 
     # -- results ---------------------------------------------------------------------------
-    def nv_addresses(self) -> dict[tuple[int, int], int]:
+    def nv_addresses(self, wanted: set | None = None) -> dict[tuple[int, int], int]:
+        """(index, sub) of each network variable's first occurrence -> its PI address;
+        only the keys in ``wanted`` when given (a few mapped variables: no dict of every
+        variable, 60,000 tuples at a compile's peak of memory). Built in C either way."""
         if self.image is None:
             return {}
-        # (index, sub) of each first occurrence -> its address, built in C
-        keys = map(_INDEX_SUB, map(self.c.entries.__getitem__, self.nv_first))
-        return dict(zip(keys, self.image))
+        get = self.c.entries.__getitem__
+        keys = map(_INDEX_SUB, map(get, self.nv_first))
+        if wanted is None:
+            return dict(zip(keys, self.image))
+        asked = map(wanted.__contains__, map(_INDEX_SUB, map(get, self.nv_first)))
+        return dict(compress(zip(keys, self.image), asked))
 
     def pdos(self) -> list[Pdo]:
-        out = []
-        addrs = None
+        rows = []
+        wanted = set()          # the network variables mapped, for their addresses
         for comm in sorted(self.valid):
             mapping = comm + 0x200
             n = self.int_of(mapping, 0) or 0
@@ -37,15 +44,16 @@ class _Results:
                 if v is None:
                     continue
                 m_idx, m_sub, bits = v >> 16, (v >> 8) & 0xFF, v & 0xFF
-                addr = None
                 if NV_FIRST <= m_idx <= NV_LAST and m_sub:
-                    if addrs is None:
-                        addrs = self.nv_addresses()
-                    addr = addrs.get((m_idx, m_sub))
-                mapped.append((m_idx, m_sub, bits, addr))
+                    wanted.add((m_idx, m_sub))
+                mapped.append((m_idx, m_sub, bits))
+            rows.append((comm, mapped))
+        addrs = self.nv_addresses(wanted) if wanted else {}
+        out = []
+        for comm, mapped in rows:
             cob = self.int_of(comm, 1)
             out.append(Pdo(_dir(comm), comm, cob if cob is not None else self.valid[comm],
-                           mapped))
+                           [(i, s, bits, addrs.get((i, s))) for i, s, bits in mapped]))
         return out
 
     def warnings(self) -> list[TargetWarning]:
