@@ -543,6 +543,25 @@ def rule_options(fn):
                         help=_help("select"))(fn)
 
 
+def lint_report(fmt: str, diags, files, rules, code, *, output: str, quiet: bool,
+                hints: bool, read: int) -> str:
+    """validate's and network check's report in one of their formats: ``files`` is the
+    (path, kind) list the JSON names, ``read`` the count the text summary gives."""
+    from dcf2bin import __version__, report
+    table = {r.id: r.as_dict() for r in rules}
+    if fmt == "json":
+        return report.json_report(diags, files, table, exit_code=int(code),
+                                  tool_version=__version__)
+    if fmt == "sarif":
+        return report.sarif_report(diags, [r.as_dict() for r in rules], exit_code=int(code),
+                                   tool_version=__version__)
+    if fmt == "github":
+        return report.github_report(diags, table)
+    colour = output == "-" and report.use_colour(sys.stdout)
+    shown = [d for d in diags if not quiet or d.severity is Severity.ERROR]
+    return report.text_report(shown, read, colour=colour, hints=hints, show_summary=not quiet)
+
+
 def quiet_option(more: str = ""):
     return click.option("-q", "--quiet", is_flag=True, help=_help("quiet", more))
 

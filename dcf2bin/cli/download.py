@@ -25,6 +25,15 @@ def bus_options(fn):
     return fn
 
 
+def sdo_options(fn):
+    """--timeout/--retries of the SDO client, shared by download and network download."""
+    fn = click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
+                      help="Times an unanswered SDO request is sent again.")(fn)
+    return click.option("--timeout", type=click.FloatRange(0.001), default=1.0,
+                        show_default=True, metavar="SECONDS",
+                        help="Seconds to wait for each SDO response.")(fn)
+
+
 def open_bus(interface, channel, bitrate):
     """The network on the bus of --interface/--channel/--bitrate, with the libraries'
     own logging quiet; a bus that cannot be opened is one line and exit 3."""
@@ -48,11 +57,7 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 @click.argument("input", metavar="FILE", type=click.Path(allow_dash=True))
 @node_id_option("The node to configure; also used for $NODEID values.", required=True)
 @bus_options
-@click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
-              metavar="SECONDS",
-              help="Seconds to wait for each SDO response.")
-@click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
-              help="Times an unanswered SDO request is sent again.")
+@sdo_options
 @from_option(["dcf", "json", "bin"], "dcf = DCF/EDS, bin = container, json = lossless "
              "dump.")
 @click.option("--dry-run", is_flag=True, help="Print the SDO writes; touch no bus.")

@@ -6,15 +6,13 @@ man/dcf2bin-validate.1.
 """
 from __future__ import annotations
 
-import sys
-
 import click
 
 from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
-                                guarded, load_static_od, node_id_option, output_option,
+                                guarded, lint_report, load_static_od, node_id_option, output_option,
                                 quiet_option, read_input, rule_options, static_od_option,
                                 target_stack_options, write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
 
@@ -64,7 +62,7 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
     1 findings, 2 usage error, 3 an input could not be read (or a directory holds no such
     file) or the report could not be written, 70 internal error.
     """
-    from dcf2bin import __version__, report
+    from dcf2bin import report
     from dcf2bin.lint import Options, SelectorError, all_rules, resolve, run
 
     rules = all_rules()
@@ -97,21 +95,9 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
     result = run(list(paths), opts, stdin=stdin, stdin_name=stdin_filename, jobs=jobs)
     diags = result.diagnostics
     code = result.exit_code(strict)
-    table = {r.id: r.as_dict() for r in rules}
-    if fmt == "json":
-        text = report.json_report(diags, [(f.path, f.kind) for f in result.files], table,
-                                  exit_code=int(code), tool_version=__version__)
-    elif fmt == "sarif":
-        text = report.sarif_report(diags, [r.as_dict() for r in rules], exit_code=int(code),
-                                   tool_version=__version__)
-    elif fmt == "github":
-        text = report.github_report(diags, table)
-    else:
-        colour = output == "-" and report.use_colour(sys.stdout)
-        shown = [d for d in diags if not quiet or d.severity is Severity.ERROR]
-        read = sum(1 for f in result.files if f.kind != "unreadable")
-        text = report.text_report(shown, read, colour=colour, hints=hints,
-                                  show_summary=not quiet)
+    read = sum(1 for f in result.files if f.kind != "unreadable")
+    text = lint_report(fmt, diags, [(f.path, f.kind) for f in result.files], rules, code,
+                       output=output, quiet=quiet, hints=hints, read=read)
     _write(text, output, list(paths) + [f.path for f in result.files])
     root = click.get_current_context().find_root().params or {}
     if result.tracebacks and (debug or root.get("debug")):

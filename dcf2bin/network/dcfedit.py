@@ -3,7 +3,7 @@
 
 An entry with its own section gets its ``ParameterValue=`` line replaced, or one added
 after the section's last key; a sub-entry of a CompactSubObj object goes into the
-object's ``[XXXXValue]`` section (made at the end of the file when missing);
+object's value section, e.g. ``[1016Value]`` (made at the end of the file when missing);
 ``[DeviceComissioning] NodeID`` likewise. An entry the file only implies (made from
 CompactPDO, an implied sub 0) has no section to write into: that is an error.
 """

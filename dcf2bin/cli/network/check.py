@@ -6,14 +6,12 @@ man/dcf2bin-network-check.1.
 """
 from __future__ import annotations
 
-import sys
-
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, format_option,
-                                guarded, output_option, quiet_option, rule_options,
+                                guarded, lint_report, output_option, quiet_option, rule_options,
                                 write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
 
@@ -43,7 +41,7 @@ def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list
     network or a node's file could not be read (or the report could not be written),
     70 internal error.
     """
-    from dcf2bin import __version__, report
+    from dcf2bin import report
     from dcf2bin.network.check import SelectorError, check_network, resolve, rule_table
 
     table = rule_table()
@@ -69,20 +67,8 @@ def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list
     result = check_network(network, select=select_, ignore=ignore, max_load=max_load, net=net)
     diags = result.diagnostics
     code = result.exit_code(strict)
-    as_dicts = {r.id: r.as_dict() for r in rules}
-    if fmt == "json":
-        text = report.json_report(diags, result.files, as_dicts, exit_code=int(code),
-                                  tool_version=__version__)
-    elif fmt == "sarif":
-        text = report.sarif_report(diags, [r.as_dict() for r in rules], exit_code=int(code),
-                                   tool_version=__version__)
-    elif fmt == "github":
-        text = report.github_report(diags, as_dicts)
-    else:
-        colour = output == "-" and report.use_colour(sys.stdout)
-        shown = [d for d in diags if not quiet or d.severity is Severity.ERROR]
-        text = report.text_report(shown, len(result.files), colour=colour, hints=hints,
-                                  show_summary=not quiet)
+    text = lint_report(fmt, diags, result.files, rules, code, output=output, quiet=quiet,
+                       hints=hints, read=len(result.files))
     write_output(text, output, [network] + [p for p, _ in result.files], binary=False)
     if code != ExitCode.OK:
         raise Failure(code)

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, guarded,
+from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, guarded,
                                 quiet_option, write_output)
-from dcf2bin.cli.download import bus_options, open_bus
+from dcf2bin.cli.download import bus_options, open_bus, sdo_options
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
@@ -13,10 +13,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.command("download", context_settings=CONTEXT)
 @click.argument("network_file", metavar="NETWORK", type=click.Path())
 @bus_options
-@click.option("--timeout", type=click.FloatRange(0.001), default=1.0, show_default=True,
-              metavar="SECONDS", help="Seconds to wait for each SDO response.")
-@click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
-              help="Times an unanswered SDO request is sent again.")
+@sdo_options
 @click.option("--dry-run", is_flag=True,
               help="Print each slave's identity check and SDO writes; touch no bus.")
 @click.option("--verify", is_flag=True,
