@@ -80,3 +80,31 @@ class Bench:
 
 def bus_args(channel: str) -> list[str]:
     return ["-i", "virtual", "--channel", channel, "--timeout", TIMEOUT, "--retries", "0"]
+
+
+def beside_target(scenario, plc_bin: str, node_id: int, channel: str, duration: int, bench):
+    """Run ``scenario()`` in a thread while ``dcf2bin node --container PLC_BIN`` runs in
+    this one (it needs the main thread for its Ctrl-C); when the scenario ends, Ctrl-C
+    stops the node. The scenario's exception is raised here; the node's result returned."""
+    import _thread
+    failure: list[BaseException] = []
+
+    def body():
+        try:
+            scenario()
+        except BaseException as exc:   # handed to the test in the main thread
+            failure.append(exc)
+        finally:
+            _thread.interrupt_main()                         # Ctrl-C for the node
+
+    t = threading.Thread(target=body)
+    t.start()
+    try:
+        r = run("node", "--container", plc_bin, "--node-id", str(node_id), "--show-pi",
+                "-i", "virtual", "--channel", channel, "--duration", str(duration))
+    finally:
+        t.join()
+        bench.close()
+    if failure:
+        raise failure[0]
+    return r

@@ -10,15 +10,13 @@ The expected addresses are the ones `dcf2bin map --format json` gives for the sa
 """
 from __future__ import annotations
 
-import _thread
 import importlib.util
 import json
-import threading
 import time
 
 import pytest
 
-from bus_helpers import Bench, bus_args, run
+from bus_helpers import Bench, beside_target, bus_args, run
 from dcf2bin.cli import main
 
 pytest_plugins = ["bus_fixtures"]
@@ -65,45 +63,30 @@ def test_download_slave_and_see_its_tpdo_in_the_targets_process_image(channel, t
     mon = bench.network()
     frames = Frames(mon, 0x700 + PLC_ID, 0x180 + SLAVE_ID, 0x180 + PLC_ID)
     seen: dict = {}
-    failure: list[BaseException] = []
 
     def scenario():
-        try:
-            frames.wait(1, 0x700 + PLC_ID)                  # the target has booted
-            bench.device(SLAVE_ID)                           # the slave, from its EDS
-            rc = main.main(["download", "samples/device.dcf", "-n", str(SLAVE_ID), "-q",
-                            "--verify", *bus_args(channel)], standalone_mode=False)
-            seen["download"] = rc
-            # Every node takes the frames of the bus in order: NMT start before SYNC, the
-            # slave's TPDO before the SDO request that reads the target's image.
-            mon.nmt.state = "OPERATIONAL"                    # NMT start, all nodes
-            mon.sync.transmit()                              # slave TPDO1 is type 1 (SYNC)
-            seen["tpdo1"] = frames.wait(1, 0x180 + SLAVE_ID)[0]
-            plc = bench.sdo(PLC_ID)
-            seen["position"] = plc.upload(*POSITION)
-            # a new value on the slave travels on the next SYNC
-            bench.sdo(SLAVE_ID).download(0x2001, 0, bytes.fromhex("563412"))
-            mon.sync.transmit()
-            seen["tpdo2"] = frames.wait(2, 0x180 + SLAVE_ID)[1]
-            # outputs: the target's TPDO (type 254) goes out when a mapped value changes
-            plc.download(*WORD, bytes.fromhex("EFBE"))
-            plc.download(*DIGOUT, b"\x5a")
-            seen["plc_tpdo"] = frames.wait(2, 0x180 + PLC_ID)[-1]
-        except BaseException as exc:   # handed to the test in the main thread
-            failure.append(exc)
-        finally:
-            _thread.interrupt_main()                         # Ctrl-C for the node
+        frames.wait(1, 0x700 + PLC_ID)                  # the target has booted
+        bench.device(SLAVE_ID)                           # the slave, from its EDS
+        rc = main.main(["download", "samples/device.dcf", "-n", str(SLAVE_ID), "-q",
+                        "--verify", *bus_args(channel)], standalone_mode=False)
+        seen["download"] = rc
+        # Every node takes the frames of the bus in order: NMT start before SYNC, the
+        # slave's TPDO before the SDO request that reads the target's image.
+        mon.nmt.state = "OPERATIONAL"                    # NMT start, all nodes
+        mon.sync.transmit()                              # slave TPDO1 is type 1 (SYNC)
+        seen["tpdo1"] = frames.wait(1, 0x180 + SLAVE_ID)[0]
+        plc = bench.sdo(PLC_ID)
+        seen["position"] = plc.upload(*POSITION)
+        # a new value on the slave travels on the next SYNC
+        bench.sdo(SLAVE_ID).download(0x2001, 0, bytes.fromhex("563412"))
+        mon.sync.transmit()
+        seen["tpdo2"] = frames.wait(2, 0x180 + SLAVE_ID)[1]
+        # outputs: the target's TPDO (type 254) goes out when a mapped value changes
+        plc.download(*WORD, bytes.fromhex("EFBE"))
+        plc.download(*DIGOUT, b"\x5a")
+        seen["plc_tpdo"] = frames.wait(2, 0x180 + PLC_ID)[-1]
 
-    t = threading.Thread(target=scenario)
-    t.start()
-    try:
-        r = run("node", "--container", plc_bin, "--node-id", str(PLC_ID), "--show-pi",
-                "-i", "virtual", "--channel", channel, "--duration", "20")
-    finally:
-        t.join()
-        bench.close()
-    if failure:
-        raise failure[0]
+    r = beside_target(scenario, plc_bin, PLC_ID, channel, 20, bench)
     assert seen["download"] is None and r.exit_code == 0
     assert r.stderr == (f"{plc_bin}: node 16 on the bus (interface virtual, channel "
                         f"{channel}); Ctrl-C stops it\n{plc_bin}: node 16 stopped\n")

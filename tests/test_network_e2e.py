@@ -9,15 +9,13 @@ value written at an output variable's address in the PLC reaches the slave's obj
 """
 from __future__ import annotations
 
-import _thread
 import importlib.util
 import json
-import threading
 import time
 
 import pytest
 
-from bus_helpers import Bench, TIMEOUT, run
+from bus_helpers import Bench, TIMEOUT, beside_target, run
 
 pytest_plugins = ["bus_fixtures"]
 pytestmark = [pytest.mark.usefixtures("at_root"),
@@ -70,52 +68,37 @@ def test_build_download_and_the_pdos_reach_the_plcs_process_image(channel, tmp_p
     mon = bench.network()
     got = frames_on(mon, 0x700 + PLC_ID, 0x182, 0x183, 0x202)
     seen: dict = {}
-    failure: list[BaseException] = []
 
     def scenario():
-        try:
-            wait_for(got, 0x700 + PLC_ID)                   # the PLC target has booted
-            slaves = {}
-            for nid, path in SLAVES.items():
-                from dcf2bin.bus.node import from_file
-                node, errors = from_file(path, nid)
-                assert errors == []
-                slaves[nid] = bench.add(node)
-            seen["download"] = run("network", "download", NETWORK, "--verify",
-                                   "-i", "virtual", "--channel", channel,
-                                   "--timeout", TIMEOUT, "--retries", "0")
-            # the slaves' inputs: io1 6000 sub 1 (door_closed), dev3 0x2001 (position)
-            slaves[2].sdo[0x6000][1].raw = 0x5A
-            slaves[3].sdo[0x2001].raw = 0x123456
-            mon.nmt.state = "OPERATIONAL"                    # NMT start, all nodes
-            mon.sync.transmit()                              # TPDO1 of io1/dev3: type 1
-            seen["io1_tpdo"] = wait_for(got, 0x182)[0]
-            seen["dev3_tpdo"] = wait_for(got, 0x183)[0]
-            plc = bench.sdo(PLC_ID)
-            seen["door"] = plc.upload(door["index"], door["subindex"])
-            seen["position"] = plc.upload(position["index"], position["subindex"])
-            # an output: the PLC's TPDO (type 255) goes out when a mapped value changes
-            plc.download(lamp["index"], lamp["subindex"], b"\x01")
-            seen["plc_tpdo"] = wait_for(got, 0x202)[-1]
-            deadline = time.monotonic() + 3
-            while slaves[2].sdo[0x6200][1].raw != 1 and time.monotonic() < deadline:
-                time.sleep(0.005)
-            seen["lamp"] = slaves[2].sdo[0x6200][1].raw
-        except BaseException as exc:        # handed to the test in the main thread
-            failure.append(exc)
-        finally:
-            _thread.interrupt_main()                         # Ctrl-C for the node
+        wait_for(got, 0x700 + PLC_ID)                   # the PLC target has booted
+        slaves = {}
+        for nid, path in SLAVES.items():
+            from dcf2bin.bus.node import from_file
+            node, errors = from_file(path, nid)
+            assert errors == []
+            slaves[nid] = bench.add(node)
+        seen["download"] = run("network", "download", NETWORK, "--verify",
+                               "-i", "virtual", "--channel", channel,
+                               "--timeout", TIMEOUT, "--retries", "0")
+        # the slaves' inputs: io1 6000 sub 1 (door_closed), dev3 0x2001 (position)
+        slaves[2].sdo[0x6000][1].raw = 0x5A
+        slaves[3].sdo[0x2001].raw = 0x123456
+        mon.nmt.state = "OPERATIONAL"                    # NMT start, all nodes
+        mon.sync.transmit()                              # TPDO1 of io1/dev3: type 1
+        seen["io1_tpdo"] = wait_for(got, 0x182)[0]
+        seen["dev3_tpdo"] = wait_for(got, 0x183)[0]
+        plc = bench.sdo(PLC_ID)
+        seen["door"] = plc.upload(door["index"], door["subindex"])
+        seen["position"] = plc.upload(position["index"], position["subindex"])
+        # an output: the PLC's TPDO (type 255) goes out when a mapped value changes
+        plc.download(lamp["index"], lamp["subindex"], b"\x01")
+        seen["plc_tpdo"] = wait_for(got, 0x202)[-1]
+        deadline = time.monotonic() + 3
+        while slaves[2].sdo[0x6200][1].raw != 1 and time.monotonic() < deadline:
+            time.sleep(0.005)
+        seen["lamp"] = slaves[2].sdo[0x6200][1].raw
 
-    t = threading.Thread(target=scenario)
-    t.start()
-    try:
-        r = run("node", "--container", plc_bin, "--node-id", str(PLC_ID), "--show-pi",
-                "-i", "virtual", "--channel", channel, "--duration", "30")
-    finally:
-        t.join()
-        bench.close()
-    if failure:
-        raise failure[0]
+    r = beside_target(scenario, plc_bin, PLC_ID, channel, 30, bench)
     d = seen["download"]
     assert d.exit_code == 0, d.output
     assert d.stdout.splitlines() == [
