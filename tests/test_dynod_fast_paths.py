@@ -83,3 +83,28 @@ def test_whole_objects_at_once_equal_entry_by_entry(data):
     c.attributes = bytes(attrs)
     for s in (static, None):
         assert _emulated(c, s, True) == _emulated(c, s, False)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_addresses_of_wanted_variables_are_those_of_all(data):
+    # the PDO results look up the mapped variables only: the same addresses as the dict
+    # of every variable, restricted to them (asked for present and absent keys alike)
+    from test_dynod_random import build, plc_dcfs
+
+    from dcf2bin.dynod import TargetOptions, emulate
+    text, _ = data.draw(plc_dcfs())
+    res, static = build(text)
+    engine = emulate(res.container, TargetOptions(), static)._engine
+    every = engine.nv_addresses()
+    assert every
+    keys = sorted(every) + [(0xA000, 0x7F), (0x1000, 0)]
+    wanted = set(data.draw(st.lists(st.sampled_from(keys), min_size=1)))
+    assert engine.nv_addresses(wanted) == {k: v for k, v in every.items() if k in wanted}
+
+
+def test_placement_shortcut_says_maybe_for_a_variable_inside_another():
+    # a variable of 0 bytes inside another is no failure, but the shortcut only vouches
+    # for variables that each end before the next starts: the byte map decides
+    assert not structure._clean([0, 2], [4, 0], None)
+    assert structure._clean([4, 0, 2], [2, 2, 2], 6)

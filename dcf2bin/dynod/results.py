@@ -13,6 +13,7 @@ from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 
 _INDEX_SUB = itemgetter(slice(0, 2))     # (index, sub, data) -> (index, sub)
+_INDEX = itemgetter(0)
 
 
 class _Results:
@@ -26,11 +27,19 @@ class _Results:
         if self.image is None:
             return {}
         get = self.c.entries.__getitem__
-        keys = map(_INDEX_SUB, map(get, self.nv_first))
         if wanted is None:
-            return dict(zip(keys, self.image))
-        asked = map(wanted.__contains__, map(_INDEX_SUB, map(get, self.nv_first)))
-        return dict(compress(zip(keys, self.image), asked))
+            return dict(zip(map(_INDEX_SUB, map(get, self.nv_first)), self.image))
+        # the variables of the objects the wanted ones are in, told by their index alone
+        # (no tuple per variable); then only those are looked at one by one
+        indexes = {index for index, _ in wanted}
+        near = compress(range(len(self.nv_first)),
+                        map(indexes.__contains__, map(_INDEX, map(get, self.nv_first))))
+        out = {}
+        for i in near:
+            key = _INDEX_SUB(get(self.nv_first[i]))
+            if key in wanted:
+                out[key] = self.image[i]
+        return out
 
     def pdos(self) -> list[Pdo]:
         rows = []

@@ -2,12 +2,14 @@
 """
 from __future__ import annotations
 
-from itertools import accumulate
-from operator import add, le, lt
+from operator import add, itemgetter, le
 
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
 from dcf2bin.indexes import NV_FIRST, NV_LAST
+
+
+_DATA = itemgetter(2)     # (index, sub, data) -> data
 
 
 class _StructureStep:
@@ -57,7 +59,7 @@ class _StructureStep:
         else:
             image = list(addrs)
         self.image = image
-        sizes = [len(entries[p][2]) for p in first]
+        sizes = list(map(len, map(_DATA, map(entries.__getitem__, first))))
         total = pi[0] if pi is not None else None
         if _clean(image, sizes, total):
             return                  # nothing for the byte map below to find
@@ -107,7 +109,7 @@ def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
         # type and direction, which the sort merges in linear time)
         order = sorted(range(len(image)), key=image.__getitem__)
         starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
-    # in address order, a variable overlaps an earlier one when it starts before the
-    # furthest end so far (a variable of 0 bytes may count as overlapping: "maybe")
-    reach = accumulate(ends, max)
-    return not any(map(lt, starts[1:], reach))
+    # in address order, no variable overlaps another when each ends at or before the
+    # next one starts (then the ends ascend too, and each end is the furthest so far);
+    # anything else, a variable of 0 bytes inside another say, is a "maybe"
+    return all(map(le, ends, starts[1:]))
