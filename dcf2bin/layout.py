@@ -247,15 +247,14 @@ def attach_channels(dev) -> None:
         if not NV_FIRST <= idx <= NV_LAST:
             continue
         ch = channel_for(dev, idx)
+        if ch is None:
+            continue
+        access = "ro" if ch.direction == INPUT else "rw"
         for sub, e in obj.entries.items():
-            if sub == 0:
-                continue
-            if ch is None:
-                continue
-            if e.dtype is None:
+            if e.dtype is None and sub:
                 e.dtype = ch.dtype
-            if e.access is None:
-                e.access = "ro" if ch.direction == INPUT else "rw"
+            if e.access is None and sub:
+                e.access = access
 
 
 @dataclass(slots=True)
