@@ -24,9 +24,17 @@ def _brute(image, sizes, total):
 @given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 4)), max_size=12),
        st.one_of(st.none(), st.integers(0, 48)))
 def test_placement_shortcut_never_hides_a_failure(vars_, total):
+    # block by block (a few blocks of consecutive addresses), and in address order (as
+    # many blocks as variables): either way, "clean" only where the byte map finds nothing
     image, sizes = [a for a, _ in vars_], [z for _, z in vars_]
-    if structure._clean(image, sizes, total):
-        assert _brute(image, sizes, total)
+    old = structure._FEW_BLOCKS
+    for few in (old, 0):
+        structure._FEW_BLOCKS = few
+        try:
+            if structure._clean(image, sizes, total):
+                assert _brute(image, sizes, total)
+        finally:
+            structure._FEW_BLOCKS = old
 
 
 def test_placement_shortcut_takes_ascending_runs():
@@ -36,6 +44,9 @@ def test_placement_shortcut_takes_ascending_runs():
     assert structure._clean(image, sizes, 300)
     assert not structure._clean(image, sizes, 299)                  # the last ends at 300
     assert not structure._clean(image + [150], sizes + [1], None)   # byte 150 twice
+    # blocks with gaps that other blocks fill, and blocks that touch
+    assert structure._clean([0, 1, 10, 11, 5, 6, 20], [1, 1, 1, 9, 1, 4, 0], 20)
+    assert not structure._clean([0, 1, 10, 11, 5, 6], [1, 1, 1, 9, 1, 5], None)
 
 
 def _emulated(container, static, whole: bool):

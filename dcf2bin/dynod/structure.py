@@ -2,7 +2,8 @@
 """
 from __future__ import annotations
 
-from operator import add, itemgetter, le
+from itertools import compress
+from operator import add, itemgetter, le, ne
 
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
@@ -10,6 +11,7 @@ from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 
 _DATA = itemgetter(2)     # (index, sub, data) -> data
+_FEW_BLOCKS = 256         # blocks of consecutive addresses compared span by span
 
 
 class _StructureStep:
@@ -103,13 +105,20 @@ def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
     ends = list(map(add, image, sizes))
     if total is not None and max(ends) > total:
         return False
-    starts = image
-    if not all(map(le, image, image[1:])):
-        # in address order (a compiled PLC's addresses are a few ascending runs, one per
-        # type and direction, which the sort merges in linear time)
-        order = sorted(range(len(image)), key=image.__getitem__)
-        starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
     # in address order, no variable overlaps another when each ends at or before the
     # next one starts (then the ends ascend too, and each end is the furthest so far);
     # anything else, a variable of 0 bytes inside another say, is a "maybe"
+    n = len(image)
+    # a compiled PLC's variables lie in a few blocks of consecutive addresses, each
+    # starting where the one before ends: a block overlaps nothing in itself, so only the
+    # blocks' spans are compared
+    breaks = list(compress(range(1, n), map(ne, ends, image[1:])))
+    if len(breaks) < _FEW_BLOCKS:
+        spans = sorted((image[a], ends[b - 1]) for a, b in zip([0] + breaks, breaks + [n]))
+        return all(e <= a for (_, e), (a, _) in zip(spans, spans[1:]))
+    starts = image
+    if not all(map(le, image, image[1:])):
+        # in address order (the sort merges ascending runs in linear time)
+        order = sorted(range(n), key=image.__getitem__)
+        starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
     return all(map(le, ends, starts[1:]))
