@@ -65,7 +65,7 @@ class Selection:
 
 # D-9: network variables are created NUMERIC|READ|WRITE|PDO, their sub 0 NUMERIC|READ
 NV_ATTR, NV_SUB0_ATTR = 0xF0, 0x30
-_NV_ATTRS = (NV_SUB0_ATTR, NV_ATTR)     # by bool(sub)
+_NV_ATTR_BYTE = bytes([NV_ATTR])
 
 
 def attribute_byte(index: int, sub: int, dtype: dt.DataType | None, access: str | None,
@@ -137,7 +137,12 @@ class _Selector:
             entries.extend(zip(repeat(idx), es, self._data_column(es.values())))
             if nv:
                 self.sel.nv_objects.append(idx)
-                attrs.extend(map(_NV_ATTRS.__getitem__, map(bool, es)))
+                at = len(attrs)
+                attrs += _NV_ATTR_BYTE * len(es)
+                for k, sub in enumerate(es):     # sub 0: first, but for a file's order
+                    if not sub:
+                        attrs[at + k] = NV_SUB0_ATTR
+                        break
             else:
                 attrs.extend(map(attribute, es.values()))
         self.sel.created = created
