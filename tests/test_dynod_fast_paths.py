@@ -119,3 +119,21 @@ def test_placement_shortcut_says_maybe_for_a_variable_inside_another():
     # for variables that each end before the next starts: the byte map decides
     assert not structure._clean([0, 2], [4, 0], None)
     assert structure._clean([4, 0, 2], [2, 2, 2], 6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([0x1000, 0x1A00, 0x9FFF, 0xA000, 0xA040, 0xAFFF,
+                                           0xB000]), st.integers(0, 3)), max_size=14),
+       st.booleans())
+def test_first_occurrences_of_network_variables(keys, ascending):
+    # ascending keys (a compiled container) take the shortcut; any order, repeats
+    # included, gives the position of each variable's first occurrence
+    if ascending:
+        keys = sorted(set(keys))
+    entries = [(i, s, b"") for i, s in keys]
+    seen, expected = set(), []
+    for p, (i, s, _) in enumerate(entries):
+        if 0xA000 <= i <= 0xAFFF and s and (i, s) not in seen:
+            seen.add((i, s))
+            expected.append(p)
+    assert structure.nv_firsts(entries) == expected
