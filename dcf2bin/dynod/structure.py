@@ -14,9 +14,10 @@ _DATA = itemgetter(2)     # (index, sub, data) -> data
 _FEW_BLOCKS = 256         # blocks of consecutive addresses compared span by span
 
 
-def nv_firsts(entries: list) -> list[int]:
+def nv_firsts(entries: list) -> tuple[list[int], bool]:
     """The positions of the first occurrence of each network variable (SPEC §3.4: an entry
-    of 0xA000-0xAFFF with sub >= 1), ascending. A compiled container writes each variable
+    of 0xA000-0xAFFF with sub >= 1), ascending, and whether the variables' keys ascend
+    with them (then a variable is found by bisection). A compiled container writes each variable
     once, by ascending index and subindex: when the variables' keys ascend strictly,
     every position is a first occurrence. Otherwise a dict from the reversed keys keeps,
     for every key, the smallest position (a dict of 60,000 keys and positions was the
@@ -25,14 +26,14 @@ def nv_firsts(entries: list) -> list[int]:
     get = entries.__getitem__
     keys = [index << 8 | sub for index, sub, _ in map(get, pos)]
     if all(map(lt, keys, islice(keys, 1, None))):
-        return pos
+        return pos, True
     del pos, keys
     keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else -1
             for index, sub, _ in entries]
     firsts = dict(zip(reversed(keys), range(len(keys) - 1, -1, -1)))
     del keys                    # (each temporary goes as soon as it is used)
     firsts.pop(-1, None)
-    return sorted(firsts.values())
+    return sorted(firsts.values()), False
 
 
 class _StructureStep:
@@ -48,7 +49,9 @@ class _StructureStep:
             raise _Fail(C.INVALID_CONFIG, f"the extended info segment has {len(c.attributes)} "
                                           f"attribute bytes for {n} index entries")
         first = self.nv_first
-        first.extend(nv_firsts(entries))
+        positions, self.nv_ascending = nv_firsts(entries)
+        first.extend(positions)
+        del positions
         addrs = c.addresses or None
         if addrs is not None and len(addrs) != len(first):
             raise _Fail(C.INVALID_CONFIG, f"the PI address segment holds {len(addrs)} "
