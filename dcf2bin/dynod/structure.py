@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from itertools import compress, islice
-from operator import add, itemgetter, le, lt, ne
+from operator import add, itemgetter, le, lt, ne, sub as minus
 
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
@@ -118,22 +118,25 @@ def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
     it as the target would."""
     if not image:
         return True
-    # (no list of the 60,000 ends: this step is a compile's peak of memory)
-    if total is not None and max(map(add, image, sizes)) > total:
+    n = len(image)
+    # a compiled PLC's variables lie in a few blocks of consecutive addresses, each
+    # starting where the one before ends (told in C from the differences of the
+    # addresses: small ints, nothing allocated); a block overlaps nothing in itself and
+    # ends where its last variable ends, so only the blocks' spans are compared
+    breaks = list(compress(range(1, n), map(ne, map(minus, islice(image, 1, None), image),
+                                            sizes)))
+    if len(breaks) < _FEW_BLOCKS:
+        spans = sorted((image[a], image[b - 1] + sizes[b - 1])
+                       for a, b in zip([0] + breaks, breaks + [n]))
+        if total is not None and max(e for _, e in spans) > total:
+            return False
+        return all(e <= a for (_, e), (a, _) in zip(spans, spans[1:]))
+    ends = list(map(add, image, sizes))
+    if total is not None and max(ends) > total:
         return False
     # in address order, no variable overlaps another when each ends at or before the
     # next one starts (then the ends ascend too, and each end is the furthest so far);
     # anything else, a variable of 0 bytes inside another say, is a "maybe"
-    n = len(image)
-    # a compiled PLC's variables lie in a few blocks of consecutive addresses, each
-    # starting where the one before ends: a block overlaps nothing in itself, so only the
-    # blocks' spans are compared
-    breaks = list(compress(range(1, n), map(ne, map(add, image, sizes), islice(image, 1, None))))
-    if len(breaks) < _FEW_BLOCKS:
-        spans = sorted((image[a], image[b - 1] + sizes[b - 1])
-                       for a, b in zip([0] + breaks, breaks + [n]))
-        return all(e <= a for (_, e), (a, _) in zip(spans, spans[1:]))
-    ends = list(map(add, image, sizes))
     starts = image
     if not all(map(le, image, islice(image, 1, None))):
         # in address order (the sort merges ascending runs in linear time)
