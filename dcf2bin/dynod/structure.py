@@ -17,22 +17,21 @@ _FEW_BLOCKS = 256         # blocks of consecutive addresses compared span by spa
 def nv_firsts(entries: list) -> tuple[list[int], bool]:
     """The positions of the first occurrence of each network variable (SPEC §3.4: an entry
     of 0xA000-0xAFFF with sub >= 1), ascending, and whether the variables' keys ascend
-    with them (then a variable is found by bisection). A compiled container writes each variable
-    once, by ascending index and subindex: when the variables' keys ascend strictly,
-    every position is a first occurrence. Otherwise a dict from the reversed keys keeps,
-    for every key, the smallest position (a dict of 60,000 keys and positions was the
-    memory peak of a compile, 2.5 MiB above the rest: hence not the first try)."""
-    pos = [p for p, (index, sub, _) in enumerate(entries) if NV_FIRST <= index <= NV_LAST and sub]
-    get = entries.__getitem__
-    keys = [index << 8 | sub for index, sub, _ in map(get, pos)]
-    if all(map(lt, keys, islice(keys, 1, None))):
-        return pos, True
-    del pos, keys
-    keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else -1
-            for index, sub, _ in entries]
+    with them (then a variable is found by bisection).
+
+    A compiled container writes each variable once, by ascending index and subindex: when
+    the keys ascend strictly, every position is a first occurrence. Otherwise a dict from
+    the reversed keys keeps, for every key, the smallest position (a dict of 60,000 keys
+    and positions was the memory peak of a compile: hence not the first try)."""
+    keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else 0
+            for index, sub, _ in entries]          # 0: no network variable
+    nv = list(filter(None, keys))
+    if all(map(lt, nv, islice(nv, 1, None))):
+        return list(compress(range(len(keys)), keys)), True
+    del nv
     firsts = dict(zip(reversed(keys), range(len(keys) - 1, -1, -1)))
     del keys                    # (each temporary goes as soon as it is used)
-    firsts.pop(-1, None)
+    firsts.pop(0, None)
     return sorted(firsts.values()), False
 
 
