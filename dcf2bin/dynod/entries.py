@@ -18,8 +18,8 @@ def _records(attrs: bytes, datas: list) -> tuple[Iterable[tuple], int]:
     """The records ``(attr, data, None)`` of the entries of a created object, and their
     data bytes in all. When every entry after the first has the same attribute byte and
     the same data (a network-variable object of one type and value: sub 0, then 254
-    alike), they share one record, which is immutable (a tenth of the target check's
-    memory at 60,000 variables)."""
+    alike), they share one record, which is immutable (60,000 tuples fewer held by the
+    target check of a 60,000-variable compile: 1.4 MiB of its peak)."""
     n = len(datas)
     if n > 2:
         a, d = attrs[1:], datas[1:]
