@@ -274,7 +274,6 @@ class Variable:
 
 
 _FIRST_SUB = operator.itemgetter(4)      # a run's first subindex
-_DTYPE = operator.attrgetter("dtype")
 
 
 @dataclass
@@ -432,12 +431,10 @@ def _place_run(obj, ch: Channel, target: list[tuple]) -> bool:
     if ch.max_count is not None and before + hi >= ch.max_count:
         return False
     chdt = ch.dtype
-    # the common case told in C: every variable has the channel's own DataType object
-    if not all(map(operator.is_, map(_DTYPE, map(entries.__getitem__, subs)), repeat(chdt))):
-        for sub in subs:
-            dtype = entries[sub].dtype
-            if dtype is not chdt and dtype is not None and dtype.code != chdt.code:
-                return False
+    for sub in subs:
+        dtype = entries[sub].dtype
+        if dtype is not chdt and dtype is not None and dtype.code != chdt.code:
+            return False
     size = chdt.size
     target.append((ch.pp_offset + (before + lo) * size, ch.pp_offset + (before + hi + 1) * size,
                    ch, obj.index, lo, hi, obj))
