@@ -5,6 +5,7 @@ import re
 
 from dcf2bin import values
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
+from dcf2bin.lint.tables import group_get, name_values
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
@@ -122,20 +123,19 @@ def _known_key(kind: str, key: str) -> bool:
       hint="check the spelling; vendor keys belong in a vendor section")
 def unknown_key(ctx):
     verdicts: dict[tuple, list[str]] = {}   # generated files repeat the same key sets
-    kinds = ctx.kinds
-    for canon, sec in ctx.ini.sections.items():
-        kind = kinds[canon]
+    for kind, rest, secs in ctx.groups:     # one verdict per shared template
         if kind is None or kind == "aux":
             continue   # [<index>Name]/[<index>Value]/[<index>Denotation] keys: DCF026
-        names = tuple(ctx.key_names(sec))
+        names = tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
             unknown = verdicts[(kind, names)] = [k for k in names if not _known_key(kind, k)]
-        for key in unknown:
-            k = sec.keys.get(key)
-            name = k.name if k else key
-            yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
-                          sec.line_of(key), 1)
+        for sec in secs if unknown else ():
+            for key in unknown:
+                k = sec.keys.get(key)
+                name = k.name if k else key
+                yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
+                              sec.line_of(key), 1)
 
 
 @rule("DCF051", "unknown-section", INFO,
@@ -152,13 +152,15 @@ def unknown_section(ctx):
       hint="shorten the value; other tools may cut the line")
 def line_too_long(ctx):
     text = ctx.text
+    first = _LONG_FIRST_RE.match(text)
+    starts = ([first.span()] if first else []) + [m.span(1) for m in _LONG_RE.finditer(text)]
     line, pos = 1, 0
-    for m in _LONG_RE.finditer(text):
-        raw = m.group(0).rstrip("\r")
+    for start, end in starts:
+        raw = text[start:end].rstrip("\r")
         if len(raw) <= MAX_LINE:
             continue
-        line += text.count("\n", pos, m.start())
-        pos = m.start()
+        line += text.count("\n", pos, start)
+        pos = start
         low = raw.lstrip(" \t")[:14].lower()
         if low.startswith("parametername") or low.startswith("denotation"):
             continue  # DCF053 names it more precisely
@@ -166,20 +168,27 @@ def line_too_long(ctx):
                       MAX_LINE + 1)
 
 
-_LONG_RE = re.compile(r"^[^\n]{%d,}" % (MAX_LINE + 1), re.M)
+# a line of more than MAX_LINE characters: the first line, and any after a line end (a
+# search for the line end is much faster than r"^..." with re.M, tried at every character)
+_LONG_FIRST_RE = re.compile(r"[^\n]{%d,}" % (MAX_LINE + 1))
+_LONG_RE = re.compile(r"\n([^\n]{%d,})" % (MAX_LINE + 1))
 
 
 @rule("DCF053", "name-too-long", WARNING,
       f"A ParameterName or Denotation longer than {MAX_NAME} characters (CiA 306).",
       hint="shorten the name")
 def name_too_long(ctx):
-    for sec in ctx.ini.sections.values():
+    for _, rest, secs in ctx.groups:
         for key in ("parametername", "denotation"):
-            v = sec.get(key)
-            if v is not None and len(v) > MAX_NAME:
-                line = sec.line_of(key)
-                yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} characters, "
-                              f"more than {MAX_NAME}", line, ctx.value_column(line))
+            names = name_values(rest, secs, key)
+            if max(map(len, filter(None, names)), default=0) <= MAX_NAME:
+                continue
+            for sec, v in zip(secs, names):
+                if v is not None and len(v) > MAX_NAME:
+                    line = sec.line_of(key)
+                    yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} "
+                                  f"characters, more than {MAX_NAME}", line,
+                                  ctx.value_column(line))
 
 
 @rule("DCF054", "malformed-object-section-name", WARNING,
@@ -228,23 +237,27 @@ def _bad_int(text: str, _cache: dict = {}) -> str | None:  # noqa: B006 - a cach
       "NrOfEntries, ...) is not a valid integer.",
       hint="decimal, 0x-hex or 0-octal integers only")
 def bad_number(ctx):
-    for canon, sec in ctx.ini.sections.items():
-        kind = ctx.kinds[canon]
+    for kind, rest, secs in ctx.groups:
         if kind in ("object", "sub"):
+            v = group_get(rest, secs, "pdomapping")   # once per shared template
+            if v is None or not _bad_int(v):
+                continue
             keys = ("pdomapping",)
         elif kind in _LISTS:
-            keys = tuple(k for k in ctx.key_names(sec) if k == "supportedobjects" or k.isdigit())
+            keys = tuple(k for k in ctx.key_names(secs[0])
+                         if k == "supportedobjects" or k.isdigit())
         else:
             keys = _NUMERIC_KEYS.get(kind or "", ())
-        for key in keys:
-            v = sec.get(key)
-            if v is None:
-                continue
-            problem = _bad_int(v)
-            if problem:
-                line = sec.line_of(key)
-                yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
-                              ctx.value_column(line))
+        for sec in secs if keys else ():
+            for key in keys:
+                v = sec.get(key)
+                if v is None:
+                    continue
+                problem = _bad_int(v)
+                if problem:
+                    line = sec.line_of(key)
+                    yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
+                                  ctx.value_column(line))
 
 
 # DCF056 (no sections) is the reader's: compile reports it too (core_rules.py).
@@ -262,7 +275,7 @@ _STRUCT_NUMERIC = ("objecttype", "datatype", "subnumber", "compactsubobj", "objf
       "lists, ...) is followed by a ';' or '#' comment; the comment is ignored.",
       hint="CiA 306 has no inline comments: put the comment on its own line")
 def numeric_key_comment(ctx):
-    if _COMMENT_RE.search(ctx.text) is None:
+    if not ctx.blank_comment:
         return   # no number anywhere is followed by a comment: skip the walk
     split = values.split_numeric_comment
     seen: set[int] = set()
@@ -277,20 +290,23 @@ def numeric_key_comment(ctx):
                                line, col + len(number) if col else None)
         return None
 
-    for canon, sec in ctx.ini.sections.items():
-        kind = ctx.kinds[canon]
+    for kind, rest, secs in ctx.groups:
         if kind in ("object", "sub"):
             keys = _STRUCT_NUMERIC
+            if not any(v is not None and (";" in v or "#" in v)     # once per template
+                       for v in (group_get(rest, secs, k) for k in keys)):
+                continue
         elif kind in _LISTS:
-            keys = tuple(ctx.key_names(sec))
+            keys = tuple(ctx.key_names(secs[0]))
         else:
             keys = _NUMERIC_KEYS.get(kind or "", ())
-        for key in keys:
-            v = sec.get(key)
-            if v is not None and (";" in v or "#" in v):
-                f = check(v, sec.line_of(key))
-                if f:
-                    yield f
+        for sec in secs if keys else ():
+            for key in keys:
+                v = sec.get(key)
+                if v is not None and (";" in v or "#" in v):
+                    f = check(v, sec.line_of(key))
+                    if f:
+                        yield f
 
 
 _FLAGS = ("baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125", "baudrate_250",
@@ -317,13 +333,13 @@ def flag_not_boolean(ctx):
                 line = info.line_of(key)
                 yield Finding(f"[DeviceInfo] {info.keys[key].name}={v} is not 0 or 1", line,
                               ctx.value_column(line))
-    for canon, sec in ctx.ini.sections.items():
-        v = sec.get("pdomapping")
-        if v is not None and v not in ("0", "1") and ctx.kinds[canon] in ("object", "sub") \
-                and bad(v):
-            line = sec.line_of("pdomapping")
-            yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not mappable)",
-                          line, ctx.value_column(line))
+    for kind, rest, secs in ctx.groups:
+        v = group_get(rest, secs, "pdomapping")     # once per shared template
+        if v is not None and v not in ("0", "1") and kind in ("object", "sub") and bad(v):
+            for sec in secs:
+                line = sec.line_of("pdomapping")
+                yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not "
+                              "mappable)", line, ctx.value_column(line))
 
 
 @rule("DCF059", "comments-count", WARNING,
@@ -381,7 +397,15 @@ def required_section_missing(ctx):
       "it is read as the canonical [1018sub1].",
       hint="a subindex has 1 or 2 hex digits: write the canonical section name")
 def subindex_spelling(ctx):
-    for canon, sec in ctx.of_kind("sub"):
+    # only a section whose name is not written canonically can have more than 2 digits:
+    # the reader lists those (IniFile.respelled), so the other names are not read
+    respelled = getattr(ctx.ini, "respelled", None)
+    if respelled is None:
+        pairs = ctx.of_kind("sub")
+    else:
+        pairs = [(c, ctx.ini.sections[c]) for c in dict.fromkeys(respelled)
+                 if c in ctx.ini.sections and classify(c) == "sub"]
+    for canon, sec in pairs:
         digits = sec.name.strip().lower().partition("sub")[2]
         if len(digits) <= 2 or digits.strip("0123456789abcdef"):
             continue

@@ -1,0 +1,199 @@
+"""Tables the rules share, each worked out once per file and in bulk (no findings here).
+
+A generated PLC DCF is mostly thousands of sections of one shape: the sub-objects of a
+network-variable array differ only in their ``ParameterName``/``Denotation``, and the
+INI reader gives all of them one shared dict of their other values (``Section.rest``).
+A rule whose verdict depends on those other values decides once per such template
+(``groups``) and reports every section of an offending template, each at its own line;
+only the names are looked at section by section (``name_values``). Tables of sections
+and entries are built with C-level passes (``map``, ``compress``, ``groupby``, one
+regular expression over all section names) rather than a Python step per item, so that
+validate's time per entry stays the same from 1,000 to 60,000 variables (issue 22).
+
+Everything is cached in ``ctx.cache``; every function returns exactly what a plain walk
+over ``ctx.ini.sections`` / ``ctx.dev.objects`` would (the tests compare them).
+"""
+from __future__ import annotations
+
+import re
+from itertools import compress, groupby, repeat
+from operator import attrgetter, is_not, itemgetter, not_
+
+# a line end not followed by a sub-object section's name (rules_syntax._SUB_RE) and another
+_NOT_SUB = re.compile(r"\n(?![0-9a-f]{4}sub[0-9a-f]+\n)")
+_SUB_NUMBERS = {f"{i:x}": i for i in range(256)}              # canonical subindex -> number
+_HEAD, _TAIL = itemgetter(slice(0, 4)), itemgetter(slice(7, None))
+_NAME, _SECTION = itemgetter(0), itemgetter(1)
+_REST = attrgetter("rest")
+NAME_KEYS = {"parametername": "param_name", "denotation": "denotation"}  # cut out of ``rest``
+
+
+def by_kind(ctx) -> dict[str | None, list]:
+    """kind (rules_syntax.classify) -> [(canonical name, section)] in file order. The
+    sub-object sections are told apart by one search over all names for the others (in a
+    PLC DCF, a few hundred of 60,000); only those are classified one by one."""
+    got = ctx.cache.get("by_kind")
+    if got is not None:
+        return got
+    from dcf2bin.lint.rules_syntax import classify
+    items = list(ctx.ini.sections.items())
+    if not items:
+        ctx.cache["by_kind"] = {}
+        return {}
+    joined = "\n" + "\n".join(c for c, _ in items) + "\n"
+    is_sub = [True] * len(items)
+    others = []
+    line, pos = 0, 0
+    for m in _NOT_SUB.finditer(joined, 0, len(joined) - 1):
+        line += joined.count("\n", pos, m.start())   # the m.start()-th name starts after it
+        pos = m.start()
+        is_sub[line] = False
+        others.append(items[line])
+    got = {}
+    if len(others) < len(items):
+        got["sub"] = list(compress(items, is_sub))
+    for canon, sec in others:
+        got.setdefault(classify(canon), []).append((canon, sec))
+    ctx.cache["by_kind"] = got
+    return got
+
+
+def kinds(ctx) -> dict[str, str | None]:
+    """canonical name -> kind, in file order: ``{c: classify(c) for c in sections}``."""
+    got = ctx.cache.get("kinds")
+    if got is None:
+        groups = by_kind(ctx)
+        got = dict.fromkeys(ctx.ini.sections)
+        for kind, pairs in groups.items():
+            if kind is not None:
+                got.update(dict.fromkeys(map(_NAME, pairs), kind))
+        ctx.cache["kinds"] = got
+    return got
+
+
+def sub_sections(ctx) -> dict[int, dict[int, object]]:
+    """index -> {subindex: [<index>subN] section}, the subindex at most 0xFF (as the
+    sub-object sections stand in the file)."""
+    got = ctx.cache.get("sub_sections")
+    if got is not None:
+        return got
+    pairs = by_kind(ctx).get("sub", [])
+    names = [c for c, _ in pairs]
+    secs = list(map(_SECTION, pairs))
+    numbers = list(map(_SUB_NUMBERS.get, map(_TAIL, names)))
+    if None in numbers:      # not canonical, or above 0xFF: read as written
+        for i, number in enumerate(numbers):
+            if number is None:
+                sub = int(names[i][7:], 16)
+                numbers[i] = sub if sub <= 0xFF else None
+    got = {}
+    at = 0
+    for head, run in groupby(map(_HEAD, names)):
+        n = len(list(run))
+        subs = got.setdefault(int(head, 16), {})
+        part = zip(numbers[at:at + n], secs[at:at + n])
+        if None in numbers[at:at + n]:
+            part = ((s, sec) for s, sec in part if s is not None)
+        subs.update(part)
+        at += n
+    for idx in [i for i, subs in got.items() if not subs]:
+        del got[idx]
+    ctx.cache["sub_sections"] = got
+    return got
+
+
+def groups(ctx) -> list[tuple[str | None, dict | None, list]]:
+    """(kind, template, sections) for every section, the sections of one kind that share
+    one template (``Section.rest``) together, in file order of their first; a section
+    without a template (the exact reader's) is a group of its own with template None."""
+    got = ctx.cache.get("groups")
+    if got is not None:
+        return got
+    got = []
+    for kind, pairs in by_kind(ctx).items():
+        secs = list(map(_SECTION, pairs))
+        try:
+            rests = list(map(_REST, secs))
+        except AttributeError:          # a reader without templates
+            rests = [None] * len(secs)
+        by_rest: dict[int, tuple] = {}
+        at = 0
+        for rid, run in groupby(map(id, rests)):
+            n = len(list(run))
+            rest = rests[at]
+            if rest is None:
+                got.extend((kind, None, [s]) for s in secs[at:at + n])
+            else:
+                group = by_rest.get(rid)
+                if group is None:
+                    group = by_rest[rid] = (kind, rest, [])
+                    got.append(group)
+                group[2].extend(secs[at:at + n])
+            at += n
+    ctx.cache["groups"] = got
+    return got
+
+
+def group_get(rest: dict | None, secs: list, key: str) -> str | None:
+    """``sec.get(key)``, the same for every section of a group; not for the names (see
+    ``name_values``)."""
+    if rest is None:
+        return secs[0].get(key)
+    return rest.get(key) or None
+
+
+def name_values(rest: dict | None, secs: list, key: str) -> list:
+    """``[sec.get(key) for sec in secs]`` for ``parametername`` or ``denotation``, the
+    values kept per section (an empty one is None, as ``get`` says)."""
+    if rest is not None:
+        own = list(map(attrgetter(NAME_KEYS[key]), secs))
+        if None not in own:
+            return [v or None for v in own]
+    return [s.get(key) for s in secs]
+
+
+# -- entries ----------------------------------------------------------------------------------
+
+def entries(ctx) -> list:
+    """Every entry that stands in the file (not those the tool creates), by index, then in
+    each object's order."""
+    got = ctx.cache.get("entries")
+    if got is None:
+        objects = ctx.dev.objects
+        got = [e for idx in sorted(objects) for e in objects[idx].entries.values()
+               if not e.implicit]
+        ctx.cache["entries"] = got
+    return got
+
+
+def entries_of_kinds(ctx, kinds_: frozenset) -> list:
+    """``entries`` whose DataType is of one of these kinds (datatypes.BOOL, SINT, ...)."""
+    key = ("entries of", kinds_)
+    got = ctx.cache.get(key)
+    if got is None:
+        every = entries(ctx)
+        types = ctx.cache.get("entry types")
+        if types is None:       # (the DataType object of each entry, one entry per object)
+            ids = list(map(id, map(attrgetter("dtype"), every)))
+            types = ctx.cache["entry types"] = (ids, dict(zip(ids, every)))
+        ids, one = types
+        wanted = {i for i, e in one.items() if e.dtype is not None and e.dtype.kind in kinds_}
+        got = ctx.cache[key] = list(compress(every, map(wanted.__contains__, ids))) \
+            if wanted else []
+    return got
+
+
+def entries_with(ctx, *attrs: str) -> list:
+    """``entries`` with at least one of ``attrs`` (download_file, low, param, ...) not None."""
+    key = ("entries with", attrs)
+    got = ctx.cache.get(key)
+    if got is None:
+        every = entries(ctx)
+        if len(attrs) == 1:
+            got = list(compress(every, map(is_not, map(attrgetter(attrs[0]), every),
+                                           repeat(None))))
+        else:
+            ids = set().union(*(map(id, entries_with(ctx, a)) for a in attrs))
+            got = list(compress(every, map(ids.__contains__, map(id, every)))) if ids else []
+        ctx.cache[key] = got
+    return got
