@@ -115,10 +115,10 @@ class DcfContext:
 
     def of_kind(self, *kinds: str | None) -> list[tuple[str, ini_mod.Section]]:
         """(canonical name, section) of the sections of these kinds, in file order."""
-        groups = tables.by_kind(self)
         if len(kinds) == 1:
-            return groups.get(kinds[0], [])
-        return sorted((x for k in kinds for x in groups.get(k, [])), key=lambda cs: cs[1].line)
+            return tables.of_kind(self, kinds[0])
+        return sorted((x for k in kinds for x in tables.of_kind(self, k)),
+                      key=lambda cs: cs[1].line)
 
     @property
     def sub_sections(self) -> dict[int, dict[int, ini_mod.Section]]:

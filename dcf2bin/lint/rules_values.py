@@ -36,22 +36,34 @@ def _encode(ctx, dtype: dt.DataType, text: str, node_id: int | None) -> bytes:
       hint="write a value of the entry's DataType; values are never truncated")
 def bad_value(ctx):
     seen: set = set()
-    verdicts: dict[tuple[int, str], str | None] = {}   # (type, text) -> problem
-    for e in _entries(ctx):
+    verdicts: dict[int, dict[str, str | None]] = {}   # type -> text -> problem
+    for e in _entries(ctx):     # a flat loop: it sees every entry of the file
         dtype = e.dtype
         if dtype is None:
             continue
-        for key, shown, text in _texts(e):
-            problem = verdicts.get((dtype.code, text), False)
-            if problem is False:
-                problem = verdicts[(dtype.code, text)] = _value_problem(ctx, dtype, text)
-            if problem is None:
-                continue
-            line = e.key_where(key).line
-            if (line, dtype.code, text) in seen:
-                continue   # CompactSubObj: one DefaultValue line for N entries
-            seen.add((line, dtype.code, text))
-            yield Finding(f"{e.label} {shown}: {problem}", line, ctx.value_column(line))
+        known = verdicts.get(dtype.code)
+        if known is None:
+            known = verdicts[dtype.code] = {}
+        param, default = e.param, e.default
+        # True: not decided yet (_bad_values decides it); None: fine
+        if (param is not None and known.get(param, True) is not None) or \
+                (default is not None and known.get(default, True) is not None):
+            yield from _bad_values(ctx, e, known, seen)
+
+
+def _bad_values(ctx, e, known: dict, seen: set):
+    dtype = e.dtype
+    for key, shown, text in _texts(e):
+        problem = known.get(text, False)
+        if problem is False:
+            problem = known[text] = _value_problem(ctx, dtype, text)
+        if problem is None:
+            continue
+        line = e.key_where(key).line
+        if (line, dtype.code, text) in seen:
+            continue   # CompactSubObj: one DefaultValue line for N entries
+        seen.add((line, dtype.code, text))
+        yield Finding(f"{e.label} {shown}: {problem}", line, ctx.value_column(line))
 
 
 def _value_problem(ctx, dtype, text: str) -> str | None:
@@ -247,8 +259,8 @@ def download_misuse(ctx):
       "ObjFlags sets bits other than 0 (do not write on download) and 1 (do not read on scan).",
       hint="CiA 306 defines ObjFlags bits 0 and 1 only")
 def objflags_reserved(ctx):
-    for sec in ctx.ini.sections.values():
-        text = sec.get("objflags")
+    for _, rest, secs in ctx.groups:     # once per shared template
+        text = tables.group_get(rest, secs, "objflags")
         if text is None:
             continue
         try:
@@ -256,9 +268,10 @@ def objflags_reserved(ctx):
         except values.ValueProblem:
             continue  # DCF020
         if v & ~3 or v < 0:
-            line = sec.line_of("objflags")
-            yield Finding(f"[{sec.name}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets reserved bits", line,
-                          ctx.value_column(line))
+            for sec in secs:
+                line = sec.line_of("objflags")
+                yield Finding(f"[{sec.name}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets reserved bits",
+                              line, ctx.value_column(line))
 
 
 @rule("DCF217", "limits-on-non-numeric", WARNING,

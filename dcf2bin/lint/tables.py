@@ -28,33 +28,76 @@ _REST = attrgetter("rest")
 NAME_KEYS = {"parametername": "param_name", "denotation": "denotation"}  # cut out of ``rest``
 
 
-def by_kind(ctx) -> dict[str | None, list]:
-    """kind (rules_syntax.classify) -> [(canonical name, section)] in file order. The
-    sub-object sections are told apart by one search over all names for the others (in a
-    PLC DCF, a few hundred of 60,000); only those are classified one by one."""
-    got = ctx.cache.get("by_kind")
+def _split(ctx) -> tuple[list[str], list[bool], list[tuple[str, str | None]]]:
+    """(every canonical name, whether each is a sub-object section's, (name, kind) of the
+    others in file order). The sub-object sections are told apart by one search over all
+    names for the others (in a PLC DCF, a few hundred of 60,000); only those are
+    classified one by one (rules_syntax.classify)."""
+    got = ctx.cache.get("split")
     if got is not None:
         return got
     from dcf2bin.lint.rules_syntax import classify
-    items = list(ctx.ini.sections.items())
-    if not items:
-        ctx.cache["by_kind"] = {}
-        return {}
-    joined = "\n" + "\n".join(c for c, _ in items) + "\n"
-    is_sub = [True] * len(items)
+    names = list(ctx.ini.sections)
+    is_sub = [True] * len(names)
     others = []
-    line, pos = 0, 0
-    for m in _NOT_SUB.finditer(joined, 0, len(joined) - 1):
-        line += joined.count("\n", pos, m.start())   # the m.start()-th name starts after it
-        pos = m.start()
-        is_sub[line] = False
-        others.append(items[line])
-    got = {}
-    if len(others) < len(items):
-        got["sub"] = list(compress(items, is_sub))
-    for canon, sec in others:
-        got.setdefault(classify(canon), []).append((canon, sec))
-    ctx.cache["by_kind"] = got
+    if names:
+        joined = "\n" + "\n".join(names) + "\n"
+        line, pos = 0, 0
+        last = len(joined) - 1              # the line end after the last name
+        for m in _NOT_SUB.finditer(joined):
+            if m.start() == last:
+                break
+            line += joined.count("\n", pos, m.start())   # the m.start()-th name follows it
+            pos = m.start()
+            is_sub[line] = False
+            others.append((names[line], classify(names[line])))
+    got = ctx.cache["split"] = (names, is_sub, others)
+    return got
+
+
+def kind_sections(ctx, kind: str | None) -> list:
+    """The sections of one kind, in file order."""
+    if kind == "sub":
+        got = ctx.cache.get("sub sections")
+        if got is None:
+            names, is_sub, others = _split(ctx)
+            got = ctx.cache["sub sections"] = list(compress(ctx.ini.sections.values(), is_sub)) \
+                if len(others) < len(names) else []
+        return got
+    table = ctx.cache.get("other sections")
+    if table is None:
+        table = ctx.cache["other sections"] = {}
+        sections = ctx.ini.sections
+        for canon, k in _split(ctx)[2]:
+            table.setdefault(k, []).append(sections[canon])
+    return table.get(kind, [])
+
+
+def by_kind(ctx) -> dict[str | None, list]:
+    """kind (rules_syntax.classify) -> [(canonical name, section)] in file order."""
+    got = ctx.cache.get("by_kind")
+    if got is None:
+        names, is_sub, others = _split(ctx)
+        sections = ctx.ini.sections
+        got = {}
+        if len(others) < len(names):
+            got["sub"] = list(compress(sections.items(), is_sub))
+        for canon, kind in others:
+            got.setdefault(kind, []).append((canon, sections[canon]))
+        ctx.cache["by_kind"] = got
+    return got
+
+
+def of_kind(ctx, kind: str | None) -> list:
+    """``by_kind(ctx).get(kind, [])``, without pairing the sub-object sections for
+    another kind."""
+    if kind == "sub" or "by_kind" in ctx.cache:
+        return by_kind(ctx).get(kind, [])
+    key = ("pairs of", kind)
+    got = ctx.cache.get(key)
+    if got is None:
+        sections = ctx.ini.sections
+        got = ctx.cache[key] = [(c, sections[c]) for c, k in _split(ctx)[2] if k == kind]
     return got
 
 
@@ -62,11 +105,9 @@ def kinds(ctx) -> dict[str, str | None]:
     """canonical name -> kind, in file order: ``{c: classify(c) for c in sections}``."""
     got = ctx.cache.get("kinds")
     if got is None:
-        groups = by_kind(ctx)
-        got = dict.fromkeys(ctx.ini.sections)
-        for kind, pairs in groups.items():
-            if kind is not None:
-                got.update(dict.fromkeys(map(_NAME, pairs), kind))
+        names, is_sub, others = _split(ctx)
+        got = dict.fromkeys(names, "sub")
+        got.update(others)
         ctx.cache["kinds"] = got
     return got
 
@@ -110,8 +151,11 @@ def groups(ctx) -> list[tuple[str | None, dict | None, list]]:
     if got is not None:
         return got
     got = []
-    for kind, pairs in by_kind(ctx).items():
-        secs = list(map(_SECTION, pairs))
+    kinds_ = dict.fromkeys(["sub"] + [k for _, k in _split(ctx)[2]])
+    for kind in kinds_:
+        secs = kind_sections(ctx, kind)
+        if not secs:
+            continue
         try:
             rests = list(map(_REST, secs))
         except AttributeError:          # a reader without templates
@@ -145,11 +189,50 @@ def group_get(rest: dict | None, secs: list, key: str) -> str | None:
 def name_values(rest: dict | None, secs: list, key: str) -> list:
     """``[sec.get(key) for sec in secs]`` for ``parametername`` or ``denotation``, the
     values kept per section (an empty one is None, as ``get`` says)."""
-    if rest is not None:
-        own = list(map(attrgetter(NAME_KEYS[key]), secs))
-        if None not in own:
-            return [v or None for v in own]
-    return [s.get(key) for s in secs]
+    if rest is None:
+        return [s.get(key) for s in secs]
+    own = list(map(attrgetter(NAME_KEYS[key]), secs))
+    if None in own:                       # not cut out of the template: its value is there
+        if own.count(None) == len(own):
+            return [rest.get(key) or None] * len(own)
+        return [s.get(key) for s in secs]
+    if "" in own:
+        return [v or None for v in own]
+    return own
+
+
+def nameless(ctx) -> dict[str | None, set[int]]:
+    """kind -> ``id`` of every section of that kind without a ParameterName (``get`` says
+    None); kinds with none are left out."""
+    got = ctx.cache.get("nameless")
+    if got is None:
+        got = {}
+        for kind, rest, secs in groups(ctx):
+            names = name_values(rest, secs, "parametername")
+            if None in names:
+                got.setdefault(kind, set()).update(
+                    id(s) for s, v in zip(secs, names) if v is None)
+        ctx.cache["nameless"] = got
+    return got
+
+
+def sub_counts(ctx) -> dict[int, int]:
+    """index -> the number of its [<index>subN] sections (N at most 0xFF): the lengths of
+    ``sub_sections``, without building it for a file whose sub-object names are canonical."""
+    got = ctx.cache.get("sub_counts")
+    if got is not None:
+        return got
+    names, is_sub, _ = _split(ctx)
+    names = list(compress(names, is_sub))
+    if max(map(len, names), default=0) > 9:      # a subindex of 3 digits or more
+        got = {idx: len(subs) for idx, subs in sub_sections(ctx).items()}
+    else:
+        got = {}
+        for head, run in groupby(map(_HEAD, names)):
+            idx = int(head, 16)
+            got[idx] = got.get(idx, 0) + len(list(run))
+    ctx.cache["sub_counts"] = got
+    return got
 
 
 # -- entries ----------------------------------------------------------------------------------
