@@ -5,7 +5,7 @@ import re
 
 from dcf2bin import values
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
-from dcf2bin.lint.tables import group_get, name_values
+from dcf2bin.lint.tables import group_get, longest_name, name_values
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
@@ -180,9 +180,9 @@ _LONG_RE = re.compile(r"\n([^\n]{%d,})" % (MAX_LINE + 1))
 def name_too_long(ctx):
     for _, rest, secs in ctx.groups:
         for key in ("parametername", "denotation"):
-            names = name_values(rest, secs, key)
-            if max(map(len, filter(None, names)), default=0) <= MAX_NAME:
+            if longest_name(rest, secs, key) <= MAX_NAME:
                 continue
+            names = name_values(rest, secs, key)
             for sec, v in zip(secs, names):
                 if v is not None and len(v) > MAX_NAME:
                     line = sec.line_of(key)

@@ -17,13 +17,12 @@ from __future__ import annotations
 
 import re
 from itertools import compress, groupby, repeat
-from operator import attrgetter, is_not, itemgetter, not_
+from operator import attrgetter, is_not, itemgetter
 
 # a line end not followed by a sub-object section's name (rules_syntax._SUB_RE) and another
 _NOT_SUB = re.compile(r"\n(?![0-9a-f]{4}sub[0-9a-f]+\n)")
 _SUB_NUMBERS = {f"{i:x}": i for i in range(256)}              # canonical subindex -> number
 _HEAD, _TAIL = itemgetter(slice(0, 4)), itemgetter(slice(7, None))
-_NAME, _SECTION = itemgetter(0), itemgetter(1)
 _REST = attrgetter("rest")
 NAME_KEYS = {"parametername": "param_name", "denotation": "denotation"}  # cut out of ``rest``
 
@@ -118,9 +117,9 @@ def sub_sections(ctx) -> dict[int, dict[int, object]]:
     got = ctx.cache.get("sub_sections")
     if got is not None:
         return got
-    pairs = by_kind(ctx).get("sub", [])
-    names = [c for c, _ in pairs]
-    secs = list(map(_SECTION, pairs))
+    names, is_sub, _ = _split(ctx)
+    names = list(compress(names, is_sub))
+    secs = kind_sections(ctx, "sub")
     numbers = list(map(_SUB_NUMBERS.get, map(_TAIL, names)))
     if None in numbers:      # not canonical, or above 0xFF: read as written
         for i, number in enumerate(numbers):
@@ -199,6 +198,15 @@ def name_values(rest: dict | None, secs: list, key: str) -> list:
     if "" in own:
         return [v or None for v in own]
     return own
+
+
+def longest_name(rest: dict | None, secs: list, key: str) -> int:
+    """``max(len(sec.get(key) or "") for sec in secs)`` for ``parametername`` or
+    ``denotation``, without a list of the values."""
+    if rest is None:
+        return max(len(s.get(key) or "") for s in secs)
+    own = max(map(len, filter(None, map(attrgetter(NAME_KEYS[key]), secs))), default=0)
+    return max(own, len(rest.get(key) or ""))   # the template's: where not cut out
 
 
 def nameless(ctx) -> dict[str | None, set[int]]:
