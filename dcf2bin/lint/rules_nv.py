@@ -68,7 +68,7 @@ def dynch_beyond(ctx):
         n = values.parse_int(values.split_numeric_comment(text)[0]) if text else 0
     except values.ValueProblem:
         return  # DCF310
-    for key in sorted(ctx.key_names(sec), key=sec.line_of):
+    for key in ctx.key_names(sec):     # (the report is sorted by line)
         m = _NUMBERED.fullmatch(key)
         if m and (len(m.group(2)) > 18 or not 1 <= int(m.group(2)) <= n):
             line = sec.line_of(key)

@@ -129,7 +129,10 @@ def unknown_key(ctx):
         names = tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
-            unknown = verdicts[(kind, names)] = [k for k in names if not _known_key(kind, k)]
+            known = _SUB_KEYS if kind == "sub" else _OBJ_KEYS if kind == "object" else None
+            unknown = verdicts[(kind, names)] = [
+                k for k in names if k not in known] if known is not None else [
+                k for k in names if not _known_key(kind, k)]
         for sec in secs if unknown else ():
             for key in unknown:
                 k = sec.keys.get(key)

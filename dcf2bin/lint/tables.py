@@ -203,7 +203,7 @@ def name_values(rest: dict | None, secs: list, key: str) -> list:
 def longest_name(rest: dict | None, secs: list, key: str) -> int:
     """``max(len(sec.get(key) or "") for sec in secs)`` for ``parametername`` or
     ``denotation``, without a list of the values."""
-    if rest is None:
+    if rest is None or len(secs) == 1:
         return max(len(s.get(key) or "") for s in secs)
     own = max(map(len, filter(None, map(attrgetter(NAME_KEYS[key]), secs))), default=0)
     return max(own, len(rest.get(key) or ""))   # the template's: where not cut out
@@ -264,11 +264,12 @@ def entries_of_kinds(ctx, kinds_: frozenset) -> list:
     if got is None:
         every = entries(ctx)
         types = ctx.cache.get("entry types")
-        if types is None:       # (the DataType object of each entry, one entry per object)
-            ids = list(map(id, map(attrgetter("dtype"), every)))
-            types = ctx.cache["entry types"] = (ids, dict(zip(ids, every)))
-        ids, one = types
-        wanted = {i for i, e in one.items() if e.dtype is not None and e.dtype.kind in kinds_}
+        if types is None:       # the id of each entry's DataType object, and those objects
+            dtypes = list(map(attrgetter("dtype"), every))
+            ids = list(map(id, dtypes))
+            types = ctx.cache["entry types"] = (ids, {i: dtypes[ids.index(i)] for i in set(ids)})
+        ids, dtypes = types
+        wanted = {i for i, d in dtypes.items() if d is not None and d.kind in kinds_}
         got = ctx.cache[key] = list(compress(every, map(wanted.__contains__, ids))) \
             if wanted else []
     return got
@@ -281,8 +282,9 @@ def entries_with(ctx, *attrs: str) -> list:
     if got is None:
         every = entries(ctx)
         if len(attrs) == 1:
-            got = list(compress(every, map(is_not, map(attrgetter(attrs[0]), every),
-                                           repeat(None))))
+            values = list(map(attrgetter(attrs[0]), every))
+            got = [] if values.count(None) == len(values) else list(
+                compress(every, map(is_not, values, repeat(None))))
         else:
             ids = set().union(*(map(id, entries_with(ctx, a)) for a in attrs))
             got = list(compress(every, map(ids.__contains__, map(id, every)))) if ids else []
