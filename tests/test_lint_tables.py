@@ -11,7 +11,7 @@ from conftest import ROOT, corpus_files
 from dcf2bin import ini, model
 from dcf2bin.lint import Options, lint_bytes, tables
 from dcf2bin.lint.context import DcfContext
-from dcf2bin.lint.rules_syntax import classify
+from dcf2bin.lint.vocabulary import classify
 
 _HEAD = """[FileInfo]
 FileName=t.dcf

@@ -110,7 +110,7 @@ class DcfContext:
 
     @property
     def kinds(self) -> dict[str, str | None]:
-        """canonical section name -> its CiA 306 kind (see rules_syntax.classify)."""
+        """canonical section name -> its CiA 306 kind (see vocabulary.classify)."""
         return tables.kinds(self)
 
     def of_kind(self, *kinds: str | None) -> list[tuple[str, ini_mod.Section]]:

@@ -19,7 +19,9 @@ import re
 from itertools import compress, groupby, repeat
 from operator import attrgetter, is_not, itemgetter
 
-# a line end not followed by a sub-object section's name (rules_syntax._SUB_RE) and another
+from dcf2bin.lint.vocabulary import classify
+
+# a line end not followed by a sub-object section's name (vocabulary._SUB_RE) and another
 _NOT_SUB = re.compile(r"\n(?![0-9a-f]{4}sub[0-9a-f]+\n)")
 _SUB_NUMBERS = {f"{i:x}": i for i in range(256)}              # canonical subindex -> number
 _HEAD, _TAIL = itemgetter(slice(0, 4)), itemgetter(slice(7, None))
@@ -31,11 +33,10 @@ def _split(ctx) -> tuple[list[str], list[bool], list[tuple[str, str | None]]]:
     """(every canonical name, whether each is a sub-object section's, (name, kind) of the
     others in file order). The sub-object sections are told apart by one search over all
     names for the others (in a PLC DCF, a few hundred of 60,000); only those are
-    classified one by one (rules_syntax.classify)."""
+    classified one by one (vocabulary.classify)."""
     got = ctx.cache.get("split")
     if got is not None:
         return got
-    from dcf2bin.lint.rules_syntax import classify
     names = list(ctx.ini.sections)
     is_sub = [True] * len(names)
     others = []
@@ -73,7 +74,7 @@ def kind_sections(ctx, kind: str | None) -> list:
 
 
 def by_kind(ctx) -> dict[str | None, list]:
-    """kind (rules_syntax.classify) -> [(canonical name, section)] in file order."""
+    """kind (vocabulary.classify) -> [(canonical name, section)] in file order."""
     got = ctx.cache.get("by_kind")
     if got is None:
         names, is_sub, others = _split(ctx)
