@@ -200,3 +200,20 @@ def test_tables_equal_the_plain_walks_on_every_sample_fixture_and_corpus_file():
         _check_tables(DcfContext(str(path), data, Options(), dev.ini, dev))
         checked += 1
     assert checked > 50
+
+
+def test_long_lines_are_those_a_line_by_line_search_finds():
+    """DCF052 looks for long lines a window at a time (rules_syntax._long_lines): the same
+    lines as the search at every line start, on lines around the limit, empty lines, CRs,
+    a long first or last line, with and without a final line end."""
+    import random
+
+    from dcf2bin.lint.rules_syntax import _long_lines
+    rnd = random.Random(22)
+    for trial in range(300):
+        lines = [rnd.choice(["", "k=v", "x" * rnd.randint(240, 270), "y" * rnd.randint(0, 600),
+                             "z" * 255 + "\r", "w" * 256]) for _ in range(rnd.randint(0, 12))]
+        text = "\n".join(lines) + rnd.choice(["", "\n"])
+        for width in (256, 5):
+            expected = [m.span() for m in re.finditer(r"^[^\n]{%d,}" % width, text, re.M)]
+            assert list(_long_lines(text, width)) == expected, (trial, width)

@@ -60,10 +60,8 @@ def unknown_section(ctx):
       hint="shorten the value; other tools may cut the line")
 def line_too_long(ctx):
     text = ctx.text
-    first = _LONG_FIRST_RE.match(text)
-    starts = ([first.span()] if first else []) + [m.span(1) for m in _LONG_RE.finditer(text)]
     line, pos = 1, 0
-    for start, end in starts:
+    for start, end in _long_lines(text, MAX_LINE + 1):
         raw = text[start:end].rstrip("\r")
         if len(raw) <= MAX_LINE:
             continue
@@ -76,10 +74,23 @@ def line_too_long(ctx):
                       MAX_LINE + 1)
 
 
-# a line of more than MAX_LINE characters: the first line, and any after a line end (a
-# search for the line end is much faster than r"^..." with re.M, tried at every character)
-_LONG_FIRST_RE = re.compile(r"[^\n]{%d,}" % (MAX_LINE + 1))
-_LONG_RE = re.compile(r"\n([^\n]{%d,})" % (MAX_LINE + 1))
+def _long_lines(text: str, width: int):
+    """(start, end) of every line of at least ``width`` characters (CRs counted), as
+    ``re.finditer(r"^[^\n]{width,}", text, re.M)`` finds them: from a line's start, the
+    last line end within ``width`` characters is where to look next (none: a long line),
+    about one step per ``width`` characters instead of one per line."""
+    n, at = len(text), 0
+    rfind, find = text.rfind, text.find
+    while at + width <= n:
+        nl = rfind("\n", at, at + width)
+        if nl >= 0:
+            at = nl + 1
+            continue
+        end = find("\n", at)
+        if end < 0:
+            end = n
+        yield at, end
+        at = end + 1
 
 
 @rule("DCF053", "name-too-long", WARNING,
