@@ -217,3 +217,18 @@ def test_long_lines_are_those_a_line_by_line_search_finds():
         for width in (256, 5):
             expected = [m.span() for m in re.finditer(r"^[^\n]{%d,}" % width, text, re.M)]
             assert list(_long_lines(text, width)) == expected, (trial, width)
+
+
+@pytest.mark.parametrize("key, length, reported", [
+    ("Denotation", 242, True), ("Denotation", 241, False),
+    ("ParameterName", 242, True), ("ParameterName", 241, False)])
+def test_a_name_just_over_the_limit_is_found_on_the_shortest_line_that_holds_it(
+        key, length, reported):
+    """DCF053 looks at the sections only when some line can hold a name of more than 241
+    characters: "Denotation=" and 242 characters, 253 in all, is the shortest."""
+    name = "" if key == "ParameterName" else "ParameterName=x\n"
+    text = _HEAD + f"[2000]\n{name}ObjectType=0x7\nDataType=0x0005\n" \
+                   f"AccessType=rw\nDefaultValue=0\n{key}={'n' * length}\n" + _TAIL
+    line = _lines(text, f"{key}=n")[0]
+    expected = [(line, f"{key} of [2000] has {length} characters, more than 241")]
+    assert _found(text, "DCF053") == (expected if reported else [])

@@ -61,7 +61,7 @@ def unknown_section(ctx):
 def line_too_long(ctx):
     text = ctx.text
     line, pos = 1, 0
-    for start, end in _long_lines(text, MAX_LINE + 1):
+    for start, end in _lines_of_names(ctx):
         raw = text[start:end].rstrip("\r")
         if len(raw) <= MAX_LINE:
             continue
@@ -72,6 +72,20 @@ def line_too_long(ctx):
             continue  # DCF053 names it more precisely
         yield Finding(f"line has {len(raw)} characters, more than {MAX_LINE}", line,
                       MAX_LINE + 1)
+
+
+# The shortest line that can hold a name of more than MAX_NAME characters: "Denotation="
+# and the name (a ParameterName line is 3 characters longer). Every longer line is one.
+_NAME_LINE = len("Denotation=") + MAX_NAME + 1
+
+
+def _lines_of_names(ctx) -> list[tuple[int, int]]:
+    """(start, end) in ``ctx.text`` of the lines of ``_NAME_LINE`` characters or more:
+    DCF052 looks at those, and DCF053 looks at nothing when there are none."""
+    got = ctx.cache.get("long lines")
+    if got is None:
+        got = ctx.cache["long lines"] = list(_long_lines(ctx.text, _NAME_LINE))
+    return got
 
 
 def _long_lines(text: str, width: int):
@@ -97,6 +111,8 @@ def _long_lines(text: str, width: int):
       f"A ParameterName or Denotation longer than {MAX_NAME} characters (CiA 306).",
       hint="shorten the name")
 def name_too_long(ctx):
+    if not _lines_of_names(ctx):
+        return   # no line can hold a name that long
     for _, rest, secs in ctx.groups:
         for key in ("parametername", "denotation"):
             if longest_name(rest, secs, key) <= MAX_NAME:
