@@ -6,7 +6,7 @@ import re
 from dcf2bin import values
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
 from dcf2bin.lint.tables import group_get, longest_name, name_values
-from dcf2bin.lint.vocabulary import OBJ_KEYS, SUB_KEYS, classify, known_key
+from dcf2bin.lint.vocabulary import classify, known_key
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
@@ -34,10 +34,7 @@ def unknown_key(ctx):
         names = tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
-            known = SUB_KEYS if kind == "sub" else OBJ_KEYS if kind == "object" else None
-            unknown = verdicts[(kind, names)] = [
-                k for k in names if k not in known] if known is not None else [
-                k for k in names if not known_key(kind, k)]
+            unknown = verdicts[(kind, names)] = [k for k in names if not known_key(kind, k)]
         for sec in secs if unknown else ():
             for key in unknown:
                 k = sec.keys.get(key)
