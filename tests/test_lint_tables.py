@@ -232,3 +232,18 @@ def test_a_name_just_over_the_limit_is_found_on_the_shortest_line_that_holds_it(
     line = _lines(text, f"{key}=n")[0]
     expected = [(line, f"{key} of [2000] has {length} characters, more than 241")]
     assert _found(text, "DCF053") == (expected if reported else [])
+
+
+def test_the_blank_comment_check_is_the_search_it_replaces():
+    """DCF057/DCF203 skip their walk when no line has an '=' and after it a blank and a
+    ';' or '#' (context._blank_comment, from the ';' and '#' of the text)."""
+    import random
+
+    from dcf2bin.lint.context import _blank_comment
+    rnd = random.Random(7)
+    texts = ["a=b ;c", ";a=b", "x ;y\na=b", "a=b\tx #c", "=;", "a ;=b", " ;", "a=\n ;",
+             "a==b ;", "a=b;c", "a=b ;c\r\n", ""]
+    texts += ["".join(rnd.choice("=; #\t\na") for _ in range(rnd.randint(0, 30)))
+              for _ in range(3000)]
+    for text in texts:
+        assert _blank_comment(text) == (_BLANK_COMMENT.search(text) is not None), repr(text)

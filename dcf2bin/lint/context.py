@@ -16,7 +16,6 @@ from dcf2bin import schema, values
 from dcf2bin.lint import tables
 
 
-
 def _blank_comment(text: str) -> bool:
     """``re.search(r"=[^=\n]*?[ \t][;#]", text) is not None``, from the few ';' and '#'
     of a file instead of from its every '=' (a 60,000-variable file has 400,000)."""
