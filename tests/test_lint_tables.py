@@ -247,3 +247,12 @@ def test_the_blank_comment_check_is_the_search_it_replaces():
               for _ in range(3000)]
     for text in texts:
         assert _blank_comment(text) == (_BLANK_COMMENT.search(text) is not None), repr(text)
+
+
+def test_unknown_keys_is_known_key_for_each():
+    from dcf2bin.lint.vocabulary import FIXED, NUMBERED, known_key, unknown_keys
+    keys = ["parametername", "subnumber", "compactsubobj", "foo", "filename", "nrofentries",
+            "line1", "line", "tool3", "dummy0001", "vendorname", "1", "supportedobjects",
+            "type1", "x", "nodeid", "items", "name"]
+    for kind in ["object", "sub", "dummyusage", "aux", "nonsense", *FIXED, *NUMBERED]:
+        assert unknown_keys(kind, keys) == [k for k in keys if not known_key(kind, k)], kind

@@ -6,7 +6,7 @@ import re
 from dcf2bin import values
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
 from dcf2bin.lint.tables import group_get, longest_name, name_values
-from dcf2bin.lint.vocabulary import classify, known_key
+from dcf2bin.lint.vocabulary import classify, unknown_keys
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
@@ -34,7 +34,7 @@ def unknown_key(ctx):
         names = tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
-            unknown = verdicts[(kind, names)] = [k for k in names if not known_key(kind, k)]
+            unknown = verdicts[(kind, names)] = unknown_keys(kind, names)
         for sec in secs if unknown else ():
             for key in unknown:
                 k = sec.keys.get(key)

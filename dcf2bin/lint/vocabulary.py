@@ -98,3 +98,13 @@ def known_key(kind: str, key: str) -> bool:
         if key.startswith(p) and key[len(p):].isdigit() and key[len(p):].isascii():
             return True
     return False
+
+
+def unknown_keys(kind: str, names) -> list[str]:
+    """The key names (lower case) among ``names`` that CiA 306 does not define for a section
+    of ``kind``, in their order: ``known_key`` for each, with one set lookup per key where
+    the kind's keys are a fixed set."""
+    fixed = {"object": OBJ_KEYS, "sub": SUB_KEYS}.get(kind) or FIXED.get(kind)
+    if fixed is not None:
+        return [k for k in names if k not in fixed]
+    return [k for k in names if not known_key(kind, k)]
