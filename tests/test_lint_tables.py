@@ -253,6 +253,7 @@ def test_unknown_keys_is_known_key_for_each():
     from dcf2bin.lint.vocabulary import FIXED, NUMBERED, known_key, unknown_keys
     keys = ["parametername", "subnumber", "compactsubobj", "foo", "filename", "nrofentries",
             "line1", "line", "tool3", "dummy0001", "vendorname", "1", "supportedobjects",
-            "type1", "x", "nodeid", "items", "name"]
+            "type1", "x", "nodeid", "items", "name", "type12", "typex", "range", "range3",
+            "ppoffset0", "line\u0663", "tool", "1a", "", "maxcnt", "pioffset7", "dir"]
     for kind in ["object", "sub", "dummyusage", "aux", "nonsense", *FIXED, *NUMBERED]:
         assert unknown_keys(kind, keys) == [k for k in keys if not known_key(kind, k)], kind

@@ -3,6 +3,7 @@ kind has (``known_key``). Shared by the rules (rules_syntax) and their tables (t
 it imports nothing of the lint package."""
 from __future__ import annotations
 
+import functools
 import re
 
 OBJ_KEYS = frozenset({
@@ -102,9 +103,26 @@ def known_key(kind: str, key: str) -> bool:
 
 def unknown_keys(kind: str, names) -> list[str]:
     """The key names (lower case) among ``names`` that CiA 306 does not define for a section
-    of ``kind``, in their order: ``known_key`` for each, with one set lookup per key where
-    the kind's keys are a fixed set."""
+    of ``kind``, in their order: ``known_key`` for each, with one set lookup (and for the
+    numbered keys one match) per key."""
     fixed = {"object": OBJ_KEYS, "sub": SUB_KEYS}.get(kind) or FIXED.get(kind)
     if fixed is not None:
         return [k for k in names if k not in fixed]
-    return [k for k in names if not known_key(kind, k)]
+    numbered = _numbered(kind)
+    if numbered is None:
+        return [k for k in names if not known_key(kind, k)]
+    plain, match = numbered
+    return [k for k in names if k not in plain and match(k) is None]
+
+
+@functools.lru_cache(maxsize=None)
+def _numbered(kind: str):
+    """(plain keys, fullmatch of the numbered ones) of a kind in NUMBERED, else None: a key
+    is known when it is plain, or a prefix and ASCII digits (``known_key``)."""
+    if kind not in NUMBERED or kind == "dummyusage":
+        return None
+    plain, prefixes = NUMBERED[kind]
+    if not prefixes:
+        return frozenset(plain), re.compile(r"(?!)").fullmatch
+    alternatives = "|".join(re.escape(p) for p in prefixes)
+    return frozenset(plain), re.compile(f"(?:{alternatives})[0-9]+").fullmatch
