@@ -6,6 +6,8 @@ everywhere. Only click is imported here.
 from __future__ import annotations
 
 import functools
+import gc
+import importlib
 import io
 import os
 import re
@@ -35,6 +37,39 @@ class _SafeMain:
 
 class Group(_SafeMain, click.Group):
     """The program's click group (``cls=Group``)."""
+
+
+class LazyGroup(Group):
+    """A group that imports a command's module only when that command is run or asked
+    for (``lazy``: name -> ``"module:attribute"``), so that running one command imports
+    neither the other commands nor what they import. ``list_commands`` names them all
+    without importing any; reading ``commands`` (help's listing, introspection, the tests)
+    imports every one."""
+
+    def __init__(self, *args, lazy: dict[str, str] | None = None, **kwargs):
+        self._lazy = dict(lazy or {})
+        super().__init__(*args, **kwargs)
+
+    @property
+    def commands(self) -> dict:
+        for name in self.list_commands(None):
+            self.get_command(None, name)
+        return self._commands
+
+    @commands.setter
+    def commands(self, value) -> None:
+        self._commands = dict(value or {})
+
+    def list_commands(self, ctx) -> list[str]:
+        return sorted(set(self._commands) | set(self._lazy))
+
+    def get_command(self, ctx, name: str):
+        if name not in self._commands:
+            if name not in self.list_commands(ctx):
+                return None
+            module, _, attr = self._lazy[name].partition(":")
+            self._commands[name] = getattr(importlib.import_module(module), attr)
+        return self._commands[name]
 
 
 class Command(_SafeMain, click.Command):
