@@ -148,13 +148,13 @@ def say(message: str) -> None:
 def emit(diags, quiet: bool = False) -> None:
     """Print diagnostics on standard error in the one text form of report.py; -q keeps the
     errors only."""
-    from dcf2bin.report import render_text
     diags = list(diags)
     if any(d.severity is Severity.ERROR for d in diags):
         _State.errors_emitted = True
     shown = [d for d in diags if not (quiet and d.severity is not Severity.ERROR)]
     if not shown or sys.stderr is None:
         return
+    from dcf2bin.report import render_text     # not imported by a run that prints nothing
     buf = io.StringIO()
     render_text(shown, buf, hints=True, colour=_colour(sys.stderr))
     _write_stderr(buf.getvalue())
