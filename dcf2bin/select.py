@@ -6,6 +6,7 @@ written entries are collected, not raised, so one run reports all of them.
 """
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass, field
 from itertools import repeat
 
@@ -158,11 +159,14 @@ class _Selector:
                         self.write(e)
                 elif e.has_value:
                     self.write(e)
-        # 3. PDOs
+        # 3. PDOs: the communication objects present, RPDOs (0x1400-0x15FF) then TPDOs
+        # (0x1800-0x19FF), each by ascending index (``objs`` is sorted)
         self.check_pairs()
-        for base in (0x1400, 0x1800):
-            for comm in range(base, base + 0x200):
-                if comm in created or comm not in dev.objects:
+        keys = [obj.index for obj in objs]
+        for lo, hi in ((0x1400, 0x15FF), (0x1800, 0x19FF)):
+            for obj in objs[bisect_left(keys, lo):bisect_right(keys, hi)]:
+                comm = obj.index
+                if comm in created:
                     continue
                 if self.pdo_is_configured(comm) and (comm + 0x200) not in created:
                     self.pdo_block(comm)
