@@ -154,14 +154,23 @@ class DcfContext:
         if text is None:
             text = entry.value_text
         if dtype is not None and dtype.is_integer and text is not None:
-            t = values.split_numeric_comment(text)[0] if dtype.kind != dt.BOOL else text
-            nodeid = values.uses_nodeid(t)
-            node = self.dev.node_id if self.dev.node_id is not None else 0
-            try:
-                data = values.encode(dtype, t, node_id=node)
-                result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT), nodeid)
-            except values.ValueProblem:
-                result = (None, nodeid)
+            # the model's encodings (Device.encoded, filled by the selection) hold only
+            # values encoded without a numeric comment, with the file's node-ID: the same
+            # bytes as encoding ``t`` here (a $NODEID value without a node-ID is never there)
+            data = self.dev.encoded.get((dtype.code, text))
+            if data is not None:
+                result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT),
+                          values.uses_nodeid(text))
+            else:
+                t = values.split_numeric_comment(text)[0] if dtype.kind != dt.BOOL else text
+                nodeid = values.uses_nodeid(t)
+                node = self.dev.node_id if self.dev.node_id is not None else 0
+                try:
+                    data = values.encode(dtype, t, node_id=node)
+                    result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT),
+                              nodeid)
+                except values.ValueProblem:
+                    result = (None, nodeid)
         if key is not None:
             self._ints[key] = result
         return result
