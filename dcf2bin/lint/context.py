@@ -146,14 +146,17 @@ class DcfContext:
         callers can still compare offsets; ``uses_nodeid`` tells them. None when the
         value cannot be worked out (DCF200 reports it).
         """
-        key = id(entry) if text is None else None
-        if key is not None and key in self._ints:
-            return self._ints[key]
+        if text is None:
+            key = id(entry)
+            got = self._ints.get(key)
+            if got is not None:
+                return got
+            text = entry.value_text
+        else:
+            key = None
         result: tuple[int | None, bool] = (None, False)
         dtype = entry.dtype
-        if text is None:
-            text = entry.value_text
-        if dtype is not None and dtype.is_integer and text is not None:
+        if text is not None and dtype is not None and dtype.is_integer:
             # the model's encodings (Device.encoded, filled by the selection) hold only
             # values encoded without a numeric comment, with the file's node-ID: the same
             # bytes as encoding ``t`` here (a $NODEID value without a node-ID is never there)
