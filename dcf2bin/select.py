@@ -111,10 +111,12 @@ class _Selector:
             except DcfError as exc:
                 self.error(exc)
                 data = b""
-        self.sel.entries.append((entry.index, entry.sub, data))
-        self.sel.attrs.append(attribute(entry))
-        self.sel.emitted.add((entry.index, entry.sub))
-        self.sel.emitted_objects.add(entry.index)
+        sel, index, sub = self.sel, entry.index, entry.sub
+        sel.entries.append((index, sub, data))
+        sel.attrs.append(attribute_byte(index, sub, entry.dtype, entry.access,
+                                        entry.pdo_mapping))
+        sel.emitted.add((index, sub))
+        sel.emitted_objects.add(index)
 
     def counts(self, entry: Entry) -> bool:
         """Configured (auto) or has any value (all)."""
@@ -148,13 +150,14 @@ class _Selector:
                 attrs.extend(map(attribute, es.values()))
         self.sel.created = created
         # 2. configuration
+        auto = self.policy == AUTO
         for obj in objs:
             if obj.index in created or is_pdo_object(obj.index):
                 continue
             for e in obj.entries.values():
                 if e.obj_flags & 1:
                     continue
-                if self.policy == AUTO:
+                if auto:
                     if e.configured and e.access not in ("ro", "const"):
                         self.write(e)
                 elif e.has_value:
