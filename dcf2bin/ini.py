@@ -35,42 +35,36 @@ class Key:
 class Section:
     """One section: its values by lower-case key, and (lazily) each key's name and line.
 
-    The fast reader keeps where the section's text is and the parts it has parsed;
-    ``values`` and ``keys`` (name, value and line of every key) are worked out on
-    first use, so the common case, which never prints a diagnostic, pays little.
-
-    From the fast reader, ``rest`` is the values of the section's lines with the values
-    of its ``ParameterName=`` and ``Denotation=`` lines left empty, one dict shared by
-    every section whose text is the same but for those names (the 254 sub-objects of
-    a network-variable array differ only in them), and ``param_name``/``denotation``
-    the values that were cut out (None: that line is not cut out of the template).
-    The model builds such entries once. The exact reader leaves them None.
+    The exact reader gives every section its name, values and keys. The fast reader's
+    sections (``_read_sections``) share what they have in common instead: ``rest`` is
+    a ``_Template``, the values of the section's lines with the values of its
+    ``ParameterName=`` and ``Denotation=`` lines left empty, one dict shared by every
+    section whose text is the same but for those names (the 254 sub-objects of a
+    network-variable array differ only in them), and ``param_name``/``denotation`` are
+    the values that were cut out (None: that line is not cut out of the template). The
+    model builds such entries once. ``values``, ``keys`` (name, value and line of every
+    key) and the name as written are worked out on first use from the template and from
+    the file's text (``rest.src``, where the section's header line starts at ``_at``),
+    so the common case, which never prints a diagnostic, pays little. The exact reader
+    leaves ``rest``, ``param_name`` and ``denotation`` None.
     """
-    __slots__ = ("_name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
-                 "denotation")
+    __slots__ = ("line", "param_name", "rest", "denotation", "_at", "_name", "_values",
+                 "_keys")
 
-    def __init__(self, name: str | None, line: int, values: dict[str, str] | None = None,
-                 keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
-                 param_name: str | None = None, rest: dict[str, str] | None = None,
-                 denotation: str | None = None):
-        self._name = name           # as written; None: read from the header when asked
+    def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
+                 keys: dict[str, Key] | None = None):
         self.line = line
-        if values is None and rest is None:
-            values = {}
-        self._values = values       # None: built from ``rest`` when first asked for
+        self.param_name = self.rest = self.denotation = None
+        self._at = 0
+        self._name = name           # as written; None: read from the header when asked
+        self._values = {} if values is None else values   # None: built from ``rest``
         self._keys = keys
-        self._text = text           # the file's text (or its bytes, see parse_bytes); the
-                                    # section's header line starts at _at
-        self._at = at
-        self.param_name = param_name
-        self.rest = rest
-        self.denotation = denotation
 
     @property
     def name(self) -> str:
         """The section's name as written (blanks around it trimmed)."""
         if self._name is None:              # the fast reader's: from its header line
-            text, at = self._text or "", self._at
+            text, at = self.rest.src, self._at
             if isinstance(text, bytes):
                 name = text[at + 1:text.find(b"]", at + 1)].decode("latin-1")
             else:
@@ -98,7 +92,7 @@ class Section:
         """lower-case key name -> Key(name as written, value, line)."""
         if self._keys is None:
             keys: dict[str, Key] = {}
-            text = self._text or ""
+            text = self.rest.src
             if isinstance(text, bytes):           # the file's bytes: see parse_bytes
                 end = text.find(b"\n[", self._at)
                 own = text[self._at:end if end >= 0 else len(text)].decode("latin-1")
@@ -145,6 +139,16 @@ class Section:
         if self._keys is None:
             self._keys = {}
         self._keys[low] = key
+
+
+class _Template(dict):
+    """The values of the lines of sections that have the same text but for the values of
+    their names (see ``Section``), read once per file. It also carries what those
+    sections have in common beyond their values: ``src``, the text of the file (or its
+    bytes, see ``parse_bytes``) in which they look up their names and key lines on
+    demand, and ``step``, the number of lines from one such section's header to the
+    next header (the same text has the same number of lines)."""
+    __slots__ = ("src", "step")
 
 
 @dataclass(slots=True)
@@ -273,30 +277,45 @@ def parse_text(text: str, path: str, encoding: str = "utf-8",
 
 def _parse_fast(text: str, path: str, encoding: str,
                 source: bytes | None = None) -> IniFile | None:
-    """The common case, a clean file, one section at a time instead of one line at a time.
+    """The common case, a clean file, one section at a time instead of one line at a time
+    (``_read_sections``). Anything the exact reader would comment on (a bad line, an
+    indented line, a duplicate, text after a header, a lone CR) makes this return None,
+    and the exact reader takes the file.
 
-    The text is cut at every line that starts with '[' (a header: INI has no other
-    use for it), at the file's own line ends (no converted copy of a CRLF text); a
-    section keeps only where it starts in the text. A section's lines after its first
-    are very often the same text as another section's (see ``Section``), so that text
-    is parsed once and its values shared. Anything the exact reader would comment on
-    (a bad line, an indented line, a duplicate, text after a header, a lone CR) makes
-    this return None, and the exact reader takes the file.
+    The text is cut at its own line ends (no converted copy of a CRLF text); a file
+    with a CR is read as CRLF text first, and its line ends are counted afterwards
+    (two counts of one character; counting "\\r\\n" itself costs as much as both): when
+    every CR and every LF is in one of the CRLFs the reader counted, it was. Only a file
+    that mixes CRLF with LF line ends is read again, converted to LF.
     """
-    nl = "\n"
-    lfs = None                                 # the number of line ends (counted once)
     if "\r" in text:
-        crlf = text.count("\r\n")
-        if text.count("\r") != crlf:
-            return None                        # a lone CR: let the exact reader deal with it
-        lfs = text.count("\n")
-        if crlf == lfs:
-            nl = "\r\n"                        # every line ends in CRLF
-        else:
-            text = text.replace("\r\n", "\n")   # mixed line ends
-            source = None                      # other offsets than the bytes
+        parsed = _read_sections(text, "\r\n", path, encoding, source)
+        crlfs = parsed.line_count - 1 if parsed is not None else -1
+        if text.count("\n") == crlfs and text.count("\r") == crlfs:
+            return parsed                      # every line ends in CRLF
+        crlfs = text.count("\r\n")
+        if text.count("\r") != crlfs or text.count("\n") == crlfs:
+            return None                        # a lone CR (the exact reader says so), or
+                                               # a CRLF file the fast path declined
+        text, source = text.replace("\r\n", "\n"), None   # mixed line ends
+    return _read_sections(text, "\n", path, encoding, source)
+
+
+def _read_sections(text: str, nl: str, path: str, encoding: str,
+                   source: bytes | None) -> IniFile | None:
+    """The fast path's reading of ``text`` whose lines end in ``nl``.
+
+    The text is cut at every line that starts with '[' (a header: INI has no other use
+    for it); a section keeps only its line, where it starts in the text and its names
+    (see ``Section``). A section's lines after its header are very often the same text
+    as another section's but for the values of ``ParameterName=`` and ``Denotation=``,
+    so that text is parsed once, into a ``_Template`` shared by those sections. When
+    ``ParameterName=`` is the first line, as configurators write it, the text after
+    that line is the template's key (no copy of the text with the name cut out), and
+    the template tells how many lines the section spans (no counting per section).
+    """
     sep, close = nl + "[", "]" + nl
-    n_sep = len(sep)
+    n_sep, n_close, n_name = len(sep), len(close), len(_NAME_KEY)
     chunks = text.split(sep)                   # each a section, from just after its '['
     if text[:1] == "[":                        # no lines before the first header
         chunks[0] = chunks[0][1:]
@@ -308,57 +327,100 @@ def _parse_fast(text: str, path: str, encoding: str,
         line, at = head.count(nl) + 2, len(head) + n_sep
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    shapes: dict[str, dict[str, str] | None] = {}
-    shapes_get = shapes.get
-    lines: dict[str, tuple] = {}               # see _body_values
-    n_name = len(_NAME_KEY)
-    src = text if source is None else source
+    templates = _Templates(text if source is None else source, nl)
+    by_tail: dict[str, _Template] = {}         # text after a first ParameterName= line
+    by_tail_get = by_tail.get
+    last, last_tail, n_last = None, "", -1     # the last template found by_tail, and its key
+    new = Section.__new__
     for chunk in chunks:
-        name, sep_found, body = chunk.partition(close)
-        if not sep_found:                      # the last line of the file is a header
-            if chunk[-1:] != "]":
-                return None
-            name = chunk[:-1]
+        end = chunk.find(close)
+        if end >= 0:
+            name, body_at = chunk[:end], end + n_close
+        elif chunk[-1:] == "]":                # a header line right before the next one
+            name, body_at = chunk[:-1], len(chunk)
+        else:
+            return None                        # the last line of the file is a header
         if not name.isalnum():                 # "A4C0sub1" needs no more looking at
             if "\n" in name or "[" in name or "]" in name:
                 return None                    # text after a header, or a broken header
             if name.strip() != name.strip(" \t"):
                 return None                    # other blanks: canonical_section's business
             name = name.strip(" \t")
-        # the names differ between the sub-sections of an array: cut their values out,
-        # and the rest, with those lines left empty, is the template
-        if body[:n_name] == _NAME_KEY:         # the first line, as configurators write it
-            j = body.find(nl, n_name)
-            if j < 0:
-                pname, rest = body[n_name:].strip(" \t"), _NAME_KEY
-            else:
-                pname, rest = body[n_name:j].strip(" \t"), _NAME_KEY + body[j:]
-        else:
-            pname, rest = _cut(body, _NAME_KEY, nl)
-        denotation = None
-        if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
-            denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
-        shape = shapes_get(rest)
-        if shape is None:
-            shape = shapes[rest] = _body_values(rest, nl, lines)
-            if shape is None:
+            if not name:
                 return None
+        if chunk.startswith(_NAME_KEY, body_at):
+            j = chunk.find(nl, body_at + n_name)
+            if j < 0:
+                j = len(chunk)
+            pname, denotation = chunk[body_at + n_name:j].strip(" \t"), None
+            if len(chunk) - j == n_last and chunk.startswith(last_tail, j):
+                template = last                # as the section before: no copy of its text
+            else:
+                tail = chunk[j:]
+                template = by_tail_get(tail)
+                if template is None:
+                    found = templates.cut(chunk[body_at:])
+                    if found is None:
+                        return None
+                    pname, denotation, template = found
+                    if denotation is None:
+                        by_tail[tail] = template
+                if denotation is None:
+                    last, last_tail, n_last = template, tail, len(tail)
+        else:
+            found = templates.cut(chunk[body_at:])
+            if found is None:
+                return None
+            pname, denotation, template = found
         canon = name.lower()
-        if (len(canon) > 8 and canon[7] == "0") or not canon:
+        if len(canon) > 8 and canon[7] == "0":     # "1018sub01"
             canon = canonical_section(name)
             if not canon or "[" in canon or "]" in canon:
                 return None
             respelled.append(canon)
-        if canon in sections:
-            return None                        # a repeated section
-        # the name as written is read again from the header line when a message needs it
-        sections[canon] = Section(None, line, None, None, src, at - 1, pname, shape,
-                                  denotation)
-        line += chunk.count(nl) + 1
+        # Section.__init__ is the exact reader's; 60,000 sections are made here
+        sec = new(Section)
+        sec.line = line
+        sec.param_name = pname
+        sec.rest = template
+        sec.denotation = denotation
+        sec._at = at - 1
+        sec._name = sec._values = sec._keys = None   # worked out when asked for
+        sections[canon] = sec
+        line += template.step
+        if end < 0:
+            line -= 1                          # no line end after the header: one line less
         at += len(chunk) + n_sep
-    if lfs is None:
-        lfs = text.count("\n")
-    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1, respelled=respelled)
+    if len(sections) != len(chunks):
+        return None                            # a repeated section
+    return IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
+
+
+class _Templates:
+    """The templates of one file's sections, by their text with the names cut out."""
+
+    def __init__(self, src: str | bytes, nl: str):
+        self.src, self.nl = src, nl
+        self.by_text: dict[str, _Template] = {}
+        self.lines: dict[str, tuple] = {}      # see _body_values
+
+    def cut(self, body: str) -> tuple[str | None, str | None, _Template] | None:
+        """(ParameterName's value, Denotation's value, the template) of a section's
+        lines, or None when a line is one the exact reader has to see."""
+        nl = self.nl
+        pname, rest = _cut(body, _NAME_KEY, nl)
+        denotation = None
+        if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
+            denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
+        template = self.by_text.get(rest)
+        if template is None:
+            values = _body_values(rest, nl, self.lines)
+            if values is None:
+                return None
+            template = self.by_text[rest] = _Template(values)
+            template.src = self.src
+            template.step = rest.count(nl) + 2   # the header's line and the next header's
+        return pname, denotation, template
 
 
 # The two keys whose values are names, cut out of a section's template, as configurators
