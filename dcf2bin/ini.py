@@ -7,7 +7,11 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
+from array import array
+from bisect import bisect_left
 from dataclasses import dataclass, field
+from itertools import accumulate, count
+from operator import add, methodcaller
 
 from dcf2bin.diagnostics import Diagnostics, Where
 
@@ -33,52 +37,76 @@ class Key:
 
 
 class Section:
-    """One section: its values by lower-case key, and (lazily) each key's name and line.
+    """One section: its name as written, line, values by lower-case key, and each key's
+    name and line (``keys``).
 
-    The exact reader gives every section its name, values and keys. The fast reader's
-    sections (``_read_sections``) share what they have in common instead: ``rest`` is
-    a ``_Template``, the values of the section's lines with the values of its
-    ``ParameterName=`` and ``Denotation=`` lines left empty, one dict shared by every
-    section whose text is the same but for those names (the 254 sub-objects of a
-    network-variable array differ only in them), and ``param_name``/``denotation`` are
-    the values that were cut out (None: that line is not cut out of the template). The
-    model builds such entries once. ``values``, ``keys`` (name, value and line of every
-    key) and the name as written are worked out on first use from the template and from
-    the file's text (``rest.src``, where the section's header line starts at ``_at``),
-    so the common case, which never prints a diagnostic, pays little. The exact reader
+    The exact reader's sections (``_WrittenSection``) hold all of these. The fast
+    reader's (``_SharedSection``) hold little of their own, since a large PLC file has
+    tens of thousands of them: ``rest`` is a ``_Template``, the values of the section's
+    lines with the values of its ``ParameterName=`` and ``Denotation=`` lines left empty,
+    one dict shared by every section whose text is the same but for those names (the
+    254 sub-objects of a network-variable array differ only in them), and
+    ``param_name``/``denotation`` are the values that were cut out (None: that line is
+    not cut out of the template). The model builds such entries once. The exact reader
     leaves ``rest``, ``param_name`` and ``denotation`` None.
     """
-    __slots__ = ("line", "param_name", "rest", "denotation", "_at", "_name", "_values",
-                 "_keys")
+    __slots__ = ()
+    param_name: str | None = None
+    rest: _Template | None = None
+    denotation: str | None = None
+    name: str
+    line: int
+    values: dict[str, str]     # lower-case key name -> value (blanks trimmed)
+    keys: dict[str, Key]       # lower-case key name -> Key(name as written, value, line)
 
-    def __init__(self, name: str, line: int, values: dict[str, str] | None = None,
-                 keys: dict[str, Key] | None = None):
+    def has(self, key: str) -> bool:
+        return key in self.values
+
+    def get(self, key: str) -> str | None:
+        """The value of ``key`` (lower case), or None when absent or empty."""
+        return self.values.get(key) or None
+
+    def key_names(self):
+        """The lower-case key names, in file order (``values.keys()``, without building
+        ``values`` for a section read through a shared template)."""
+        return self.values.keys()
+
+    def line_of(self, key: str) -> int:
+        if not self.has(key):
+            return self.line
+        return self.keys[key].line
+
+
+class _WrittenSection(Section):
+    """A section of the exact reader: what it read, key by key."""
+    __slots__ = ("name", "line", "values", "keys")
+
+    def __init__(self, name: str, line: int):
+        self.name = name
         self.line = line
-        self.param_name = self.rest = self.denotation = None
-        self._at = 0
-        self._name = name           # as written; None: read from the header when asked
-        self._values = {} if values is None else values   # None: built from ``rest``
-        self._keys = keys
+        self.values: dict[str, str] = {}
+        self.keys: dict[str, Key] = {}
+
+    def add(self, key: Key) -> None:
+        low = key.name.lower()
+        self.values[low] = key.value
+        self.keys[low] = key
+
+
+class _SharedSection(Section):
+    """A section of the fast reader: its line, its names and its template (see
+    ``Section``). ``values`` and ``keys`` are worked out from the template on first use,
+    the name as written from the file's text each time it is asked for, so the common
+    case, which never prints a diagnostic, pays little: ``_read_sections`` makes these
+    without ``__init__`` (it sets every slot)."""
+    __slots__ = ("line", "param_name", "rest", "denotation", "_values", "_keys")
 
     @property
     def name(self) -> str:
-        """The section's name as written (blanks around it trimmed)."""
-        if self._name is None:              # the fast reader's: from its header line
-            text, at = self.rest.src, self._at
-            if isinstance(text, bytes):
-                name = text[at + 1:text.find(b"]", at + 1)].decode("latin-1")
-            else:
-                name = text[at + 1:text.find("]", at + 1)]
-            self._name = name.strip(" \t")
-        return self._name
-
-    @name.setter
-    def name(self, value: str) -> None:
-        self._name = value
+        return self.rest.source.name_at(self.line)
 
     @property
     def values(self) -> dict[str, str]:
-        """lower-case key name -> value (blanks trimmed)."""
         if self._values is None:
             self._values = dict(self.rest)
             if self.param_name is not None:
@@ -89,22 +117,18 @@ class Section:
 
     @property
     def keys(self) -> dict[str, Key]:
-        """lower-case key name -> Key(name as written, value, line)."""
         if self._keys is None:
+            # the template's text has the section's lines (the names' values left out)
             keys: dict[str, Key] = {}
-            text = self.rest.src
-            if isinstance(text, bytes):           # the file's bytes: see parse_bytes
-                end = text.find(b"\n[", self._at)
-                own = text[self._at:end if end >= 0 else len(text)].decode("latin-1")
-            else:
-                end = text.find("\n[", self._at)
-                own = text[self._at:end if end >= 0 else len(text)]
-            lines = own.split("\n")
-            for i, raw in enumerate(lines[1:], self.line + 1):   # after the header line
+            for i, raw in enumerate(self.rest.text.split("\n"), self.line + 1):
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
                 if eq and k and k[0] not in ";#":
                     keys.setdefault(k.lower(), Key(k, v.strip(" \t\r"), i))
+            for low, value in (("parametername", self.param_name),
+                               ("denotation", self.denotation)):
+                if value is not None:           # its line is in the template, empty
+                    keys[low] = Key(keys[low].name, value, keys[low].line)
             self._keys = keys
         return self._keys
 
@@ -114,7 +138,6 @@ class Section:
         return key in self._values
 
     def get(self, key: str) -> str | None:
-        """The value of ``key`` (lower case), or None when absent or empty."""
         if self._values is None:         # from the template, without building ``values``
             if key == "parametername" and self.param_name is not None:
                 return self.param_name or None
@@ -124,31 +147,50 @@ class Section:
         return self._values.get(key) or None
 
     def key_names(self):
-        """The lower-case key names, in file order (``values.keys()``, without building
-        ``values`` for a section read through a shared template)."""
         return (self.rest if self._values is None else self._values).keys()
-
-    def line_of(self, key: str) -> int:
-        if key not in self.values:
-            return self.line
-        return self.keys[key].line
-
-    def add(self, key: Key) -> None:
-        low = key.name.lower()
-        self.values[low] = key.value
-        if self._keys is None:
-            self._keys = {}
-        self._keys[low] = key
 
 
 class _Template(dict):
     """The values of the lines of sections that have the same text but for the values of
-    their names (see ``Section``), read once per file. It also carries what those
-    sections have in common beyond their values: ``src``, the text of the file (or its
-    bytes, see ``parse_bytes``) in which they look up their names and key lines on
-    demand, and ``step``, the number of lines from one such section's header to the
-    next header (the same text has the same number of lines)."""
-    __slots__ = ("src", "step")
+    their names (see ``Section``), read once per file. It carries what those sections
+    have in common beyond their values: ``text``, their lines (with the names' values
+    left out), ``step``, the number of lines from one such section's header to the next
+    header (the same text has the same number of lines), and ``source``, the file in
+    which they look up their names as written."""
+    __slots__ = ("text", "step", "source")
+
+
+class _Source:
+    """The text of a file read by the fast reader (or its bytes, see ``parse_bytes``),
+    where its sections look up their names as written, by their line: the header lines
+    are found on the first such question (a message, or a lint rule on the spelling of
+    names), once per file."""
+
+    def __init__(self, src: str | bytes, nl: str):
+        self.src, self.nl = src, nl
+        self._lines: array | None = None       # the header lines, ascending
+        self._offsets: array | None = None     # where each of them starts
+
+    def name_at(self, line: int) -> str:
+        if self._lines is None:
+            self._index()
+        src = self.src
+        at = self._offsets[bisect_left(self._lines, line)] + 1     # after its '['
+        if isinstance(src, bytes):
+            return src[at:src.find(b"]", at)].decode("latin-1").strip(" \t")
+        return src[at:src.find("]", at)].strip(" \t")
+
+    def _index(self) -> None:
+        nl = self.nl.encode("latin-1") if isinstance(self.src, bytes) else self.nl
+        n_nl, n_sep = len(nl), len(nl) + 1
+        # as _read_sections cuts it: part k (k >= 1) starts right after the k-th "<nl>[",
+        # whose "[" is the k-th header's (the line end put first finds a first header)
+        parts = (nl + self.src).split(nl + (b"[" if isinstance(nl, bytes) else "["))
+        ends = accumulate(map(len, parts))          # of part k-1, counted in nl + src
+        self._offsets = array("q", map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
+        self._lines = array("q", map(add, accumulate(map(methodcaller("count", nl), parts)),
+                                     count(1)))
+        del self._offsets[-1], self._lines[-1]      # after the last part: no header
 
 
 @dataclass(slots=True)
@@ -306,8 +348,8 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     """The fast path's reading of ``text`` whose lines end in ``nl``.
 
     The text is cut at every line that starts with '[' (a header: INI has no other use
-    for it); a section keeps only its line, where it starts in the text and its names
-    (see ``Section``). A section's lines after its header are very often the same text
+    for it); a section keeps only its line, its names and its template (see
+    ``Section``). A section's lines after its header are very often the same text
     as another section's but for the values of ``ParameterName=`` and ``Denotation=``,
     so that text is parsed once, into a ``_Template`` shared by those sections. When
     ``ParameterName=`` is the first line, as configurators write it, the text after
@@ -315,32 +357,32 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     the template tells how many lines the section spans (no counting per section).
     """
     sep, close = nl + "[", "]" + nl
-    n_sep, n_close, n_name = len(sep), len(close), len(_NAME_KEY)
     chunks = text.split(sep)                   # each a section, from just after its '['
     if text[:1] == "[":                        # no lines before the first header
         chunks[0] = chunks[0][1:]
-        line, at = 1, 1
+        line = 1
     else:                                      # blank and comment lines only
         head = chunks.pop(0)
         if _body_values(head, nl) != {}:
             return None
-        line, at = head.count(nl) + 2, len(head) + n_sep
+        line = head.count(nl) + 2
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    templates = _Templates(text if source is None else source, nl)
-    by_tail: dict[str, _Template] = {}         # text after a first ParameterName= line
+    templates = _Templates(_Source(text if source is None else source, nl), nl)
+    by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
-    last, last_tail, n_last = None, "", -1     # the last template found by_tail, and its key
-    new = Section.__new__
+    last = last_tail = None                    # the last template found by_tail, and its key
+    new = _SharedSection.__new__
+    # str.partition and == only: find and startswith with a start index parse their
+    # arguments at a cost that shows at 60,000 sections
     for chunk in chunks:
-        end = chunk.find(close)
-        if end >= 0:
-            name, body_at = chunk[:end], end + n_close
-        elif chunk[-1:] == "]":                # a header line right before the next one
-            name, body_at = chunk[:-1], len(chunk)
-        else:
-            return None                        # the last line of the file is a header
-        if not name.isalnum():                 # "A4C0sub1" needs no more looking at
+        name, closed, body = chunk.partition(close)
+        if not closed:
+            if chunk[-1:] != "]":
+                return None                    # the last line of the file is a header
+            name = chunk[:-1]                  # a header line right before the next one
+        canon = name.lower()
+        if not canon.isalnum():                # "a4c0sub1" needs no more looking at
             if "\n" in name or "[" in name or "]" in name:
                 return None                    # text after a header, or a broken header
             if name.strip() != name.strip(" \t"):
@@ -348,27 +390,26 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             name = name.strip(" \t")
             if not name:
                 return None
-        if chunk.startswith(_NAME_KEY, body_at):
-            j = chunk.find(nl, body_at + n_name)
-            if j < 0:
-                j = len(chunk)
-            pname, denotation = chunk[body_at + n_name:j].strip(" \t"), None
-            if len(chunk) - j == n_last and chunk.startswith(last_tail, j):
-                template = last                # as the section before: no copy of its text
+            canon = name.lower()
+        first, more, tail = body.partition(nl)
+        key, _, pname = first.partition("=")
+        if key == _NAME and more:              # ParameterName= first, as configurators write
+            pname, denotation = pname.strip(" \t"), None
+            if tail == last_tail:
+                template = last                # as the section before (an array's next sub)
             else:
-                tail = chunk[j:]
                 template = by_tail_get(tail)
                 if template is None:
-                    found = templates.cut(chunk[body_at:])
+                    found = templates.cut(body)
                     if found is None:
                         return None
                     pname, denotation, template = found
                     if denotation is None:
                         by_tail[tail] = template
                 if denotation is None:
-                    last, last_tail, n_last = template, tail, len(tail)
+                    last, last_tail = template, tail
         else:
-            found = templates.cut(chunk[body_at:])
+            found = templates.cut(body)
             if found is None:
                 return None
             pname, denotation, template = found
@@ -378,19 +419,16 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             if not canon or "[" in canon or "]" in canon:
                 return None
             respelled.append(canon)
-        # Section.__init__ is the exact reader's; 60,000 sections are made here
-        sec = new(Section)
+        sec = new(_SharedSection)              # 60,000 of them: no __init__ call
         sec.line = line
         sec.param_name = pname
         sec.rest = template
         sec.denotation = denotation
-        sec._at = at - 1
-        sec._name = sec._values = sec._keys = None   # worked out when asked for
+        sec._values = sec._keys = None         # worked out when asked for
         sections[canon] = sec
         line += template.step
-        if end < 0:
+        if not closed:
             line -= 1                          # no line end after the header: one line less
-        at += len(chunk) + n_sep
     if len(sections) != len(chunks):
         return None                            # a repeated section
     return IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
@@ -399,8 +437,8 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
 class _Templates:
     """The templates of one file's sections, by their text with the names cut out."""
 
-    def __init__(self, src: str | bytes, nl: str):
-        self.src, self.nl = src, nl
+    def __init__(self, source: _Source, nl: str):
+        self.source, self.nl = source, nl
         self.by_text: dict[str, _Template] = {}
         self.lines: dict[str, tuple] = {}      # see _body_values
 
@@ -418,7 +456,7 @@ class _Templates:
             if values is None:
                 return None
             template = self.by_text[rest] = _Template(values)
-            template.src = self.src
+            template.text, template.source = rest, self.source
             template.step = rest.count(nl) + 2   # the header's line and the next header's
         return pname, denotation, template
 
@@ -426,6 +464,7 @@ class _Templates:
 # The two keys whose values are names, cut out of a section's template, as configurators
 # spell them (other spellings are ordinary keys: correct, only not shared).
 _NAME_KEY = "ParameterName="
+_NAME = _NAME_KEY[:-1]
 _DENOTATION_KEY = "Denotation="
 
 
@@ -524,7 +563,7 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
                 duplicates.append(Duplicate(canon, None, first.line, lineno))
                 current, skipping = first, True
             else:
-                current = Section(name, lineno, keys={})
+                current = _WrittenSection(name, lineno)
                 sections[canon] = current
                 skipping = False
                 if canon != name.lower():
