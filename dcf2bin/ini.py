@@ -324,16 +324,14 @@ def _parse_fast(text: str, path: str, encoding: str,
     indented line, a duplicate, text after a header, a lone CR) makes this return None,
     and the exact reader takes the file.
 
-    The text is cut at its own line ends (no converted copy of a CRLF text); a file
-    with a CR is read as CRLF text first, and its line ends are counted afterwards
-    (two counts of one character; counting "\\r\\n" itself costs as much as both): when
-    every CR and every LF is in one of the CRLFs the reader counted, it was. Only a file
-    that mixes CRLF with LF line ends is read again, converted to LF.
+    The text is cut at its own line ends (no converted copy of a CRLF text). A file
+    with a CR is read as CRLF text; the reader declines a CR or LF that is not in a
+    CRLF, wherever it stands, and only then are the line ends counted: a file that mixes
+    CRLF with LF line ends is read again, converted to LF.
     """
     if "\r" in text:
         parsed = _read_sections(text, "\r\n", path, encoding, source)
-        crlfs = parsed.line_count - 1 if parsed is not None else -1
-        if text.count("\n") == crlfs and text.count("\r") == crlfs:
+        if parsed is not None:
             return parsed                      # every line ends in CRLF
         crlfs = text.count("\r\n")
         if text.count("\r") != crlfs or text.count("\n") == crlfs:
@@ -345,25 +343,27 @@ def _parse_fast(text: str, path: str, encoding: str,
 
 def _read_sections(text: str, nl: str, path: str, encoding: str,
                    source: bytes | None) -> IniFile | None:
-    """The fast path's reading of ``text`` whose lines end in ``nl``.
+    """The fast path's reading of ``text`` whose lines end in ``nl`` (None: a line the
+    exact reader has to see, a lone CR or LF among them).
 
     The text is cut at every line that starts with '[' (a header: INI has no other use
     for it); a section keeps only its line, its names and its template (see
-    ``Section``). A section's lines after its header are very often the same text
-    as another section's but for the values of ``ParameterName=`` and ``Denotation=``,
-    so that text is parsed once, into a ``_Template`` shared by those sections. When
+    ``Section``). A section's lines after its header are very often the same text as
+    another section's but for the values of ``ParameterName=`` and ``Denotation=``, so
+    that text is parsed once, into a ``_Template`` shared by those sections. When
     ``ParameterName=`` is the first line, as configurators write it, the text after
-    that line is the template's key (no copy of the text with the name cut out), and
-    the template tells how many lines the section spans (no counting per section).
+    that line is the template's key, compared first with the section before's (an
+    array's next sub-object), and the template tells how many lines the section spans:
+    no copy of the text with the name cut out, no counting of lines per section. Other
+    sections go through ``_Templates.other``.
     """
-    sep, close = nl + "[", "]" + nl
-    chunks = text.split(sep)                   # each a section, from just after its '['
+    chunks = text.split(nl + "[")              # each a section, from just after its '['
     if text[:1] == "[":                        # no lines before the first header
         chunks[0] = chunks[0][1:]
         line = 1
     else:                                      # blank and comment lines only
         head = chunks.pop(0)
-        if _body_values(head, nl) != {}:
+        if _lone(head, nl) or _body_values(head, nl) != {}:
             return None
         line = head.count(nl) + 2
     sections: dict[str, Section] = {}
@@ -372,35 +372,23 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
-    new = _SharedSection.__new__
-    # str.partition and == only: find and startswith with a start index parse their
+    close_name, name_key, new = "]" + nl + _NAME_KEY, _NAME_KEY, _SharedSection.__new__
+    # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
     for chunk in chunks:
-        name, closed, body = chunk.partition(close)
-        if not closed:
-            if chunk[-1:] != "]":
-                return None                    # the last line of the file is a header
-            name = chunk[:-1]                  # a header line right before the next one
+        name, hit, rest = chunk.partition(close_name)
         canon = name.lower()
-        if not canon.isalnum():                # "a4c0sub1" needs no more looking at
-            if "\n" in name or "[" in name or "]" in name:
-                return None                    # text after a header, or a broken header
-            if name.strip() != name.strip(" \t"):
-                return None                    # other blanks: canonical_section's business
-            name = name.strip(" \t")
-            if not name:
-                return None
-            canon = name.lower()
-        first, more, tail = body.partition(nl)
-        key, _, pname = first.partition("=")
-        if key == _NAME and more:              # ParameterName= first, as configurators write
+        pname, more, tail = rest.partition(nl)
+        if hit and more and canon.isalnum():   # "[A040sub1]", "ParameterName=..." and more
             pname, denotation = pname.strip(" \t"), None
+            if "\r" in pname or "\n" in pname:
+                return None                    # a lone CR or LF
             if tail == last_tail:
-                template = last                # as the section before (an array's next sub)
+                template = last
             else:
                 template = by_tail_get(tail)
                 if template is None:
-                    found = templates.cut(body)
+                    found = templates.cut(name_key + rest)
                     if found is None:
                         return None
                     pname, denotation, template = found
@@ -408,14 +396,14 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
                         by_tail[tail] = template
                 if denotation is None:
                     last, last_tail = template, tail
+            step = template.step
         else:
-            found = templates.cut(body)
+            found = templates.other(chunk)
             if found is None:
                 return None
-            pname, denotation, template = found
-        canon = name.lower()
+            canon, pname, denotation, template, step = found
         if len(canon) > 8 and canon[7] == "0":     # "1018sub01"
-            canon = canonical_section(name)
+            canon = canonical_section(canon)
             if not canon or "[" in canon or "]" in canon:
                 return None
             respelled.append(canon)
@@ -426,21 +414,48 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         sec.denotation = denotation
         sec._values = sec._keys = None         # worked out when asked for
         sections[canon] = sec
-        line += template.step
-        if not closed:
-            line -= 1                          # no line end after the header: one line less
+        line += step
     if len(sections) != len(chunks):
         return None                            # a repeated section
     return IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
 
 
+def _lone(text: str, nl: str) -> bool:
+    """Whether ``text`` has a CR or LF that is not part of a line end ``nl``."""
+    text = text.replace(nl, "")
+    return "\r" in text or "\n" in text
+
+
 class _Templates:
-    """The templates of one file's sections, by their text with the names cut out."""
+    """The templates of one file's sections, by their text with the names cut out, and
+    the reading of the sections that ``_read_sections`` does not take in its loop."""
 
     def __init__(self, source: _Source, nl: str):
         self.source, self.nl = source, nl
         self.by_text: dict[str, _Template] = {}
         self.lines: dict[str, tuple] = {}      # see _body_values
+
+    def other(self, chunk: str) -> tuple[str, str | None, str | None, _Template, int] | None:
+        """(canonical name, ParameterName's value, Denotation's value, template, lines
+        to the next header) of a section (its text after its '['), or None."""
+        name, closed, body = chunk.partition("]" + self.nl)
+        step = 0
+        if not closed:
+            if chunk[-1:] != "]":
+                return None                    # text after a header, or a broken header
+            name, step = chunk[:-1], -1        # a header right before the next: no line end
+        if "\n" in name or "\r" in name or "[" in name or "]" in name:
+            return None                        # text after a header, or a broken header
+        if name.strip() != name.strip(" \t"):
+            return None                        # other blanks: canonical_section's business
+        name = name.strip(" \t")
+        if not name:
+            return None
+        found = self.cut(body)
+        if found is None:
+            return None
+        pname, denotation, template = found
+        return name.lower(), pname, denotation, template, template.step + step
 
     def cut(self, body: str) -> tuple[str | None, str | None, _Template] | None:
         """(ParameterName's value, Denotation's value, the template) of a section's
@@ -450,9 +465,12 @@ class _Templates:
         denotation = None
         if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
             denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
+        for value in (pname, denotation):
+            if value is not None and ("\r" in value or "\n" in value):
+                return None                    # a lone CR or LF
         template = self.by_text.get(rest)
         if template is None:
-            values = _body_values(rest, nl, self.lines)
+            values = None if _lone(rest, nl) else _body_values(rest, nl, self.lines)
             if values is None:
                 return None
             template = self.by_text[rest] = _Template(values)
@@ -464,7 +482,6 @@ class _Templates:
 # The two keys whose values are names, cut out of a section's template, as configurators
 # spell them (other spellings are ordinary keys: correct, only not shared).
 _NAME_KEY = "ParameterName="
-_NAME = _NAME_KEY[:-1]
 _DENOTATION_KEY = "Denotation="
 
 
