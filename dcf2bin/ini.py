@@ -372,7 +372,8 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
-    close_name, name_key, new = "]" + nl + _NAME_KEY, _NAME_KEY, _SharedSection.__new__
+    close_name, name_key = "]" + nl + _NAME_KEY, _NAME_KEY
+    shared, new = _SharedSection, _SharedSection.__new__
     # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
     for chunk in chunks:
@@ -381,7 +382,7 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         pname, more, tail = rest.partition(nl)
         if hit and more and canon.isalnum():   # "[A040sub1]", "ParameterName=..." and more
             pname, denotation = pname.strip(" \t"), None
-            if "\r" in pname or "\n" in pname:
+            if not pname.isprintable() and _lone(pname, nl):
                 return None                    # a lone CR or LF
             if tail == last_tail:
                 template = last
@@ -407,7 +408,7 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             if not canon or "[" in canon or "]" in canon:
                 return None
             respelled.append(canon)
-        sec = new(_SharedSection)              # 60,000 of them: no __init__ call
+        sec = new(shared)                      # 60,000 of them: no __init__ call
         sec.line = line
         sec.param_name = pname
         sec.rest = template
