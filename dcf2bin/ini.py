@@ -333,10 +333,10 @@ def _parse_fast(text: str, path: str, encoding: str,
         parsed = _read_sections(text, "\r\n", path, encoding, source)
         if parsed is not None:
             return parsed                      # every line ends in CRLF
+        # a lone CR (the exact reader says so), or a CRLF file the fast path declined
         crlfs = text.count("\r\n")
         if text.count("\r") != crlfs or text.count("\n") == crlfs:
-            return None                        # a lone CR (the exact reader says so), or
-                                               # a CRLF file the fast path declined
+            return None
         text, source = text.replace("\r\n", "\n"), None   # mixed line ends
     return _read_sections(text, "\n", path, encoding, source)
 
