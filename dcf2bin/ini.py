@@ -466,15 +466,15 @@ class _Templates:
         denotation = None
         if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
             denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
-        for value in (pname, denotation):
-            if value is not None and ("\r" in value or "\n" in value):
-                return None                    # a lone CR or LF
+        if (pname is not None and _lone(pname, nl)
+                or denotation is not None and _lone(denotation, nl)):
+            return None                        # a lone CR or LF
         template = self.by_text.get(rest)
         if template is None:
-            values = None if _lone(rest, nl) else _body_values(rest, nl, self.lines)
-            if values is None:
+            template = None if _lone(rest, nl) else _body_values(rest, nl, self.lines)
+            if template is None:
                 return None
-            template = self.by_text[rest] = _Template(values)
+            self.by_text[rest] = template
             template.text, template.source = rest, self.source
             template.step = rest.count(nl) + 2   # the header's line and the next header's
         return pname, denotation, template
@@ -502,12 +502,12 @@ def _cut(body: str, key: str, nl: str) -> tuple[str | None, str]:
 
 
 def _body_values(body: str, nl: str = "\n",
-                 lines: dict[str, tuple] | None = None) -> dict[str, str] | None:
+                 lines: dict[str, tuple] | None = None) -> _Template | None:
     """The keys of a section's lines (no header among them), or None when a line is
     one the exact reader has to see (not key=value, comment or blank; indented; a
     repeated key). ``lines`` remembers each line's reading for the next section
     (a file repeats "ObjectType=0x7" and "AccessType=rw" thousands of times)."""
-    values: dict[str, str] = {}
+    values = _Template()
     if lines is None:
         lines = {}
     for raw in body.split(nl):
