@@ -7,11 +7,10 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
-from array import array
 from bisect import bisect_left
 from dataclasses import dataclass, field
 from itertools import accumulate, count
-from operator import add, methodcaller
+from operator import add, attrgetter
 
 from dcf2bin.diagnostics import Diagnostics, Where
 
@@ -162,14 +161,15 @@ class _Template(dict):
 
 class _Source:
     """The text of a file read by the fast reader (or its bytes, see ``parse_bytes``),
-    where its sections look up their names as written, by their line: the header lines
-    are found on the first such question (a message, or a lint rule on the spelling of
-    names), once per file."""
+    where its sections look up their names as written, by their line. Where the header
+    lines start is found on the first such question (a message), once per file: the
+    text cut as ``_read_sections`` cuts it, one part per section, in file order."""
 
     def __init__(self, src: str | bytes, nl: str):
         self.src, self.nl = src, nl
-        self._lines: array | None = None       # the header lines, ascending
-        self._offsets: array | None = None     # where each of them starts
+        self.sections: dict[str, Section] = {}     # the file's, in file order
+        self._lines: list[int] | None = None       # the sections' lines, ascending
+        self._offsets: list[int] | None = None     # where their header lines start
 
     def name_at(self, line: int) -> str:
         if self._lines is None:
@@ -181,16 +181,15 @@ class _Source:
         return src[at:src.find("]", at)].strip(" \t")
 
     def _index(self) -> None:
-        nl = self.nl.encode("latin-1") if isinstance(self.src, bytes) else self.nl
+        src = self.src
+        nl = self.nl.encode("latin-1") if isinstance(src, bytes) else self.nl
         n_nl, n_sep = len(nl), len(nl) + 1
-        # as _read_sections cuts it: part k (k >= 1) starts right after the k-th "<nl>[",
-        # whose "[" is the k-th header's (the line end put first finds a first header)
-        parts = (nl + self.src).split(nl + (b"[" if isinstance(nl, bytes) else "["))
-        ends = accumulate(map(len, parts))          # of part k-1, counted in nl + src
-        self._offsets = array("q", map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
-        self._lines = array("q", map(add, accumulate(map(methodcaller("count", nl), parts)),
-                                     count(1)))
-        del self._offsets[-1], self._lines[-1]      # after the last part: no header
+        # part k (k >= 1) starts right after the k-th "<nl>[", whose "[" is the k-th
+        # section's (the line end put first finds a header on the first line)
+        parts = (nl + src).split(nl + (b"[" if isinstance(src, bytes) else "["))
+        ends = accumulate(map(len, parts[:-1]))     # of part k-1, counted in nl + src
+        self._offsets = list(map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
+        self._lines = list(map(attrgetter("line"), self.sections.values()))
 
 
 @dataclass(slots=True)
@@ -418,6 +417,7 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         line += step
     if len(sections) != len(chunks):
         return None                            # a repeated section
+    templates.source.sections = sections
     return IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
 
 
