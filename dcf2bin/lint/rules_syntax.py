@@ -381,7 +381,10 @@ def required_section_missing(ctx):
       "it is read as the canonical [1018sub1].",
       hint="a subindex has 1 or 2 hex digits: write the canonical section name")
 def subindex_spelling(ctx):
+    respelled = set(ctx.ini.respelled)     # the others are written canonically
     for canon, sec in ctx.of_kind("sub"):
+        if canon not in respelled:
+            continue
         digits = sec.name.strip().lower().partition("sub")[2]
         if len(digits) <= 2 or digits.strip("0123456789abcdef"):
             continue
