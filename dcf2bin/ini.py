@@ -7,10 +7,12 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
+import weakref
 from bisect import bisect_left
 from dataclasses import dataclass, field
 from itertools import accumulate, count
-from operator import add, attrgetter
+from operator import add, attrgetter, methodcaller
+from typing import Callable
 
 from dcf2bin.diagnostics import Diagnostics, Where
 
@@ -94,11 +96,13 @@ class _WrittenSection(Section):
 
 class _SharedSection(Section):
     """A section of the fast reader: its line, its names and its template (see
-    ``Section``). ``values`` and ``keys`` are worked out from the template on first use,
-    the name as written from the file's text each time it is asked for, so the common
-    case, which never prints a diagnostic, pays little: ``_read_sections`` makes these
-    without ``__init__`` (it sets every slot)."""
-    __slots__ = ("line", "param_name", "rest", "denotation", "_values", "_keys")
+    ``Section``), in four slots (64 bytes: a PLC file has tens of thousands of these).
+    ``values`` is worked out from the template on first use, ``keys`` too (kept by the
+    file's ``_Source``, by line), the name as written from the file's text each time it
+    is asked for, so the common case, which never prints a diagnostic, pays little.
+    ``_read_sections`` makes these without ``__init__`` (it sets every slot); a section
+    whose Denotation= is cut out of its template is a ``_DenotedSection``."""
+    __slots__ = ("line", "param_name", "rest", "_values")
 
     @property
     def name(self) -> str:
@@ -116,9 +120,11 @@ class _SharedSection(Section):
 
     @property
     def keys(self) -> dict[str, Key]:
-        if self._keys is None:
+        known = self.rest.source.keys
+        keys = known.get(self.line)
+        if keys is None:
             # the template's text has the section's lines (the names' values left out)
-            keys: dict[str, Key] = {}
+            keys = known[self.line] = {}
             for i, raw in enumerate(self.rest.text.split("\n"), self.line + 1):
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
@@ -128,8 +134,7 @@ class _SharedSection(Section):
                                ("denotation", self.denotation)):
                 if value is not None:           # its line is in the template, empty
                     keys[low] = Key(keys[low].name, value, keys[low].line)
-            self._keys = keys
-        return self._keys
+        return keys
 
     def has(self, key: str) -> bool:
         if self._values is None:         # from the template, without building ``values``
@@ -147,6 +152,11 @@ class _SharedSection(Section):
 
     def key_names(self):
         return (self.rest if self._values is None else self._values).keys()
+
+
+class _DenotedSection(_SharedSection):
+    """A shared section with the value of its Denotation= line (see ``Section``)."""
+    __slots__ = ("denotation",)
 
 
 class _Template(dict):
@@ -167,7 +177,10 @@ class _Source:
 
     def __init__(self, src: str | bytes, nl: str):
         self.src, self.nl = src, nl
-        self.sections: dict[str, Section] = {}     # the file's, in file order
+        # the file whose sections these are (a weak reference: they refer to this source
+        # through their templates, and the file would outlive its last user in a cycle)
+        self.file: Callable[[], IniFile | None] = lambda: None
+        self.keys: dict[int, dict[str, Key]] = {}  # _SharedSection.keys, by line
         self._lines: list[int] | None = None       # the sections' lines, ascending
         self._offsets: list[int] | None = None     # where their header lines start
 
@@ -189,7 +202,12 @@ class _Source:
         parts = (nl + src).split(nl + (b"[" if isinstance(src, bytes) else "["))
         ends = accumulate(map(len, parts[:-1]))     # of part k-1, counted in nl + src
         self._offsets = list(map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
-        self._lines = list(map(attrgetter("line"), self.sections.values()))
+        file = self.file()
+        if file is not None and len(file.sections) == len(self._offsets):
+            self._lines = list(map(attrgetter("line"), file.sections.values()))
+        else:                                       # (the file is gone: count its lines)
+            self._lines = list(map(add, accumulate(map(methodcaller("count", nl), parts)),
+                                   count(1)))[:-1]
 
 
 @dataclass(slots=True)
@@ -372,7 +390,7 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
     close_name, name_key = "]" + nl + _NAME_KEY, _NAME_KEY
-    shared, new = _SharedSection, _SharedSection.__new__
+    shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
     # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
     for chunk in chunks:
@@ -407,18 +425,20 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             if not canon or "[" in canon or "]" in canon:
                 return None
             respelled.append(canon)
-        sec = new(shared)                      # 60,000 of them: no __init__ call
+        sec = new(shared if denotation is None else denoted)    # 60,000: no __init__
         sec.line = line
         sec.param_name = pname
         sec.rest = template
-        sec.denotation = denotation
-        sec._values = sec._keys = None         # worked out when asked for
+        sec._values = None                     # worked out when asked for
+        if denotation is not None:
+            sec.denotation = denotation
         sections[canon] = sec
         line += step
     if len(sections) != len(chunks):
         return None                            # a repeated section
-    templates.source.sections = sections
-    return IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
+    parsed = IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
+    templates.source.file = weakref.ref(parsed)
+    return parsed
 
 
 def _lone(text: str, nl: str) -> bool:

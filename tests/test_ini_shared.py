@@ -161,3 +161,30 @@ def test_names_are_found_in_any_order_after_the_first_question():
     for sec in secs[::-7] + secs:
         assert sec.name == f"A{int(sec.param_name[1:]):03X}"
         assert sec.line == 3 + 3 * int(sec.param_name[1:])
+
+
+def test_names_are_found_when_only_the_sections_are_kept():
+    """The header index takes the sections' lines from their file when it is still
+    there, else counts the lines itself."""
+    text = "; lead\n" + "".join(f"[A{n:03X}]\nParameterName=p{n}\nA=1\n\n" for n in range(20))
+    sections = ini.parse_bytes(text.encode("ascii"), "t.dcf").sections    # the file is gone
+    assert [s.name for s in sections.values()] == [f"A{n:03X}" for n in range(20)]
+    assert [s.keys["a"].line for s in sections.values()] == [4 + 4 * n for n in range(20)]
+
+
+def test_a_read_file_is_freed_without_the_cyclic_gc():
+    """Sections refer to their file's text through their templates, never in a cycle: a
+    compile runs with the cyclic GC off, and a long run of them must not pile files up."""
+    import gc
+    was = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        f = ini.parse_bytes(b"[2000]\nParameterName=a\nA=1\n\n[2001]\nParameterName=b\nA=1\n",
+                            "t.dcf")
+        assert f.section("2001").name == "2001" and f.section("2000").keys["a"].line == 3
+        del f
+        assert gc.collect() == 0
+    finally:
+        if was:
+            gc.enable()
