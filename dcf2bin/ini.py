@@ -389,7 +389,8 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
-    close_name, name_key = "]" + nl + _NAME_KEY, _NAME_KEY
+    by_denoted: dict[str, _Template] = {}      # the same lines with Denotation= cut out
+    close_name, name_key, den_key = "]" + nl + _NAME_KEY, _NAME_KEY, _DENOTATION_KEY
     shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
     # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
@@ -405,6 +406,17 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
                 template = last
             else:
                 template = by_tail_get(tail)
+                if template is None and den_key in tail:
+                    denotation, key = _cut(tail, den_key, nl)     # its own line's value
+                    if denotation is not None:
+                        template = by_denoted.get(key)
+                        if template is None:
+                            found = templates.cut(name_key + rest)
+                            if found is None:
+                                return None
+                            template = by_denoted[key] = found[2]
+                        elif _lone(denotation, nl):
+                            return None        # a lone CR or LF
                 if template is None:
                     found = templates.cut(name_key + rest)
                     if found is None:

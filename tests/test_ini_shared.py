@@ -46,14 +46,14 @@ def _fast_equals_exact(text: str) -> ini.IniFile | None:
 _BODY = st.lists(st.sampled_from([
     "ObjectType=0x7", "DataType=0x0005", "DataType=0x0001", "AccessType=ro",
     "AccessType=rw", "DefaultValue=0", "DefaultValue= 7 ", "PDOMapping=1", "K = v",
-    "; a comment", "# another", "", "Denotation=", "x=ParameterName=y"]),
+    "; a comment", "# another", "", "Denotation=", "x=ParameterName=y", "y=Denotation=z"]),
     max_size=5, unique_by=lambda s: s.partition("=")[0].strip().lower() or s)
 _SUB = st.sampled_from(["1", "2", "01", "A", "0A", "FE", "001", "10"])
 _SECTION = st.tuples(
     st.sampled_from(["A040", "2000", "1018", "A4C0"]), _SUB,
     st.sampled_from(["first", "later", "none"]),          # where ParameterName= stands
     st.sampled_from(["in_u8_00001", "out x", " padded\t", "", "Motor #1", "a=b"]),
-    st.sampled_from([None, "Pump 1", ""]),                  # Denotation=
+    st.sampled_from([None, "Pump 1", "", "Pump 2 "]),       # Denotation=
     _BODY)
 
 
@@ -133,6 +133,8 @@ def test_respelled_subindexes_are_listed_and_keep_their_spelling(eol):
     "[2000]\r\nParameterName=a\nb\r\nDataType=0x0005\r\n",          # lone LF in it
     "[2000]\r\nDataType=0x0005\r\nParameterName=a\nb\r\n",          # ... not first
     "[2000]\r\nParameterName=a\r\nDenotation=x\ry\r\n",             # in a Denotation=
+    "[2000]\r\nParameterName=a\r\nDenotation=x\r\nA=1\r\n[2001]\r\nParameterName=b\r\n"
+    "Denotation=y\rz\r\nA=1\r\n[2002]\r\n",                       # ... of a shared template
     "[2000]\r\nParameterName=a\r\nDataType=0x0005\n",               # in the template
     "[2000]\r\nParameterName=a\r\nDataType=0x0005\r\r\n[2001]\r\n",  # a CR before CRLF
     "; head\n\r\n[2000]\r\nParameterName=a\r\n",                    # before the first header
@@ -188,3 +190,17 @@ def test_a_read_file_is_freed_without_the_cyclic_gc():
     finally:
         if was:
             gc.enable()
+
+
+def test_an_array_with_denotations_shares_one_template():
+    """Sections that differ in ParameterName= and Denotation= share their template too;
+    each keeps its own values, and one with Denotation= written otherwise has its own."""
+    subs = "".join(f"[A040sub{s:X}]\nParameterName=in_{s}\nDataType=0x0005\n"
+                   f"Denotation=Pump {s}\nPDOMapping=1\n\n" for s in range(1, 6))
+    text = subs + "[A040sub6]\nParameterName=in_6\nDataType=0x0005\nDenotation = x\n" \
+        "PDOMapping=1\n\n[A040sub7]\nParameterName=in_7\nDataType=0x0005\nPDOMapping=1\n"
+    f = _fast_equals_exact(text)
+    secs = [f.section(f"a040sub{s}") for s in range(1, 8)]
+    assert len({id(s.rest) for s in secs[:5]}) == 1
+    assert [s.denotation for s in secs] == [f"Pump {s}" for s in range(1, 6)] + [None, None]
+    assert secs[5].get("denotation") == "x" and secs[6].get("denotation") is None
