@@ -13,7 +13,6 @@ the rule table as dicts (``Rule.as_dict()``), so this module depends on nothing 
 """
 from __future__ import annotations
 
-import json
 import os
 import sys
 from typing import Iterable, Sequence, TextIO
@@ -140,10 +139,12 @@ def json_report(diags: Sequence[Diagnostic], files: Sequence[tuple[str, str]],
         "diagnostics": [diagnostic_dict(d, rules) for d in diags],
         "summary": {"files": len(files), **totals, "exit_code": int(exit_code)},
     }
+    import json     # not for the text form, which every command prints
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
 def rules_json(rules: Sequence[dict]) -> str:
+    import json
     return json.dumps({"format": "dcf2bin-rules", "version": JSON_VERSION, "rules": list(rules)},
                       indent=2, ensure_ascii=False) + "\n"
 
@@ -216,6 +217,7 @@ def sarif_report(diags: Sequence[Diagnostic], rules: Sequence[dict], *, exit_cod
                              "exitCode": int(exit_code)}],
         }],
     }
+    import json     # not for the text form, which every command prints
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 

@@ -8,10 +8,11 @@ import click
 from dcf2bin import __version__
 from dcf2bin.cli.common import (CONTEXT, Command, Failure, debug_option, default_output, emit,
                                 force_option, guarded, output_option, read_container, read_eds,
-                                write_output)
+                                without_cyclic_gc, write_output)
 from dcf2bin.cli.dump import EDS, INPUT, QUIET
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
+@without_cyclic_gc
 def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     from dcf2bin import dcfwriter
     c, name = read_container(input, quiet, use={

@@ -14,7 +14,8 @@ from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, check_input, d
                                 format_option, from_option, guarded, input_kind,
                                 load_static_od, node_id_option, output_option, quiet_option,
                                 read_input, static_od_option, stop_on_errors,
-                                target_stack_options, verbose_option, write_output)
+                                target_stack_options, verbose_option, without_cyclic_gc,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode
 
 # -- compile ------------------------------------------------------------------------------------
@@ -71,6 +72,7 @@ def _profile_choice():
               help="c: the declaration before the array's name, e.g. 'static CONST BYTE ROM'.")
 @debug_option
 @guarded
+@without_cyclic_gc
 def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                 no_process_image, pi_align, pi_size, address_base, container_version,
                 allow_external_files, profile, append, no_target_check, no_limit_check, tx_cobs,

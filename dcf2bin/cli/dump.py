@@ -4,7 +4,8 @@ from __future__ import annotations
 import click
 
 from dcf2bin.cli.common import (CONTEXT, debug_option, format_option, guarded, output_option,
-                                quiet_option, read_container, read_eds, write_output)
+                                quiet_option, read_container, read_eds, without_cyclic_gc,
+                                write_output)
 
 INPUT = click.argument("input", metavar="FILE.bin",
                        type=click.Path(allow_dash=True))
@@ -26,6 +27,7 @@ QUIET = quiet_option()
 @QUIET
 @debug_option
 @guarded
+@without_cyclic_gc
 def dump_cmd(input, fmt, output, eds, full, quiet, debug):
     """Show what a binary container holds: header, entries, attributes, process image.
 

@@ -11,7 +11,7 @@ import click
 
 from dcf2bin.cli.common import (CONTEXT, Integer, debug_option, emit, fail, format_option,
                                 guarded, input_kind, node_id_option, output_option, quiet_option,
-                                read_input, stop_on_errors, write_output)
+                                read_input, stop_on_errors, without_cyclic_gc, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 # Kept literally here (module-level imports stay light); tests check it equals
@@ -70,6 +70,7 @@ def _identifier(kind: str):
 @quiet_option()
 @debug_option
 @guarded
+@without_cyclic_gc
 def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with_type,
                includes, symbol, prefix, max_object_size, quiet, debug):
     """Export the object dictionary of an EDS/DCF for another system.

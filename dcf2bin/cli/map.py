@@ -2,7 +2,6 @@
 header, SVG, HTML) from a DCF/EDS, a binary container or its lossless JSON form."""
 from __future__ import annotations
 
-import gc
 import os
 
 import click
@@ -10,7 +9,8 @@ import click
 from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, decode_container, emit,
                                 entries_option, fail, format_option, from_option, guarded,
                                 input_kind, node_id_option, output_option, quiet_option,
-                                read_eds, read_input, stop_on_errors, write_output)
+                                read_eds, read_input, stop_on_errors, without_cyclic_gc,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
@@ -40,6 +40,7 @@ FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
 @quiet_option()
 @debug_option
 @guarded
+@without_cyclic_gc
 def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_align,
             iec_addressing, prefix, quiet, debug):
     """Show where every network variable lies in the process image.
@@ -66,11 +67,7 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_a
                            data=data)
         emit(res.diagnostics, quiet)
         stop_on_errors(res, name, "no map")
-        gc.disable()      # 60,000 rows and no cycles: as compile_path does
-        try:
-            vm = varmap.from_result(res, os.path.basename(name))
-        finally:
-            gc.enable()
+        vm = varmap.from_result(res, os.path.basename(name))
     else:
         c = decode_container(data, name, quiet, json_input=kind == "json")
         info, dev = read_eds(eds, quiet)
@@ -80,11 +77,7 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_a
         if vm is None:
             raise Failure(ExitCode.FINDINGS)
         vm.source = os.path.basename(name)
-    gc.disable()
-    try:
-        text = render(vm, fmt, iec_addressing, prefix)
-    finally:
-        gc.enable()
+    text = render(vm, fmt, iec_addressing, prefix)
     write_output(text, output, inputs, binary=False)
 
 

@@ -11,7 +11,7 @@ from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, ent
                                 format_option, from_option, guarded, input_kind,
                                 load_static_od, node_id_option, output_option, quiet_option,
                                 read_input, static_od_option, stop_on_errors,
-                                target_stack_options, write_output)
+                                target_stack_options, without_cyclic_gc, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
@@ -48,6 +48,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @quiet_option()
 @debug_option
 @guarded
+@without_cyclic_gc
 def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity,
                  no_bit_mapping, address_base, fmt, output, emit_od, node_id, entries,
                  pdo_sequence, no_process_image, pi_align, profile, append,

@@ -7,16 +7,34 @@ for anything they cannot work out, and the check that owns that problem reports 
 """
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from functools import cached_property
 
 from dcf2bin import datatypes as dt
 from dcf2bin import ini as ini_mod
 from dcf2bin import schema, values
+from dcf2bin.lint import tables
 
-_HEX4 = re.compile(r"[0-9a-f]{4}")
-_HEX = re.compile(r"[0-9a-f]+")
+
+def _blank_comment(text: str) -> bool:
+    """``re.search(r"=[^=\n]*?[ \t][;#]", text) is not None``, from the few ';' and '#'
+    of a file instead of from its every '=' (a 60,000-variable file has 400,000)."""
+    for mark in ";#":
+        line_end = -1          # the line of the last candidate, and its first '='
+        first_eq = -1
+        at = text.find(mark, 1)
+        while at >= 0:
+            if text[at - 1] in " \t":
+                if at > line_end:
+                    start = text.rfind("\n", 0, at) + 1
+                    line_end = text.find("\n", at)
+                    if line_end < 0:
+                        line_end = len(text)
+                    first_eq = text.find("=", start, line_end)
+                if 0 <= first_eq < at - 1:
+                    return True
+            at = text.find(mark, at + 1)
+    return False
 
 
 @dataclass
@@ -91,42 +109,34 @@ class DcfContext:
 
     @property
     def kinds(self) -> dict[str, str | None]:
-        """canonical section name -> its CiA 306 kind (see rules_syntax.classify)."""
-        kinds = self.cache.get("kinds")
-        if kinds is None:
-            from dcf2bin.lint.rules_syntax import classify
-            kinds = self.cache["kinds"] = {c: classify(c) for c in self.ini.sections}
-        return kinds
+        """canonical section name -> its CiA 306 kind (see vocabulary.classify)."""
+        return tables.kinds(self)
 
     def of_kind(self, *kinds: str | None) -> list[tuple[str, ini_mod.Section]]:
         """(canonical name, section) of the sections of these kinds, in file order."""
-        groups = self.cache.get("by_kind")
-        if groups is None:
-            groups = self.cache["by_kind"] = {}
-            sections = self.ini.sections
-            for canon, kind in self.kinds.items():
-                groups.setdefault(kind, []).append((canon, sections[canon]))
         if len(kinds) == 1:
-            return groups.get(kinds[0], [])
-        return sorted((x for k in kinds for x in groups.get(k, [])), key=lambda cs: cs[1].line)
+            return tables.of_kind(self, kinds[0])
+        return sorted((x for k in kinds for x in tables.of_kind(self, k)),
+                      key=lambda cs: cs[1].line)
 
     @property
     def sub_sections(self) -> dict[int, dict[int, ini_mod.Section]]:
         """index -> {subindex: [<index>subN] section} as they stand in the file."""
-        subs = self.cache.get("sub_sections")
-        if subs is None:
-            subs = {}
-            for canon, sec in self.ini.sections.items():
-                if len(canon) > 7 and canon[4:7] == "sub":
-                    head, tail = canon[:4], canon[7:]
-                    try:
-                        idx, sub = int(head, 16), int(tail, 16)
-                    except ValueError:
-                        continue
-                    if _HEX4.fullmatch(head) and _HEX.fullmatch(tail) and sub <= 0xFF:
-                        subs.setdefault(idx, {})[sub] = sec
-            self.cache["sub_sections"] = subs
-        return subs
+        return tables.sub_sections(self)
+
+    @property
+    def groups(self) -> list[tuple[str | None, dict | None, list]]:
+        """(kind, shared template, its sections): see ``tables.groups``."""
+        return tables.groups(self)
+
+    @property
+    def blank_comment(self) -> bool:
+        """Whether some line has an '=' and later a blank followed by ';' or '#' (a value
+        that may carry a comment, DCF057/DCF203): without one, those rules skip their walk."""
+        got = self.cache.get("blank_comment")
+        if got is None:
+            got = self.cache["blank_comment"] = _blank_comment(self.text)
+        return got
 
     # -- values ------------------------------------------------------------------------------
     def int_value(self, entry, text: str | None = None) -> tuple[int | None, bool]:

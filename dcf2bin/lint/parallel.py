@@ -17,13 +17,10 @@ then ready about 0.1 s later), else 'spawn'.
 from __future__ import annotations
 
 import importlib
-import multiprocessing
 import os
 import signal
 import sys
 import threading
-from multiprocessing.connection import wait
-
 from typing import Callable, TypeVar
 
 from dcf2bin.lint.context import Options
@@ -62,6 +59,7 @@ def usable_cores() -> int:
 
 
 def _context():
+    import multiprocessing     # here: a validate of one file only asks usable_cores (5-7 ms)
     methods = multiprocessing.get_all_start_methods()
     if sys.platform == "linux" and "fork" in methods and threading.active_count() == 1:
         # forking a process with one thread is safe; the workers are started before the
@@ -161,6 +159,8 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
                     r.close()
                 else:
                     out[i] = res
+
+    from multiprocessing.connection import wait
 
     thread = threading.Thread(target=collect, name="dcf2bin-validate-jobs", daemon=True)
     thread.start()

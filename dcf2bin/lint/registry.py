@@ -21,6 +21,7 @@ plus IO001/INT001 for unreadable inputs and internal errors (always on).
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator
 
@@ -111,9 +112,17 @@ def core(id: str, name: str, severity: Severity, description: str, *, hint: str 
 
 
 def all_rules() -> list[Rule]:
-    return [RULES[k] for k in sorted(RULES, key=_sort_key)]
+    global _ORDER
+    ids = tuple(RULES)
+    if _ORDER[0] != ids:          # sorted once, not for every file (a rule added: again)
+        _ORDER = (ids, sorted(ids, key=_sort_key))
+    return [RULES[k] for k in _ORDER[1]]
 
 
+_ORDER: tuple[tuple, list[str]] = ((), [])
+
+
+@functools.lru_cache(maxsize=1024)
 def _sort_key(rule_id: str):
     # DCF before CNT before IO/INT; numerically inside a family
     order = {"DCF": 0, "CNT": 1, "TGT": 2, "IO": 3, "INT": 4}

@@ -68,7 +68,7 @@ def dynch_beyond(ctx):
         n = values.parse_int(values.split_numeric_comment(text)[0]) if text else 0
     except values.ValueProblem:
         return  # DCF310
-    for key in sorted(ctx.key_names(sec), key=sec.line_of):
+    for key in ctx.key_names(sec):     # (the report is sorted by line)
         m = _NUMBERED.fullmatch(key)
         if m and (len(m.group(2)) > 18 or not 1 <= int(m.group(2)) <= n):
             line = sec.line_of(key)
@@ -88,9 +88,10 @@ def nv_access(ctx):
         ch = layout.channel_for(ctx.dev, idx)
         if ch is None:
             continue
-        wrong = [e for s, e in obj.entries.items() if s and e.section is not None
-                 and e.section.get("accesstype") is not None
-                 and (e.access in _INPUT_ACCESS) != (ch.direction == layout.INPUT)]
+        # the access first (an attribute), the section's AccessType only where it disagrees
+        is_input = ch.direction == layout.INPUT
+        wrong = [e for s, e in obj.entries.items() if (e.access in _INPUT_ACCESS) != is_input
+                 and s and e.section is not None and e.section.get("accesstype") is not None]
         if wrong:
             e = wrong[0]
             more = f" (and {len(wrong) - 1} more in [{idx:04X}])" if len(wrong) > 1 else ""

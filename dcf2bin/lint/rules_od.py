@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
+from dcf2bin.lint import tables
 from dcf2bin.lint.registry import ERROR, WARNING, Finding, rule
 from dcf2bin.model import is_pdo_mapping
 
@@ -199,12 +200,12 @@ def list_missing(ctx):
       "SubNumber differs from the number of [<index>subN] sections of the object.",
       hint="SubNumber counts the sub-sections, sub 0 included")
 def subnumber_mismatch(ctx):
-    subs = ctx.sub_sections
+    counts = tables.sub_counts(ctx)
     for idx, obj in ctx.dev.objects.items():
         sec = obj.section
         if sec is None or obj.implicit or obj.compact:
             continue
-        n = len(subs.get(idx, ()))
+        n = counts.get(idx, 0)
         text = sec.get("subnumber")
         if text is None:
             if n:
@@ -271,11 +272,14 @@ def sub0_highest(ctx):
       "An object or sub-object section has no ParameterName.",
       hint="every object and sub-object section names itself with ParameterName=")
 def missing_name(ctx):
+    nameless = tables.nameless(ctx)     # kind -> ids of the sections without one
+    every = set().union(*nameless.values())
+    subs = nameless.get("sub")          # usually none: then the sub-sections are not walked
     for idx, obj in ctx.dev.objects.items():
-        if obj.section is not None and obj.section.get("parametername") is None:
+        if obj.section is not None and id(obj.section) in every:
             yield Finding(f"[{obj.section.name}] has no ParameterName", obj.section.line)
-        for sub, sec in sorted(ctx.sub_sections.get(idx, {}).items()):
-            if sec.get("parametername") is None:
+        for sub, sec in sorted(ctx.sub_sections.get(idx, {}).items()) if subs else ():
+            if id(sec) in subs:
                 yield Finding(f"[{sec.name}] has no ParameterName", sec.line)
 
 

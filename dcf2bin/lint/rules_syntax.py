@@ -5,62 +5,12 @@ import re
 
 from dcf2bin import values
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
+from dcf2bin.lint.tables import group_get, longest_name, name_values
+from dcf2bin.lint.vocabulary import classify, unknown_keys
 
 MAX_LINE = 255   # CiA 306: a line holds at most 255 characters
 MAX_NAME = 241   # CiA 306: ParameterName (and Denotation) at most 241 characters
 
-# -- what CiA 306 (-1, -3) defines --------------------------------------------------------------
-_OBJ_KEYS = frozenset({
-    "parametername", "objecttype", "datatype", "accesstype", "defaultvalue", "pdomapping",
-    "subnumber", "lowlimit", "highlimit", "objflags", "compactsubobj", "parametervalue",
-    "denotation", "downloadfile", "uploadfile", "srdomapping", "invertedsrad"})
-_SUB_KEYS = _OBJ_KEYS - {"subnumber", "compactsubobj"}
-_FIXED = {
-    "fileinfo": frozenset({
-        "filename", "fileversion", "filerevision", "edsversion", "description", "creationtime",
-        "creationdate", "createdby", "modificationtime", "modificationdate", "modifiedby",
-        "lasteds"}),
-    "deviceinfo": frozenset({
-        "vendorname", "vendornumber", "productname", "productnumber", "revisionnumber",
-        "ordercode", "baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125",
-        "baudrate_250", "baudrate_500", "baudrate_800", "baudrate_1000", "baudrate_auto",
-        "simplebootupmaster", "simplebootupslave", "granularity", "dynamicchannelssupported",
-        "groupmessaging", "nrofrxpdo", "nroftxpdo", "lss_supported", "compactpdo",
-        "canopensafetysupported", "ng_slave", "ng_master", "nrofng_monitorednodes"}),
-    "devicecomissioning": frozenset({
-        "nodeid", "nodename", "baudrate", "netnumber", "networkname", "canopenmanager",
-        "lss_serialnumber", "noderefd", "netrefd"}),
-    "tools": None, "supportedmodules": None, "connectedmodules": None,
-    "dummyusage": None, "comments": None, "mandatoryobjects": None, "optionalobjects": None,
-    "manufacturerobjects": None, "dynamicchannels": None,
-}
-_FIXED["devicecommissioning"] = _FIXED["devicecomissioning"]
-_NUMBERED = {  # section kind -> (plain keys, numbered key prefixes)
-    "tools": ({"items"}, ("tool",)),
-    "supportedmodules": ({"nrofentries"}, ("",)),
-    "connectedmodules": ({"nrofentries"}, ("",)),
-    "dummyusage": (set(), ()),
-    "comments": ({"lines"}, ("line",)),
-    "mandatoryobjects": ({"supportedobjects"}, ("",)),
-    "optionalobjects": ({"supportedobjects"}, ("",)),
-    "manufacturerobjects": ({"supportedobjects"}, ("",)),
-    "dynamicchannels": ({"nrofseg", "pioffset", "maxcnt", "range"},  # unnumbered: DCF311
-                        ("type", "dir", "range", "ppoffset", "pioffset", "maxcnt")),
-    "aux": ({"nrofentries"}, ("",)),
-    "objectlinks": ({"objectlinks"}, ("",)),
-    "tool": ({"name", "command"}, ()),
-    "modulelist": ({"nrofentries"}, ("",)),
-    "moduleinfo": ({"productname", "productversion", "productrevision", "ordercode"}, ()),
-    "modulecomments": ({"lines"}, ("line",)),
-}
-_OBJ_RE = re.compile(r"[0-9a-f]{4}")
-_SUB_RE = re.compile(r"[0-9a-f]{4}sub[0-9a-f]+")
-_AUX_RE = re.compile(r"[0-9a-f]{4}(name|value|denotation)")
-_LINKS_RE = re.compile(r"[0-9a-f]{4}objectlinks")
-_TOOL_RE = re.compile(r"tool[0-9]+")
-_MOD_RE = re.compile(r"m[0-9]+(moduleinfo|fixedobjects|subextends|comments|subext[0-9a-f]{4}"
-                     r"(?:sub[0-9a-f]+)?)")
-_DUMMY_RE = re.compile(r"dummy[0-9a-f]{4}")
 # Looks like an object section but is not one: wrong digit count, an 'x' template, junk.
 _ALMOST_RE = re.compile(r"([0-9a-fx]{1,8})(?:sub.*)?|([0-9a-f]{4})\S*")
 
@@ -73,69 +23,24 @@ def _almost_object(canon: str) -> bool:
     return any(c.isdigit() for c in head)
 
 
-def classify(canon: str) -> str | None:
-    """The CiA 306 kind of a section (canonical name), or None when unknown."""
-    if len(canon) > 7 and canon[4:7] == "sub" and _SUB_RE.fullmatch(canon):
-        return "sub"
-    if len(canon) == 4 and _OBJ_RE.fullmatch(canon):
-        return "object"
-    if _SUB_RE.fullmatch(canon):
-        return "sub"
-    if _AUX_RE.fullmatch(canon):
-        return "aux"
-    if _LINKS_RE.fullmatch(canon):
-        return "objectlinks"
-    if canon in _FIXED:
-        return canon
-    if _TOOL_RE.fullmatch(canon):
-        return "tool"
-    m = _MOD_RE.fullmatch(canon)
-    if m:
-        kind = m.group(1)
-        if kind.startswith("subext") and kind != "subextends":
-            return "object"
-        return {"moduleinfo": "moduleinfo", "comments": "modulecomments"}.get(kind, "modulelist")
-    return None
-
-
-def _known_key(kind: str, key: str) -> bool:
-    if kind == "object":
-        return key in _OBJ_KEYS
-    if kind == "sub":
-        return key in _SUB_KEYS
-    fixed = _FIXED.get(kind)
-    if fixed is not None:
-        return key in fixed
-    if kind == "dummyusage":
-        return _DUMMY_RE.fullmatch(key) is not None
-    plain, prefixes = _NUMBERED.get(kind, (set(), ()))
-    if key in plain:
-        return True
-    for p in prefixes:
-        if key.startswith(p) and key[len(p):].isdigit() and key[len(p):].isascii():
-            return True
-    return False
-
-
 @rule("DCF050", "unknown-key", WARNING,
       "A key that CiA 306 does not define for its section (kept, but no tool reads it).",
       hint="check the spelling; vendor keys belong in a vendor section")
 def unknown_key(ctx):
     verdicts: dict[tuple, list[str]] = {}   # generated files repeat the same key sets
-    kinds = ctx.kinds
-    for canon, sec in ctx.ini.sections.items():
-        kind = kinds[canon]
+    for kind, rest, secs in ctx.groups:     # one verdict per shared template
         if kind is None or kind == "aux":
             continue   # [<index>Name]/[<index>Value]/[<index>Denotation] keys: DCF026
-        names = tuple(ctx.key_names(sec))
+        names = tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
-            unknown = verdicts[(kind, names)] = [k for k in names if not _known_key(kind, k)]
-        for key in unknown:
-            k = sec.keys.get(key)
-            name = k.name if k else key
-            yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
-                          sec.line_of(key), 1)
+            unknown = verdicts[(kind, names)] = unknown_keys(kind, names)
+        for sec in secs if unknown else ():
+            for key in unknown:
+                k = sec.keys.get(key)
+                name = k.name if k else key
+                yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
+                              sec.line_of(key), 1)
 
 
 @rule("DCF051", "unknown-section", INFO,
@@ -153,12 +58,12 @@ def unknown_section(ctx):
 def line_too_long(ctx):
     text = ctx.text
     line, pos = 1, 0
-    for m in _LONG_RE.finditer(text):
-        raw = m.group(0).rstrip("\r")
+    for start, end in _lines_of_names(ctx):
+        raw = text[start:end].rstrip("\r")
         if len(raw) <= MAX_LINE:
             continue
-        line += text.count("\n", pos, m.start())
-        pos = m.start()
+        line += text.count("\n", pos, start)
+        pos = start
         low = raw.lstrip(" \t")[:14].lower()
         if low.startswith("parametername") or low.startswith("denotation"):
             continue  # DCF053 names it more precisely
@@ -166,20 +71,56 @@ def line_too_long(ctx):
                       MAX_LINE + 1)
 
 
-_LONG_RE = re.compile(r"^[^\n]{%d,}" % (MAX_LINE + 1), re.M)
+# The shortest line that can hold a name of more than MAX_NAME characters: "Denotation="
+# and the name (a ParameterName line is 3 characters longer). Every longer line is one.
+_NAME_LINE = len("Denotation=") + MAX_NAME + 1
+
+
+def _lines_of_names(ctx) -> list[tuple[int, int]]:
+    """(start, end) in ``ctx.text`` of the lines of ``_NAME_LINE`` characters or more:
+    DCF052 looks at those, and DCF053 looks at nothing when there are none."""
+    got = ctx.cache.get("long lines")
+    if got is None:
+        got = ctx.cache["long lines"] = list(_long_lines(ctx.text, _NAME_LINE))
+    return got
+
+
+def _long_lines(text: str, width: int):
+    """(start, end) of every line of at least ``width`` characters (CRs counted), as
+    ``re.finditer(r"^[^\n]{width,}", text, re.M)`` finds them: from a line's start, the
+    last line end within ``width`` characters is where to look next (none: a long line),
+    about one step per ``width`` characters instead of one per line."""
+    n, at = len(text), 0
+    rfind, find = text.rfind, text.find
+    while at + width <= n:
+        nl = rfind("\n", at, at + width)
+        if nl >= 0:
+            at = nl + 1
+            continue
+        end = find("\n", at)
+        if end < 0:
+            end = n
+        yield at, end
+        at = end + 1
 
 
 @rule("DCF053", "name-too-long", WARNING,
       f"A ParameterName or Denotation longer than {MAX_NAME} characters (CiA 306).",
       hint="shorten the name")
 def name_too_long(ctx):
-    for sec in ctx.ini.sections.values():
+    if not _lines_of_names(ctx):
+        return   # no line can hold a name that long
+    for _, rest, secs in ctx.groups:
         for key in ("parametername", "denotation"):
-            v = sec.get(key)
-            if v is not None and len(v) > MAX_NAME:
-                line = sec.line_of(key)
-                yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} characters, "
-                              f"more than {MAX_NAME}", line, ctx.value_column(line))
+            if longest_name(rest, secs, key) <= MAX_NAME:
+                continue
+            names = name_values(rest, secs, key)
+            for sec, v in zip(secs, names):
+                if v is not None and len(v) > MAX_NAME:
+                    line = sec.line_of(key)
+                    yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} "
+                                  f"characters, more than {MAX_NAME}", line,
+                                  ctx.value_column(line))
 
 
 @rule("DCF054", "malformed-object-section-name", WARNING,
@@ -228,23 +169,27 @@ def _bad_int(text: str, _cache: dict = {}) -> str | None:  # noqa: B006 - a cach
       "NrOfEntries, ...) is not a valid integer.",
       hint="decimal, 0x-hex or 0-octal integers only")
 def bad_number(ctx):
-    for canon, sec in ctx.ini.sections.items():
-        kind = ctx.kinds[canon]
+    for kind, rest, secs in ctx.groups:
         if kind in ("object", "sub"):
+            v = group_get(rest, secs, "pdomapping")   # once per shared template
+            if v is None or not _bad_int(v):
+                continue
             keys = ("pdomapping",)
         elif kind in _LISTS:
-            keys = tuple(k for k in ctx.key_names(sec) if k == "supportedobjects" or k.isdigit())
+            keys = tuple(k for k in ctx.key_names(secs[0])
+                         if k == "supportedobjects" or k.isdigit())
         else:
             keys = _NUMERIC_KEYS.get(kind or "", ())
-        for key in keys:
-            v = sec.get(key)
-            if v is None:
-                continue
-            problem = _bad_int(v)
-            if problem:
-                line = sec.line_of(key)
-                yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
-                              ctx.value_column(line))
+        for sec in secs if keys else ():
+            for key in keys:
+                v = sec.get(key)
+                if v is None:
+                    continue
+                problem = _bad_int(v)
+                if problem:
+                    line = sec.line_of(key)
+                    yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
+                                  ctx.value_column(line))
 
 
 # DCF056 (no sections) is the reader's: compile reports it too (core_rules.py).
@@ -262,7 +207,7 @@ _STRUCT_NUMERIC = ("objecttype", "datatype", "subnumber", "compactsubobj", "objf
       "lists, ...) is followed by a ';' or '#' comment; the comment is ignored.",
       hint="CiA 306 has no inline comments: put the comment on its own line")
 def numeric_key_comment(ctx):
-    if _COMMENT_RE.search(ctx.text) is None:
+    if not ctx.blank_comment:
         return   # no number anywhere is followed by a comment: skip the walk
     split = values.split_numeric_comment
     seen: set[int] = set()
@@ -277,20 +222,23 @@ def numeric_key_comment(ctx):
                                line, col + len(number) if col else None)
         return None
 
-    for canon, sec in ctx.ini.sections.items():
-        kind = ctx.kinds[canon]
+    for kind, rest, secs in ctx.groups:
         if kind in ("object", "sub"):
             keys = _STRUCT_NUMERIC
+            if not any(v is not None and (";" in v or "#" in v)     # once per template
+                       for v in (group_get(rest, secs, k) for k in keys)):
+                continue
         elif kind in _LISTS:
-            keys = tuple(ctx.key_names(sec))
+            keys = tuple(ctx.key_names(secs[0]))
         else:
             keys = _NUMERIC_KEYS.get(kind or "", ())
-        for key in keys:
-            v = sec.get(key)
-            if v is not None and (";" in v or "#" in v):
-                f = check(v, sec.line_of(key))
-                if f:
-                    yield f
+        for sec in secs if keys else ():
+            for key in keys:
+                v = sec.get(key)
+                if v is not None and (";" in v or "#" in v):
+                    f = check(v, sec.line_of(key))
+                    if f:
+                        yield f
 
 
 _FLAGS = ("baudrate_10", "baudrate_20", "baudrate_50", "baudrate_125", "baudrate_250",
@@ -317,13 +265,13 @@ def flag_not_boolean(ctx):
                 line = info.line_of(key)
                 yield Finding(f"[DeviceInfo] {info.keys[key].name}={v} is not 0 or 1", line,
                               ctx.value_column(line))
-    for canon, sec in ctx.ini.sections.items():
-        v = sec.get("pdomapping")
-        if v is not None and v not in ("0", "1") and ctx.kinds[canon] in ("object", "sub") \
-                and bad(v):
-            line = sec.line_of("pdomapping")
-            yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not mappable)",
-                          line, ctx.value_column(line))
+    for kind, rest, secs in ctx.groups:
+        v = group_get(rest, secs, "pdomapping")     # once per shared template
+        if v is not None and v not in ("0", "1") and kind in ("object", "sub") and bad(v):
+            for sec in secs:
+                line = sec.line_of("pdomapping")
+                yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not "
+                              "mappable)", line, ctx.value_column(line))
 
 
 @rule("DCF059", "comments-count", WARNING,
@@ -381,10 +329,15 @@ def required_section_missing(ctx):
       "it is read as the canonical [1018sub1].",
       hint="a subindex has 1 or 2 hex digits: write the canonical section name")
 def subindex_spelling(ctx):
-    respelled = set(ctx.ini.respelled)     # the others are written canonically
-    for canon, sec in ctx.of_kind("sub"):
-        if canon not in respelled:
-            continue
+    # only a section whose name is not written canonically can have more than 2 digits:
+    # the reader lists those (IniFile.respelled), so the other names are not read
+    respelled = getattr(ctx.ini, "respelled", None)
+    if respelled is None:
+        pairs = ctx.of_kind("sub")
+    else:
+        pairs = [(c, ctx.ini.sections[c]) for c in dict.fromkeys(respelled)
+                 if c in ctx.ini.sections and classify(c) == "sub"]
+    for canon, sec in pairs:
         digits = sec.name.strip().lower().partition("sub")[2]
         if len(digits) <= 2 or digits.strip("0123456789abcdef"):
             continue

@@ -1,24 +1,19 @@
 """DCF2xx: values of entries (SPEC §1): encodable, within the type, within the limits."""
 from __future__ import annotations
 
-import re
-
 from dcf2bin import datatypes as dt
 from dcf2bin import values
 from dcf2bin.diagnostics import DcfError
+from dcf2bin.lint import tables
 from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
 from dcf2bin.model import is_network_variable_index
 
-_COMMENT_RE = re.compile(r"=[^=\n]*?[ \t][;#]")   # see rules_syntax
-_NO_LIMITS = (dt.VSTRING, dt.OSTRING, dt.USTRING, dt.DOMAIN)
+_NO_LIMITS = frozenset({dt.VSTRING, dt.OSTRING, dt.USTRING, dt.DOMAIN})
+_STRINGS = frozenset({dt.VSTRING, dt.USTRING})
+_HEX_KINDS = frozenset({dt.OSTRING, dt.DOMAIN})
 
 
-def _entries(ctx):
-    """Every entry that stands in the file (not those the tool creates)."""
-    for idx in sorted(ctx.dev.objects):
-        for e in ctx.dev.objects[idx].entries.values():
-            if not e.implicit:
-                yield e
+_entries = tables.entries   # every entry that stands in the file, shared by the rules
 
 
 def _texts(e):
@@ -41,22 +36,34 @@ def _encode(ctx, dtype: dt.DataType, text: str, node_id: int | None) -> bytes:
       hint="write a value of the entry's DataType; values are never truncated")
 def bad_value(ctx):
     seen: set = set()
-    verdicts: dict[tuple[int, str], str | None] = {}   # (type, text) -> problem
-    for e in _entries(ctx):
+    verdicts: dict[int, dict[str, str | None]] = {}   # type -> text -> problem
+    for e in _entries(ctx):     # a flat loop: it sees every entry of the file
         dtype = e.dtype
         if dtype is None:
             continue
-        for key, shown, text in _texts(e):
-            problem = verdicts.get((dtype.code, text), False)
-            if problem is False:
-                problem = verdicts[(dtype.code, text)] = _value_problem(ctx, dtype, text)
-            if problem is None:
-                continue
-            line = e.key_where(key).line
-            if (line, dtype.code, text) in seen:
-                continue   # CompactSubObj: one DefaultValue line for N entries
-            seen.add((line, dtype.code, text))
-            yield Finding(f"{e.label} {shown}: {problem}", line, ctx.value_column(line))
+        known = verdicts.get(dtype.code)
+        if known is None:
+            known = verdicts[dtype.code] = {}
+        param, default = e.param, e.default
+        # True: not decided yet (_bad_values decides it); None: fine
+        if (param is not None and known.get(param, True) is not None) or \
+                (default is not None and known.get(default, True) is not None):
+            yield from _bad_values(ctx, e, known, seen)
+
+
+def _bad_values(ctx, e, known: dict, seen: set):
+    dtype = e.dtype
+    for key, shown, text in _texts(e):
+        problem = known.get(text, False)
+        if problem is False:
+            problem = known[text] = _value_problem(ctx, dtype, text)
+        if problem is None:
+            continue
+        line = e.key_where(key).line
+        if (line, dtype.code, text) in seen:
+            continue   # CompactSubObj: one DefaultValue line for N entries
+        seen.add((line, dtype.code, text))
+        yield Finding(f"{e.label} {shown}: {problem}", line, ctx.value_column(line))
 
 
 def _value_problem(ctx, dtype, text: str) -> str | None:
@@ -78,7 +85,7 @@ def _value_problem(ctx, dtype, text: str) -> str | None:
       "';' or '#' comment; the comment is ignored.",
       hint="CiA 306 has no inline comments: put the comment on its own line")
 def numeric_comment(ctx):
-    if _COMMENT_RE.search(ctx.text) is None:
+    if not ctx.blank_comment:
         return   # no value anywhere is followed by a comment: skip the walk
     seen: set[int] = set()
     split = values.split_numeric_comment
@@ -105,8 +112,8 @@ def numeric_comment(ctx):
       "A DownloadFile cannot be read, is absolute or leaves the DCF's folder.",
       hint="use a readable path relative to the DCF, or --allow-external-files")
 def download_file(ctx):
-    for e in _entries(ctx):
-        if e.download_file is None or e.param is not None or e.dtype is None:
+    for e in tables.entries_with(ctx, "download_file"):
+        if e.param is not None or e.dtype is None:
             continue
         try:
             ctx.dev.encode(e)
@@ -136,10 +143,12 @@ def _limits(ctx, e):
 
 
 def _limit_entries(ctx):
-    for e in _entries(ctx):
-        if (e.low is not None or e.high is not None) and e.dtype is not None \
-                and e.dtype.kind not in _NO_LIMITS:
-            yield e
+    got = ctx.cache.get("limit entries")
+    if got is None:
+        limited = tables.entries_with(ctx, "low", "high")
+        got = ctx.cache["limit entries"] = [
+            e for e in limited if e.dtype is not None and e.dtype.kind not in _NO_LIMITS]
+    return got
 
 
 @rule("DCF210", "bad-limit", ERROR,
@@ -209,8 +218,8 @@ def outside_limits(ctx):
       "A ParameterValue on a ro/const entry: it records what was read and is not written.",
       hint="compile does not write ro/const entries")
 def param_read_only(ctx):
-    for e in _entries(ctx):
-        if e.param is None or e.access not in ("ro", "const") \
+    for e in tables.entries_with(ctx, "param"):
+        if e.access not in ("ro", "const") \
                 or is_network_variable_index(e.index):
             continue
         line = e.key_where("parametervalue").line
@@ -222,9 +231,7 @@ def param_read_only(ctx):
       "A string value contains $NODEID, which is plain text in strings.",
       hint="$NODEID is a formula only in integer values")
 def nodeid_in_string(ctx):
-    for e in _entries(ctx):
-        if e.dtype is None or e.dtype.kind not in (dt.VSTRING, dt.USTRING):
-            continue
+    for e in tables.entries_of_kinds(ctx, _STRINGS):
         for key, shown, text in _texts(e):
             if values.uses_nodeid(text):
                 line = e.key_where(key).line
@@ -238,9 +245,7 @@ def nodeid_in_string(ctx):
       "(which wins).",
       hint="DownloadFile supplies the value of a DOMAIN entry")
 def download_misuse(ctx):
-    for e in _entries(ctx):
-        if e.download_file is None:
-            continue
+    for e in tables.entries_with(ctx, "download_file"):
         line = e.key_where("downloadfile").line
         if e.param is not None:
             yield Finding(f"{e.label} has DownloadFile and ParameterValue; the ParameterValue "
@@ -254,8 +259,8 @@ def download_misuse(ctx):
       "ObjFlags sets bits other than 0 (do not write on download) and 1 (do not read on scan).",
       hint="CiA 306 defines ObjFlags bits 0 and 1 only")
 def objflags_reserved(ctx):
-    for sec in ctx.ini.sections.values():
-        text = sec.get("objflags")
+    for _, rest, secs in ctx.groups:     # once per shared template
+        text = tables.group_get(rest, secs, "objflags")
         if text is None:
             continue
         try:
@@ -263,9 +268,10 @@ def objflags_reserved(ctx):
         except values.ValueProblem:
             continue  # DCF020
         if v & ~3 or v < 0:
-            line = sec.line_of("objflags")
-            yield Finding(f"[{sec.name}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets reserved bits", line,
-                          ctx.value_column(line))
+            for sec in secs:
+                line = sec.line_of("objflags")
+                yield Finding(f"[{sec.name}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets reserved bits",
+                              line, ctx.value_column(line))
 
 
 @rule("DCF217", "limits-on-non-numeric", WARNING,
@@ -273,8 +279,8 @@ def objflags_reserved(ctx):
       hint="remove the limits")
 def limits_non_numeric(ctx):
     seen: set = set()
-    for e in _entries(ctx):
-        if e.dtype is None or e.dtype.kind not in _NO_LIMITS:
+    for e in tables.entries_of_kinds(ctx, _NO_LIMITS):
+        if e.low is None and e.high is None:
             continue
         for key in ("lowlimit", "highlimit"):
             if (e.low if key == "lowlimit" else e.high) is not None:
@@ -290,9 +296,7 @@ def limits_non_numeric(ctx):
       hint="write the hex byte pairs without 0x (Sevcon DriveWizard writes them with it)")
 def hex_0x_prefix(ctx):
     seen: set = set()
-    for e in _entries(ctx):
-        if e.dtype is None or e.dtype.kind not in (dt.OSTRING, dt.DOMAIN):
-            continue
+    for e in tables.entries_of_kinds(ctx, _HEX_KINDS):
         for key, shown, text in _texts(e):
             if values.hex_prefix(text) and values.hex_problem(e.dtype, text) is None:
                 line = e.key_where(key).line
