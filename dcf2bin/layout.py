@@ -62,11 +62,16 @@ def table_channel(index: int) -> Channel | None:
     return Channel(0, dtype, direction, first, first + RANGE_LEN - 1)
 
 
+_SCANNED = 32      # up to this many segments, channel_for scans them
+
+
 def channel_for(dev, index: int) -> Channel | None:
     """A [DynamicChannels] segment covering ``index`` wins over the 2.1 table (SPEC §2.3);
     of overlapping segments (an error) the lowest-numbered."""
     channels = dev.channels
-    if len(channels) > 8:       # a file may hold thousands: one lookup table, not a scan each
+    if len(channels) > _SCANNED:   # a file may hold thousands: one lookup table, not a scan
+        # each (the table paints every index of every range: for the few segments of a
+        # usual PLC file a scan per lookup is cheaper than painting, per compile)
         cached = dev.__dict__.get("_channel_owner")
         if cached is None or cached[0] is not channels:
             cached = dev.__dict__["_channel_owner"] = (channels, _owners(channels))
@@ -247,15 +252,14 @@ def attach_channels(dev) -> None:
         if not NV_FIRST <= idx <= NV_LAST:
             continue
         ch = channel_for(dev, idx)
+        if ch is None:
+            continue
+        access = "ro" if ch.direction == INPUT else "rw"
         for sub, e in obj.entries.items():
-            if sub == 0:
-                continue
-            if ch is None:
-                continue
-            if e.dtype is None:
+            if e.dtype is None and sub:
                 e.dtype = ch.dtype
-            if e.access is None:
-                e.access = "ro" if ch.direction == INPUT else "rw"
+            if e.access is None and sub:
+                e.access = access
 
 
 @dataclass(slots=True)

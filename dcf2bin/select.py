@@ -7,6 +7,7 @@ written entries are collected, not raised, so one run reports all of them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from itertools import repeat
 
 from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
@@ -64,6 +65,7 @@ class Selection:
 
 # D-9: network variables are created NUMERIC|READ|WRITE|PDO, their sub 0 NUMERIC|READ
 NV_ATTR, NV_SUB0_ATTR = 0xF0, 0x30
+_NV_ATTR_BYTE = bytes([NV_ATTR])
 
 
 def attribute_byte(index: int, sub: int, dtype: dt.DataType | None, access: str | None,
@@ -121,35 +123,28 @@ class _Selector:
         dev = self.dev
         objs = [o for o in dev.sorted_objects() if o.index >= 0x1000]
         created = set()
-        # 1. creation: every sub-entry of the object -- the bulk of a PLC file, so the
-        # cached encodings are looked up here directly (Device.encode fills the cache)
+        # 1. creation: every sub-entry of the object -- the bulk of a PLC file
         entries, attrs = self.sel.entries, self.sel.attrs
-        encoded = dev.encoded.get
         for obj in objs:
             idx = obj.index
             nv = NV_FIRST <= idx <= NV_LAST
             if not nv and (self.static_od is None or idx in self.static_od):
                 continue
             created.add(idx)
+            # the object column by column: its data bytes (one value shared by runs of
+            # variables), then (index, sub, data) and the attribute bytes (D-9)
+            es = obj.entries
+            entries.extend(zip(repeat(idx), es, self._data_column(es.values())))
             if nv:
                 self.sel.nv_objects.append(idx)
-            for sub, e in obj.entries.items():
-                dtype = e.dtype
-                if dtype is None:
-                    data = b""  # the model already reported the DataType
-                else:
-                    text = e.param
-                    if text is None and e.download_file is None:
-                        text = e.default
-                    data = encoded((dtype.code, text)) if text is not None else None
-                    if data is None:
-                        try:
-                            data = dev.encode(e)
-                        except DcfError as exc:
-                            self.error(exc)
-                            data = b""
-                entries.append((idx, sub, data))
-                attrs.append((NV_ATTR if sub else NV_SUB0_ATTR) if nv else attribute(e))
+                at = len(attrs)
+                attrs += _NV_ATTR_BYTE * len(es)
+                for k, sub in enumerate(es):     # sub 0: first, but for a file's order
+                    if not sub:
+                        attrs[at + k] = NV_SUB0_ATTR
+                        break
+            else:
+                attrs.extend(map(attribute, es.values()))
         self.sel.created = created
         # 2. configuration
         for obj in objs:
@@ -172,6 +167,40 @@ class _Selector:
                 if self.pdo_is_configured(comm) and (comm + 0x200) not in created:
                     self.pdo_block(comm)
         return self.sel
+
+    def _data_column(self, es) -> list[bytes]:
+        """The data bytes of the entries ``es``, as group 1 writes them: an entry's value
+        is looked up in the device's cache of encodings (``Device.encode`` fills it, and
+        leaves out a value that warns, so that each entry warns); the same type and value
+        text as the entry before (the same objects: a run of variables built from one
+        template) is the same bytes, without a lookup."""
+        dev = self.dev
+        encoded = dev.encoded.get
+        out = []
+        append = out.append
+        last_dtype = last_text = last_data = None
+        for e in es:
+            dtype = e.dtype
+            if dtype is None:
+                append(b"")     # the model already reported the DataType
+                continue
+            text = e.param
+            if text is None and e.download_file is None:
+                text = e.default
+            if text is last_text and dtype is last_dtype and text is not None:
+                append(last_data)
+                continue
+            data = encoded((dtype.code, text)) if text is not None else None
+            if data is None:
+                try:
+                    data = dev.encode(e)
+                except DcfError as exc:
+                    self.error(exc)
+                    data = b""
+            else:
+                last_dtype, last_text, last_data = dtype, text, data
+            append(data)
+        return out
 
     def pdo_is_configured(self, comm: int) -> bool:
         for idx in (comm, comm + 0x200):

@@ -24,9 +24,17 @@ def _brute(image, sizes, total):
 @given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 4)), max_size=12),
        st.one_of(st.none(), st.integers(0, 48)))
 def test_placement_shortcut_never_hides_a_failure(vars_, total):
+    # block by block (a few blocks of consecutive addresses), and in address order (as
+    # many blocks as variables): either way, "clean" only where the byte map finds nothing
     image, sizes = [a for a, _ in vars_], [z for _, z in vars_]
-    if structure._clean(image, sizes, total):
-        assert _brute(image, sizes, total)
+    old = structure._FEW_BLOCKS
+    for few in (old, 0):
+        structure._FEW_BLOCKS = few
+        try:
+            if structure._clean(image, sizes, total):
+                assert _brute(image, sizes, total)
+        finally:
+            structure._FEW_BLOCKS = old
 
 
 def test_placement_shortcut_takes_ascending_runs():
@@ -36,6 +44,9 @@ def test_placement_shortcut_takes_ascending_runs():
     assert structure._clean(image, sizes, 300)
     assert not structure._clean(image, sizes, 299)                  # the last ends at 300
     assert not structure._clean(image + [150], sizes + [1], None)   # byte 150 twice
+    # blocks with gaps that other blocks fill, and blocks that touch
+    assert structure._clean([0, 1, 10, 11, 5, 6, 20], [1, 1, 1, 9, 1, 4, 0], 20)
+    assert not structure._clean([0, 1, 10, 11, 5, 6], [1, 1, 1, 9, 1, 5], None)
 
 
 def _emulated(container, static, whole: bool):
@@ -83,3 +94,49 @@ def test_whole_objects_at_once_equal_entry_by_entry(data):
     c.attributes = bytes(attrs)
     for s in (static, None):
         assert _emulated(c, s, True) == _emulated(c, s, False)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_addresses_of_wanted_variables_are_those_of_all(data):
+    # the PDO results look up the mapped variables only: the same addresses as the dict
+    # of every variable, restricted to them (asked for present and absent keys alike)
+    from test_dynod_random import build, plc_dcfs
+
+    from dcf2bin.dynod import TargetOptions, emulate
+    text, _ = data.draw(plc_dcfs())
+    res, static = build(text)
+    engine = emulate(res.container, TargetOptions(), static)._engine
+    every = engine.nv_addresses()
+    assert every
+    keys = sorted(every) + [(0xA000, 0x7F), (0x1000, 0)]
+    wanted = set(data.draw(st.lists(st.sampled_from(keys), min_size=1)))
+    assert engine.nv_ascending      # a compiled container: found by bisection
+    assert engine.nv_addresses(wanted) == {k: v for k, v in every.items() if k in wanted}
+    engine.nv_ascending = False     # as for keys in another order: by their objects
+    assert engine.nv_addresses(wanted) == {k: v for k, v in every.items() if k in wanted}
+
+
+def test_placement_shortcut_says_maybe_for_a_variable_inside_another():
+    # a variable of 0 bytes inside another is no failure, but the shortcut only vouches
+    # for variables that each end before the next starts: the byte map decides
+    assert not structure._clean([0, 2], [4, 0], None)
+    assert structure._clean([4, 0, 2], [2, 2, 2], 6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([0x1000, 0x1A00, 0x9FFF, 0xA000, 0xA040, 0xAFFF,
+                                           0xB000]), st.integers(0, 3)), max_size=14),
+       st.booleans())
+def test_first_occurrences_of_network_variables(keys, ascending):
+    # ascending keys (a compiled container) take the shortcut; any order, repeats
+    # included, gives the position of each variable's first occurrence
+    if ascending:
+        keys = sorted(set(keys))
+    entries = [(i, s, b"") for i, s in keys]
+    seen, expected = set(), []
+    for p, (i, s, _) in enumerate(entries):
+        if 0xA000 <= i <= 0xAFFF and s and (i, s) not in seen:
+            seen.add((i, s))
+            expected.append(p)
+    assert structure.nv_firsts(entries)[0] == expected

@@ -213,3 +213,28 @@ PPOffset2=2
     assert messages(res) == [
         "test.dcf:22: error: 0xA900sub1 [bytes 2..2] (line 22) overlaps [DynamicChannels] "
         "segment 1 [bytes 0..3] in the input area [DCF307]"]
+
+
+def test_channel_for_scan_and_table_agree():
+    # up to layout._SCANNED segments a lookup scans them, beyond that one table paints each
+    # index once: overlapping ranges (an error, DCF315) go to the lowest-numbered either way
+    import random
+    from types import SimpleNamespace
+
+    from dcf2bin import datatypes as dt, layout
+    rng = random.Random(5)
+    for _ in range(50):
+        channels = []
+        for k in range(1, rng.randint(1, 12) + 1):
+            first = rng.randint(0xA000, 0xA0FF)
+            channels.append(layout.Channel(k, dt.UNSIGNED8, layout.INPUT, first,
+                                           first + rng.randint(0, 40)))
+        answers = []
+        for scanned in (layout._SCANNED, 0):
+            old, layout._SCANNED = layout._SCANNED, scanned
+            try:
+                dev = SimpleNamespace(channels=channels)
+                answers.append([layout.channel_for(dev, i) for i in range(0xA000, 0xA140)])
+            finally:
+                layout._SCANNED = old
+        assert answers[0] == answers[1]

@@ -250,3 +250,30 @@ def test_template_path_equals_key_by_key_path_on_real_files(path):
     assert _fields(a) == _fields(b)
     assert [p.diagnostic.format() for p in a.problems] == [
         p.diagnostic.format() for p in b.problems]
+
+
+def test_entry_where_is_made_from_its_section_when_first_read(tmp_path):
+    # the builder stores the file's path for the entries it builds from a template; their
+    # ``where`` is the section's file:line, the same object each time it is read, and can
+    # be set like any field; the repr is the dataclass's it always was
+    from pathlib import Path
+
+    from dcf2bin.diagnostics import Where
+    text = ("[A040]\nParameterName=in\nObjectType=0x8\nSubNumber=3\n"
+            "[A040sub1]\nParameterName=a\nDataType=0x0005\nAccessType=ro\n"
+            "[A040sub2]\nParameterName=b\nDataType=0x0005\nAccessType=ro\n"
+            "[A040sub3]\nParameterName=c\nDataType=0x0005\nAccessType=ro\n")
+    dev = model.load("t.dcf", data=text.encode())
+    e = dev.entry(0xA040, 2)
+    assert e._where == "t.dcf"                  # built from the template of sub 1
+    assert e.where == Where("t.dcf", 9) and e.where is e.where
+    e.where = Where("u.dcf", 1)
+    assert e.where == Where("u.dcf", 1)
+    assert repr(dev.entry(0xA040, 1)).startswith(
+        "Entry(index=41024, sub=1, name='a', dtype=DataType(")
+    assert "where=Where(file='t.dcf', line=5), lines=None, implicit=False, section=" in repr(
+        dev.entry(0xA040, 1))
+    path = tmp_path / "p.dcf"                   # a path that is no str: made at once
+    path.write_text(text)
+    dev = model.load(Path(path))
+    assert dev.entry(0xA040, 2)._where == Where(Path(path), 9)

@@ -263,3 +263,40 @@ def test_static_od_that_is_not_an_eds_is_an_error(tmp_path):
     res = compile_text(var(0x2000, extra="ParameterValue=1"), static_od=str(static))
     assert messages(res) == [
         f"{static}:1: error: static OD: line without '=': '\\x00\\x01binary' [DCF002]"]
+
+
+# -- group 1 in bulk: the data column of an object equals encoding entry by entry ----------
+
+def test_group_one_data_column_equals_entry_by_entry():
+    # runs of variables built from one template share their bytes; a value with a comment
+    # warns once per entry (it is never cached) and a bad value is an error per entry,
+    # each at its own line, as Device.encode says entry by entry
+    from dcf2bin import model, select
+    from dcf2bin.diagnostics import DcfError
+    subs = []
+    values = ["0", "0", "0", "7 ; seven", "7 ; seven", "0", "x1", "x1", "0", "$NODEID+1", "0"]
+    for s, v in enumerate(values, 1):
+        subs.append(f"[A040sub{s:X}]\nParameterName=v{s}\nObjectType=0x7\nDataType=0x0005\n"
+                    f"AccessType=ro\nDefaultValue={v}\nPDOMapping=1\n")
+    text = ("[DynamicChannels]\nNrOfSeg=1\nType1=0x0005\nDir1=ro\nRange1=0xA040-0xA07F\n"
+            "PPOffset1=0\n[A040]\nParameterName=in\nObjectType=0x8\nSubNumber=12\n"
+            + "".join(subs))
+    dev = model.load("t.dcf", data=text.encode(), node_id=3)
+    sel = select.select(dev)
+    expected, errors = [], []
+    ref = model.load("t.dcf", data=text.encode(), node_id=3)
+    for e in ref.objects[0xA040].entries.values():
+        try:
+            data = ref.encode(e)
+        except DcfError as exc:
+            errors.append(exc.diagnostic.format())
+            data = b""
+        expected.append((0xA040, e.sub, data))
+    assert sel.entries == expected
+    assert [d.format() for d in sel.errors] == errors and len(errors) == 2
+    assert bytes(sel.attrs) == bytes([select.NV_SUB0_ATTR] + [select.NV_ATTR] * 11)
+    assert [p.diagnostic.format() for p in dev.problems] == [
+        p.diagnostic.format() for p in ref.problems]
+    assert sum("DCF203" in p.diagnostic.format() for p in dev.problems) == 2
+    # the bytes of equal values are shared, as the cache of encodings gives them
+    assert sel.entries[1][2] is sel.entries[2][2]

@@ -43,6 +43,7 @@ class _Engine(_StructureStep, _EntriesStep, _PdoSemantics, _Results):
         self.warned: dict[tuple, int] = {}              # warning key -> how many times
         self.warned_at: dict[tuple, int] = {}           # warning key -> first entry position
         self.nv_first: list[int] = []                   # positions of first NV occurrences
+        self.nv_ascending = False                       # ... and their keys ascend with them
         self.image: list[int] | None = None             # image address per NV (address order)
         self.applied = 0
         self.creating: int | None = None                # the index the current entry creates

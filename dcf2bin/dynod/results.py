@@ -2,7 +2,7 @@
 """
 from __future__ import annotations
 
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 from itertools import compress
 from operator import itemgetter
 
@@ -13,6 +13,15 @@ from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 
 _INDEX_SUB = itemgetter(slice(0, 2))     # (index, sub, data) -> (index, sub)
+_INDEX = itemgetter(0)
+
+
+def _key_at(entries):
+    """position -> the key of the entry there (index << 8 | sub), for bisection."""
+    def key_at(pos: int) -> int:
+        index, sub, _ = entries[pos]
+        return index << 8 | sub
+    return key_at
 
 
 class _Results:
@@ -22,15 +31,32 @@ class _Results:
     def nv_addresses(self, wanted: set | None = None) -> dict[tuple[int, int], int]:
         """(index, sub) of each network variable's first occurrence -> its PI address;
         only the keys in ``wanted`` when given (a few mapped variables: no dict of every
-        variable, 60,000 tuples at a compile's peak of memory). Built in C either way."""
+        variable, 60,000 tuples at a compile's peak of memory): bisected when the keys
+        ascend (a compiled container), else those of the wanted objects looked at."""
         if self.image is None:
             return {}
         get = self.c.entries.__getitem__
-        keys = map(_INDEX_SUB, map(get, self.nv_first))
         if wanted is None:
-            return dict(zip(keys, self.image))
-        asked = map(wanted.__contains__, map(_INDEX_SUB, map(get, self.nv_first)))
-        return dict(compress(zip(keys, self.image), asked))
+            return dict(zip(map(_INDEX_SUB, map(get, self.nv_first)), self.image))
+        first, image = self.nv_first, self.image
+        out = {}
+        if self.nv_ascending:
+            # a compiled container's variables, by ascending key: each one bisected
+            key_at = _key_at(self.c.entries)
+            for key in wanted:
+                i = bisect_left(first, key[0] << 8 | key[1], key=key_at)
+                if i < len(first) and _INDEX_SUB(get(first[i])) == key:
+                    out[key] = image[i]
+            return out
+        # the variables of the objects the wanted ones are in, told by their index alone
+        # (no tuple per variable); then only those are looked at one by one
+        indexes = {index for index, _ in wanted}
+        near = compress(range(len(first)), map(indexes.__contains__, map(_INDEX, map(get, first))))
+        for i in near:
+            key = _INDEX_SUB(get(first[i]))
+            if key in wanted:
+                out[key] = image[i]
+        return out
 
     def pdos(self) -> list[Pdo]:
         rows = []

@@ -2,12 +2,37 @@
 """
 from __future__ import annotations
 
-from itertools import accumulate
-from operator import add, le, lt
+from itertools import compress, islice
+from operator import add, itemgetter, le, lt, ne, sub as minus
 
 from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
 from dcf2bin.indexes import NV_FIRST, NV_LAST
+
+
+_DATA = itemgetter(2)     # (index, sub, data) -> data
+_FEW_BLOCKS = 256         # blocks of consecutive addresses compared span by span
+
+
+def nv_firsts(entries: list) -> tuple[list[int], bool]:
+    """The positions of the first occurrence of each network variable (SPEC §3.4: an entry
+    of 0xA000-0xAFFF with sub >= 1), ascending, and whether the variables' keys ascend
+    with them (then a variable is found by bisection).
+
+    A compiled container writes each variable once, by ascending index and subindex: when
+    the keys ascend strictly, every position is a first occurrence. Otherwise a dict from
+    the reversed keys keeps, for every key, the smallest position (a dict of 60,000 keys
+    and positions was the memory peak of a compile: hence not the first try)."""
+    keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else 0
+            for index, sub, _ in entries]          # 0: no network variable
+    nv = list(filter(None, keys))
+    if all(map(lt, nv, islice(nv, 1, None))):
+        return list(compress(range(len(keys)), keys)), True
+    del nv
+    firsts = dict(zip(reversed(keys), range(len(keys) - 1, -1, -1)))
+    del keys                    # (each temporary goes as soon as it is used)
+    firsts.pop(0, None)
+    return sorted(firsts.values()), False
 
 
 class _StructureStep:
@@ -22,16 +47,10 @@ class _StructureStep:
         if c.attributes is not None and len(c.attributes) != n:
             raise _Fail(C.INVALID_CONFIG, f"the extended info segment has {len(c.attributes)} "
                                           f"attribute bytes for {n} index entries")
-        # first occurrence of each network variable (SPEC §3.4): built in C -- a dict from
-        # the reversed keys keeps, for every key, the smallest position
-        keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else -1
-                for index, sub, _ in entries]
-        firsts = dict(zip(reversed(keys), range(n - 1, -1, -1)))
-        del keys                    # (each temporary goes as soon as it is used: at
-        firsts.pop(-1, None)        # 60,000 variables this step is a compile's peak)
         first = self.nv_first
-        first.extend(sorted(firsts.values()))
-        del firsts
+        positions, self.nv_ascending = nv_firsts(entries)
+        first.extend(positions)
+        del positions
         addrs = c.addresses or None
         if addrs is not None and len(addrs) != len(first):
             raise _Fail(C.INVALID_CONFIG, f"the PI address segment holds {len(addrs)} "
@@ -57,7 +76,7 @@ class _StructureStep:
         else:
             image = list(addrs)
         self.image = image
-        sizes = [len(entries[p][2]) for p in first]
+        sizes = list(map(len, map(_DATA, map(entries.__getitem__, first))))
         total = pi[0] if pi is not None else None
         if _clean(image, sizes, total):
             return                  # nothing for the byte map below to find
@@ -98,16 +117,28 @@ def _clean(image: list[int], sizes: list[int], total: int | None) -> bool:
     it as the target would."""
     if not image:
         return True
+    n = len(image)
+    # a compiled PLC's variables lie in a few blocks of consecutive addresses, each
+    # starting where the one before ends (told in C from the differences of the
+    # addresses: small ints, nothing allocated); a block overlaps nothing in itself and
+    # ends where its last variable ends, so only the blocks' spans are compared
+    breaks = list(compress(range(1, n), map(ne, map(minus, islice(image, 1, None), image),
+                                            sizes)))
+    if len(breaks) < _FEW_BLOCKS:
+        spans = sorted((image[a], image[b - 1] + sizes[b - 1])
+                       for a, b in zip([0] + breaks, breaks + [n]))
+        if total is not None and max(e for _, e in spans) > total:
+            return False
+        return all(e <= a for (_, e), (a, _) in zip(spans, spans[1:]))
     ends = list(map(add, image, sizes))
     if total is not None and max(ends) > total:
         return False
+    # in address order, no variable overlaps another when each ends at or before the
+    # next one starts (then the ends ascend too, and each end is the furthest so far);
+    # anything else, a variable of 0 bytes inside another say, is a "maybe"
     starts = image
-    if not all(map(le, image, image[1:])):
-        # in address order (a compiled PLC's addresses are a few ascending runs, one per
-        # type and direction, which the sort merges in linear time)
-        order = sorted(range(len(image)), key=image.__getitem__)
+    if not all(map(le, image, islice(image, 1, None))):
+        # in address order (the sort merges ascending runs in linear time)
+        order = sorted(range(n), key=image.__getitem__)
         starts, ends = list(map(image.__getitem__, order)), list(map(ends.__getitem__, order))
-    # in address order, a variable overlaps an earlier one when it starts before the
-    # furthest end so far (a variable of 0 bytes may count as overlapping: "maybe")
-    reach = accumulate(ends, max)
-    return not any(map(lt, starts[1:], reach))
+    return all(map(le, ends, islice(starts, 1, None)))

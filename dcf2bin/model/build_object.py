@@ -135,16 +135,29 @@ class _ObjectStep:
         """One entry per [xxxxsubN] section, in ascending subindex order."""
         idx = obj.index
         protos: dict[int, tuple] = {}
-        entries, path = obj.entries, self.path
+        entries, path, lazy = obj.entries, self.path, self.lazy_where
+        new = object.__new__
+        last_rest = last_proto = None    # runs of sub-sections share one template
         for s in sorted(subsecs):
             ssec = subsecs[s]
             if s and ssec.param_name is not None:
-                # an entry like one already built but for its names (see _entry),
-                # inline: 60,000 of them in a large PLC file
-                proto = protos.get(id(ssec.rest))
+                # an entry like one already built but for its names (see _entry), its
+                # fields stored here one by one: 60,000 of them in a large PLC file, and
+                # Entry(...) with *proto would spend more on the call than on the stores
+                rest = ssec.rest
+                if rest is last_rest:
+                    proto = last_proto
+                else:
+                    proto = protos.get(id(rest))
+                    if proto is not None:
+                        last_rest, last_proto = rest, proto
                 if proto is not None:
-                    e = entries[s] = Entry(idx, s, ssec.param_name or "", *proto,
-                                           Where(path, ssec.line), None, False, ssec)
+                    e = entries[s] = new(Entry)
+                    e.index, e.sub, e.name = idx, s, ssec.param_name or ""
+                    (e.dtype, e.access, e.pdo_mapping, e.obj_flags, e.default, e.param,
+                     e.download_file, e.low, e.high, e.denotation) = proto
+                    e._where = lazy if lazy is not None else Where(path, ssec.line)
+                    e.lines, e.implicit, e.section = None, False, ssec
                     if ssec.denotation is not None:   # cut out of the template too
                         e.denotation = ssec.denotation or None
                     continue

@@ -38,6 +38,9 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         self.dev = dev
         self.ini = parsed
         self.path = parsed.path
+        # what an entry read from its own section stores for its ``where`` (see Entry):
+        # the path, from which Entry.where makes the Where when it is first read
+        self.lazy_where = parsed.path if type(parsed.path) is str else None
 
     def w(self, line: int | None) -> Where:
         return Where(self.path, line)
@@ -53,17 +56,25 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         hex4: dict[str, int] = {}   # the object indexes seen, as their section names
         for canon in self.ini.respelled:       # [1018sub001]: DCF061
             self._sub_spelling(canon, self.ini.sections[canon])
+        last_hex = last_group = None     # the sub-sections of an object come in a run
+        sub_hex_get = _SUB_HEX.get
         for canon, sec in self.ini.sections.items():
             # the common case, a sub-section "<index>sub<n>" of an object already seen
             obj_hex, is_sub, sub_hex = canon.partition("sub")
             if is_sub:
-                idx, sub = hex4.get(obj_hex), _SUB_HEX.get(sub_hex)
-                if idx is not None and sub is not None:
-                    group = subs.get(idx)
-                    if group is None:
-                        group = subs[idx] = {}
-                    group[sub] = sec
-                    continue
+                sub = sub_hex_get(sub_hex)
+                if sub is not None:
+                    if obj_hex == last_hex:
+                        last_group[sub] = sec
+                        continue
+                    idx = hex4.get(obj_hex)
+                    if idx is not None:
+                        group = subs.get(idx)
+                        if group is None:
+                            group = subs[idx] = {}
+                        group[sub] = sec
+                        last_hex, last_group = obj_hex, group
+                        continue
             m = section_match(canon)
             if m is not None:
                 obj_hex, sub_hex = m.groups()

@@ -21,25 +21,64 @@ class Problem:
     sub: int | None = None   # None: the whole object
 
 
-@dataclass(slots=True, eq=False)
 class Entry:
-    index: int
-    sub: int
-    name: str = ""
-    dtype: dt.DataType | None = None
-    access: str | None = None
-    pdo_mapping: bool = False
-    obj_flags: int = 0
-    default: str | None = None
-    param: str | None = None
-    download_file: str | None = None
-    low: str | None = None
-    high: str | None = None
-    denotation: str | None = None
-    where: Where | None = None               # the section (or the object's, for compact subs)
-    lines: dict[str, int] | None = None      # key -> line, where not the section's own
-    implicit: bool = False                   # created by the tool (sub 0, CompactPDO)
-    section: ini_mod.Section | None = None
+    """One sub-object: its keys' values as text (encoded on demand), its type and access,
+    and where it was written (``where``: the section, or the object's for a CompactSubObj
+    sub-entry; ``lines``: key -> line where not the section's own).
+
+    ``where`` of an entry read from its own section is made from the section's line when
+    first asked for (a diagnostic, a map): the builder stores only the file's path, so a
+    PLC file's 60,000 network variables carry no ``Where`` each until one is read (the
+    same file:line either way). Compared by identity, like the dataclass it was."""
+    __slots__ = ("index", "sub", "name", "dtype", "access", "pdo_mapping", "obj_flags",
+                 "default", "param", "download_file", "low", "high", "denotation", "_where",
+                 "lines", "implicit", "section")
+    __match_args__ = ("index", "sub", "name", "dtype", "access", "pdo_mapping", "obj_flags",
+                      "default", "param", "download_file", "low", "high", "denotation",
+                      "where", "lines", "implicit", "section")
+
+    def __init__(self, index: int, sub: int, name: str = "",
+                 dtype: dt.DataType | None = None, access: str | None = None,
+                 pdo_mapping: bool = False, obj_flags: int = 0, default: str | None = None,
+                 param: str | None = None, download_file: str | None = None,
+                 low: str | None = None, high: str | None = None,
+                 denotation: str | None = None, where: Where | None = None,
+                 lines: dict[str, int] | None = None, implicit: bool = False,
+                 section: ini_mod.Section | None = None):
+        self.index = index
+        self.sub = sub
+        self.name = name
+        self.dtype = dtype
+        self.access = access
+        self.pdo_mapping = pdo_mapping
+        self.obj_flags = obj_flags
+        self.default = default
+        self.param = param
+        self.download_file = download_file
+        self.low = low
+        self.high = high
+        self.denotation = denotation
+        self._where = where        # a Where, None, or the file's path: see ``where``
+        self.lines = lines         # key -> line, where not the section's own
+        self.implicit = implicit   # created by the tool (sub 0, CompactPDO)
+        self.section = section
+
+    @property
+    def where(self) -> Where | None:
+        """The section (or the object's, for compact subs), as file:line."""
+        w = self._where
+        if w.__class__ is str:     # the builder's: the file, at the section's line
+            sec = self.section
+            w = self._where = Where(w, sec.line if sec is not None else None)
+        return w
+
+    @where.setter
+    def where(self, value: Where | None) -> None:
+        self._where = value
+
+    def __repr__(self) -> str:
+        fields = ", ".join(f"{name}={getattr(self, name)!r}" for name in self.__match_args__)
+        return f"Entry({fields})"
 
     @property
     def configured(self) -> bool:
