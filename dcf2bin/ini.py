@@ -371,7 +371,8 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     ``ParameterName=`` is the first line, as configurators write it, the text after
     that line is the template's key, compared first with the section before's (an
     array's next sub-object), and the template tells how many lines the section spans:
-    no copy of the text with the name cut out, no counting of lines per section. Other
+    no copy of the text with the name cut out, no counting of lines per section (with
+    a Denotation= line among them, that text with its value cut out is the key). Other
     sections go through ``_Templates.other``.
     """
     chunks = text.split(nl + "[")              # each a section, from just after its '['
