@@ -433,11 +433,12 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             if found is None:
                 return None
             canon, pname, denotation, template, step = found
-        if len(canon) > 8 and canon[7] == "0":     # "1018sub01"
-            canon = canonical_section(canon)
+        if len(canon) > 8 and canon[7] == "0":     # "1018sub01", or a name like it
+            spelled, canon = canon, canonical_section(canon)
             if not canon or "[" in canon or "]" in canon:
                 return None
-            respelled.append(canon)
+            if canon != spelled:
+                respelled.append(canon)
         sec = new(shared if denotation is None else denoted)    # 60,000: no __init__
         sec.line = line
         sec.param_name = pname

@@ -117,9 +117,10 @@ def test_a_header_right_before_the_next_header_spans_one_line():
 @pytest.mark.parametrize("eol", ["\n", "\r\n"])
 def test_respelled_subindexes_are_listed_and_keep_their_spelling(eol):
     text = eol.join(["[1018]", "SubNumber=2", "[1018sub00]", "ParameterName=n",
-                     "[1018SUB001]", "ParameterName=v", "[1018sub2]", "ParameterName=w", ""])
+                     "[1018SUB001]", "ParameterName=v", "[1018sub2]", "ParameterName=w",
+                     "[Channel0Info]", "A=1", "[2000sub10]", "ParameterName=x", ""])
     f = _fast_equals_exact(text)
-    assert f.respelled == ["1018sub0", "1018sub1"]
+    assert f.respelled == ["1018sub0", "1018sub1"]     # not the names written canonically
     assert f.section("1018sub1").name == "1018SUB001"
 
 
