@@ -32,13 +32,22 @@ class _EntrySteps:
 
     def _entry_from(self, idx: int, sub: int, sec: ini_mod.Section, obj_flags: int,
                     obj_map: bool, sub0: bool) -> Entry:
-        get = sec.values.get  # '' counts as absent
+        # the section's values: its template's (the fast reader's) with the names cut out
+        # of it put back, without building the section's own dict of them
+        rest = sec.rest
+        get = (rest if rest is not None else sec.values).get   # '' counts as absent
+        name = sec.param_name if rest is not None else None
+        if name is None:
+            name = get("parametername")
+        den = sec.denotation if rest is not None else None
+        if den is None:
+            den = get("denotation")
         lazy = self.lazy_where    # Entry.where makes the Where from the section's line
         # positional, in field order
-        e = Entry(idx, sub, get("parametername") or "", None, None, False, obj_flags,
+        e = Entry(idx, sub, name or "", None, None, False, obj_flags,
                   get("defaultvalue") or None, get("parametervalue") or None,
                   get("downloadfile") or None, get("lowlimit") or None,
-                  get("highlimit") or None, get("denotation") or None,
+                  get("highlimit") or None, den or None,
                   lazy if lazy is not None else Where(self.path, sec.line), None, False, sec)
         if get("objflags"):
             e.obj_flags = self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
