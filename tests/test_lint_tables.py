@@ -143,6 +143,8 @@ def _check_tables(ctx: DcfContext) -> None:
         for key in ("parametername", "denotation"):
             assert tables.name_values(rest, secs, key) == [s.get(key) for s in secs]
         assert all(list(ctx.key_names(s)) == list(ctx.key_names(secs[0])) for s in secs)
+        if rest is not None:        # DCF050 reads a group's key names from its template
+            assert list(rest) == list(ctx.key_names(secs[0]))
     assert sorted(map(id, covered)) == sorted(map(id, sections.values()))
     nameless = tables.nameless(ctx)
     assert {i for ids in nameless.values() for i in ids} == {
