@@ -399,7 +399,13 @@ def test_boolean_bit_mapping_and_granularity():
                          "bit mapping"
     out = run(c, granularity=8)
     assert (out.code, out.entry) == (C.PDO_MAPPING, 4)
-    assert "whole bytes only" in out.reason
+    assert out.reason == "0x2000sub0 is mapped with 1 bits, and the target maps whole bytes " \
+                         "only (granularity 8)"
+    c4 = BinContainer(entries=[(0x2000, 0, b"\x00")] + pdo(0x1800, 0x181, [0x20000004]),
+                      attributes=attrs[:1] + bytes([RW] * 5))
+    out = run(c4)
+    assert (out.code, out.entry, out.reason) == (
+        C.PDO_MAPPING, 4, "0x2000sub0 is a BOOLEAN mapped with 4 bits (1 or 8)")
     assert run(BinContainer(entries=[(0x2000, 0, b"\x00")] + pdo(0x1800, 0x181, [0x20000008]),
                             attributes=attrs[:1] + bytes([RW] * 5)), granularity=8,
                bit_mapping=False).ok
