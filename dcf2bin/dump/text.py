@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import json
+from typing import NamedTuple, Sequence
 
 from dcf2bin import datatypes as dt, schema, values
 from dcf2bin.container import BinContainer
@@ -223,7 +224,7 @@ def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
 
 
 def _index_columns(c: BinContainer, offsets: list[int], eds: EdsInfo | None,
-                   full: bool) -> list[list[str]]:
+                   full: bool) -> list:
     """The index segment's table, column by column (one list of cells per column).
 
     Each column is made by one pass over the entries; a cell's text is computed once per
@@ -271,11 +272,11 @@ def _index_columns(c: BinContainer, offsets: list[int], eds: EdsInfo | None,
                 seen[key] = k = seen.get(key, 0) + 1
                 writes[i] = f"{k}/{total}"
     attr_text = [f"0x{a:02X}" for a in range(256)]
-    return [list(map(str, range(1, n + 1))),
-            list(map("0x{:X}".format, offsets)),
-            list(map("0x{:04X}".format, indexes)),
-            list(map(str, subs)),
-            list(map(str, map(len, datas))),
+    return [_Num(range(1, n + 1)),
+            _Num(offsets, "0x"),
+            _Num(indexes, "0x", 4),
+            _Num(subs),
+            _Num(list(map(len, datas))),
             list(map(shown.__getitem__, datas)),
             values,
             [attr_text[a] if a is not None else "-" for a in attr_of],
@@ -284,7 +285,7 @@ def _index_columns(c: BinContainer, offsets: list[int], eds: EdsInfo | None,
 
 
 def _address_columns(c: BinContainer, nvs: list[tuple[int, int]],
-                     eds: EdsInfo | None) -> list[list[str]]:
+                     eds: EdsInfo | None) -> list:
     """The PI address table, column by column: one row per address or network variable
     (a "-" where one list is longer than the other)."""
     addrs = c.addresses or []
@@ -313,18 +314,21 @@ def _address_columns(c: BinContainer, nvs: list[tuple[int, int]],
             t = nv_type(index, sub, size, eds)
             name = types[key] = t.name if t is not None else "-"
         type_names.append(name)
-    missing_addr = ["-"] * (rows - n_addr)
-    missing_nv = ["-"] * (rows - n_nv)
-    return [list(map(str, range(1, rows + 1))),
-            list(map("0x%04X".__mod__, addrs)) + missing_addr,
-            areas + [""] * (rows - n_addr),
-            list(map(str, offsets)) + [""] * (rows - n_addr),
-            list(map("0x%04X".__mod__, (k[0] for k in nvs))) + missing_nv,
-            list(map(str, (k[1] for k in nvs))) + missing_nv,
-            list(map(str, sizes)) + missing_nv,
-            type_names + missing_nv,
-            ([eds.name(*key) for key in nvs] if eds is not None else [""] * n_nv)
-            + [""] * (rows - n_nv)]
+    names = [eds.name(*key) for key in nvs] if eds is not None else [""] * n_nv
+    cols = [_Num(range(1, rows + 1)), _Num(addrs, "0x", 4), areas, offsets,
+            _Num([k[0] for k in nvs], "0x", 4), _Num([k[1] for k in nvs]), _Num(sizes),
+            type_names, names]
+    if rows == n_addr == n_nv and "" not in offsets:
+        cols[3] = _Num(offsets)
+        return cols
+    # an address without a variable or the other way round, or one outside both areas
+    cols = [col.texts() if isinstance(col, _Num) else col for col in cols]
+    cols[3] = list(map(str, offsets))
+    for col in (1, 2, 3):
+        cols[col] += ["-" if col == 1 else ""] * (rows - n_addr)
+    for col in (4, 5, 6, 7, 8):
+        cols[col] += ["" if col == 8 else "-"] * (rows - n_nv)
+    return cols
 
 
 def _pi_notes(pi) -> dict[str, str]:
@@ -340,11 +344,47 @@ def _pi_notes(pi) -> dict[str, str]:
     return notes
 
 
-def _table_columns(head: tuple, cols: list[list[str]], right: set[int]) -> list[str]:
+class _Num(NamedTuple):
+    """A table column of non-negative integers, written as ``prefix`` and the number in
+    decimal, or in upper-case hex when there is a prefix (at least ``digits`` digits)."""
+    values: Sequence[int]
+    prefix: str = ""
+    digits: int = 0
+
+    def conversion(self) -> str:
+        """The printf conversion of one cell, without its width."""
+        kind = "X" if self.prefix else "d"
+        return f".{self.digits}{kind}" if self.digits else kind
+
+    def width(self) -> int:
+        """The width of the widest cell (the numbers' largest, written out)."""
+        largest = max(self.values, default=0)
+        return len(self.prefix) + len(f"%{self.conversion()}" % largest)
+
+    def texts(self) -> list[str]:
+        return list(map(f"{self.prefix}%{self.conversion()}".__mod__, self.values))
+
+
+def _table_columns(head: tuple, cols: list, right: set[int]) -> list[str]:
     """A table of left- or right-aligned columns under a head, two spaces apart, each line
-    without trailing blanks. The cells come column by column; the lines are made by one
-    printf-style template (``%-8s``: the column's width), the fastest way to pad here."""
-    widths = [max(len(title), max(map(len, cells), default=0))
-              for title, cells in zip(head, cols)]
-    fmt = "  " + "  ".join(f"%{'' if i in right else '-'}{w}s" for i, w in enumerate(widths))
-    return [(fmt % head).rstrip()] + list(map(str.rstrip, map(fmt.__mod__, zip(*cols))))
+    without trailing blanks. The cells come column by column, as lists of text or as
+    ``_Num`` columns of numbers; the lines are made by one printf-style template (``%-8s``,
+    ``0x%-6.4X``: the column's width), the fastest way to pad here, and numbers are
+    written by it directly."""
+    heads, specs = [], []
+    for i, (title, col) in enumerate(zip(head, cols)):
+        if isinstance(col, _Num):
+            width = max(len(title), col.width())
+            if i in right:
+                assert not col.prefix, "a right-aligned number column has no prefix"
+                specs.append(f"%{width}{col.conversion()}")
+            else:
+                specs.append(f"{col.prefix}%-{width - len(col.prefix)}{col.conversion()}")
+        else:
+            width = max(len(title), max(map(len, col), default=0))
+            specs.append(f"%{'' if i in right else '-'}{width}s")
+        heads.append(title.rjust(width) if i in right else title.ljust(width))
+    fmt = "  " + "  ".join(specs)
+    values = [col.values if isinstance(col, _Num) else col for col in cols]
+    return [("  " + "  ".join(heads)).rstrip()] + list(
+        map(str.rstrip, map(fmt.__mod__, zip(*values))))
