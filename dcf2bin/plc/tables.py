@@ -4,6 +4,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from operator import attrgetter
 
 from dcf2bin.plc.varmap import VarMap
 
@@ -19,16 +20,23 @@ def to_text(vm: VarMap) -> str:
            f"  output area  offset {out_off:<6} size {out_size}",
            ""]
     rows = vm.rows
-    labels = [r.label for r in rows]
-    w_off = max([len("offset")] + [len(str(r.offset)) for r in rows])
-    w_entry = max([len("entry")] + [len(x) for x in labels])
-    w_type = max([len("type")] + [len(t) for t in {r.dtype.name for r in rows}])
+    # one column per field, then one printf template for all rows (no f-string per row)
+    addresses = list(map(attrgetter("address"), rows))
+    directions = list(map(attrgetter("direction"), rows))
+    offsets = list(map(attrgetter("offset"), rows))
+    labels = list(map(attrgetter("label"), rows))
+    sizes = list(map(attrgetter("dtype.size"), rows))
+    types = list(map(attrgetter("dtype.name"), rows))
+    names = list(map(attrgetter("name"), rows))
+    w_off = max(len("offset"), len(str(max(offsets, default=0))))   # offsets are >= 0
+    w_entry = max(len("entry"), max(map(len, labels), default=0))
+    w_type = max(len("type"), max(map(len, set(types)), default=0))
     w_size = len("size")          # sizes are 1..8
     out.append(f"address  area    {'offset':>{w_off}}  {'entry':<{w_entry}}  "
                f"{'size':>{w_size}}  {'type':<{w_type}}  name")
-    out += [f"0x{r.address:04X}   {r.direction:<6}  {r.offset:>{w_off}}  {lab:<{w_entry}}  "
-            f"{r.dtype.size:>{w_size}}  {r.dtype.name:<{w_type}}  {r.name}".rstrip()
-            for r, lab in zip(rows, labels)]
+    fmt = f"0x%04X   %-6s  %{w_off}d  %-{w_entry}s  %{w_size}d  %-{w_type}s  %s"
+    out += map(str.rstrip, map(fmt.__mod__, zip(addresses, directions, offsets, labels, sizes,
+                                                types, names)))
     return "\n".join(out) + "\n"
 
 
