@@ -69,8 +69,20 @@ class BinContainer:
                 "extinfo": self.extinfo_bytes(), "piparam": self.piparam_bytes()}
 
     # -- bytes --------------------------------------------------------------------------------
+    def segment_sizes(self) -> dict[str, int]:
+        """The size of each segment's bytes, without making them (``segments``' lengths)."""
+        entries = self.entries
+        index = schema.COUNT.size + schema.ENTRY_HEAD.size * len(entries) + sum(
+            map(len, [e[2] for e in entries]))
+        return {"index": index,
+                "address": schema.ADDRESS_SIZE * len(self.addresses or ()),
+                "extinfo": len(self.attributes or b""),
+                "piparam": len(self.piparam_bytes())}
+
     def canonical_header(self) -> dict[str, int]:
-        segs = self.segments()
+        # the header depends on the segments' sizes only: the schema builds it from
+        # zero bytes of those sizes, so that a dump need not make the index segment
+        segs = {name: bytes(size) for name, size in self.segment_sizes().items()}
         built = schema.Container.build(dict(version=self.version, **segs))
         parsed = schema.HeaderC.parse(built[:schema.HEADER_SIZE])
         return {k: parsed[k] for k in schema.HEADER_FIELDS}

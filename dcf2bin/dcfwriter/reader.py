@@ -256,11 +256,22 @@ class _Reader:
 
     def _values(self) -> None:
         enc = self.spec.encoding
+        # the text of a value depends on its type and bytes only: made once for each pair
+        # (the variables of one object share a type; tens of thousands of them share a few
+        # hundred values)
+        by_type: dict = {}
+        dtype = texts = None
         for obj in self.objects.values():
             for s in obj.subs.values():
                 if not s.writes:
                     continue
-                text = value_text(s.dtype, s.data, enc)
+                if s.dtype is not dtype:
+                    dtype = s.dtype
+                    texts = by_type.setdefault(dtype, {})
+                data = s.data
+                text = texts.get(data, False)
+                if text is False:
+                    text = texts[data] = value_text(dtype, data, enc)
                 if text is None:
                     # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
                     # encoding: keep the bytes exact, lose the type (and its attribute bit)

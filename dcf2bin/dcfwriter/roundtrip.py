@@ -8,6 +8,9 @@ tests/test_bin2dcf.py checks the prediction against the real compiler.
 """
 from __future__ import annotations
 
+from itertools import repeat
+from operator import itemgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.dcfwriter.spec import R_PDO, R_SUMMARY, DcfSpec, Issues, short, table_type
 from dcf2bin.diagnostics import Severity
@@ -18,6 +21,8 @@ from dcf2bin.model import is_pdo_comm as is_comm
 from dcf2bin.model import is_pdo_mapping as is_mapping
 from dcf2bin.select import CAN_ID_MASK, COB_INVALID, PdoRules
 
+# parts of a predicted write (index, sub, data, attribute)
+_ENTRY, _ATTR, _INDEX, _SUB = itemgetter(0, 1, 2), itemgetter(3), itemgetter(0), itemgetter(1)
 _DIS2_OFF = 0xC0000000   # DIS-2 disables a PDO with bits 31 and 30 (no RTR) set
 
 
@@ -144,6 +149,11 @@ class _Predictor:
         """The first entry where ``writes`` and the container differ (None: they agree)."""
         attrs = self.c.attributes or b""
         actual = self.c.entries
+        n = len(actual)
+        if len(writes) == n and len(attrs) >= n and \
+                list(map(_ENTRY, writes)) == actual and \
+                list(map(_ATTR, writes)) == list(attrs[:n]):
+            return None      # the common case, compared in bulk; else find the entry below
         for i in range(max(len(writes), len(actual))):
             e = writes[i] if i < len(writes) else None
             a = actual[i] if i < len(actual) else None
@@ -261,24 +271,29 @@ class _Predictor:
             return (None, None), None
         has_nv = any(s for i in nv_objs for s in self.objects[i].subs)
         spans: dict[str, list] = {INPUT: [], OUTPUT: []}
-        placed = {}
+        placed = {}        # (index, sub) -> (area, offset in it)
         for index in sorted(nv_objs):
             ch = _channel(self.spec, index)
             if ch is None:
                 return None, (f"0x{index:04X} lies in 0xA900-0xAFFF without a "
                               "[DynamicChannels] segment")
             first, dtype, direction, pp = ch
-            for sub, s in self.objects[index].subs.items():
-                if sub == 0:
-                    continue
-                if sub > PER_INDEX:
-                    return None, f"0x{index:04X}sub{sub:X}: subindex above 254"
-                if s.dtype.code != dtype.code:
-                    return None, (f"0x{index:04X}sub{sub:X}: {s.dtype.name} does not match "
-                                  f"the range type {dtype.name}")
-                off = pp + ((index - first) * PER_INDEX + sub - 1) * dtype.size
-                placed[(index, sub)] = (direction, off)
-                spans[direction].append((off, off + dtype.size, index, sub))
+            subs = self.objects[index].subs
+            keys = [sub for sub in subs if sub]
+            code = dtype.code
+            bad = next((sub for sub in keys
+                        if sub > PER_INDEX or subs[sub].dtype.code != code), None)
+            if bad is not None:
+                if bad > PER_INDEX:
+                    return None, f"0x{index:04X}sub{bad:X}: subindex above 254"
+                return None, (f"0x{index:04X}sub{bad:X}: {subs[bad].dtype.name} does not "
+                              f"match the range type {dtype.name}")
+            # the variables of one index, one after the other from its place in the range
+            size = dtype.size
+            base = pp + ((index - first) * PER_INDEX - 1) * size
+            offs = [base + sub * size for sub in keys]
+            placed.update(zip(zip(repeat(index), keys), zip(repeat(direction), offs)))
+            spans[direction] += zip(offs, [off + size for off in offs], repeat(index), keys)
         sizes = {}
         for area, lst in spans.items():
             lst.sort()
@@ -287,22 +302,21 @@ class _Predictor:
                 if start < reach:
                     return None, (f"0x{index:04X}sub{sub:X} overlaps another variable in the "
                                   f"{area} area")
-                reach = max(reach, end)
+                if end > reach:
+                    reach = end
             sizes[area] = max((e for _, e, _, _ in lst), default=0)
         in_size, out_size = sizes[INPUT], sizes[OUTPUT]
         out_off = -(-in_size // 8) * 8 if out_size else 0
         total = out_off + out_size if out_size else in_size
-        addresses = []
-        seen = set()
-        for index, sub, _, _ in writes:
-            key = (index, sub)
-            if key in placed and key not in seen:
-                seen.add(key)
-                direction, off = placed[key]
-                addr = off if direction == INPUT else out_off + off
-                if addr > 0xFFFF:
-                    return None, f"0x{index:04X}sub{sub:X}: address 0x{addr:X} above 0xFFFF"
-                addresses.append(addr)
+        # the placed variables in the order of their first write (D-10)
+        order = dict.fromkeys(filter(placed.__contains__, zip(map(_INDEX, writes),
+                                                              map(_SUB, writes))))
+        addresses = [off if direction == INPUT else out_off + off
+                     for direction, off in map(placed.__getitem__, order)]
+        if addresses and max(addresses) > 0xFFFF:
+            (index, sub), addr = next((key, addr) for key, addr in zip(order, addresses)
+                                      if addr > 0xFFFF)
+            return None, f"0x{index:04X}sub{sub:X}: address 0x{addr:X} above 0xFFFF"
         if not has_nv:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None

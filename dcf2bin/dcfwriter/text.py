@@ -27,6 +27,7 @@ class _Renderer:
         self.eds_device = eds_device
         self.objects = spec.objects
         self.channels = spec.channels
+        self._names: dict[str, str] = {}     # a sub's name -> as written (_clean)
 
     def render(self) -> str:
         c = self.spec.container
@@ -121,8 +122,17 @@ class _Renderer:
           f"ObjectType=0x{obj.object_type:X}\nSubNumber={len(obj.subs)}\n")
         index = obj.index
         keys = self._keys
+        names = self._names
         for sub, s in obj.subs.items():
-            w(f"[{index:04X}sub{sub:X}]\nParameterName={_clean(s.name)}\nObjectType=0x7")
+            name = names.get(s.name)
+            if name is None:
+                name = names[s.name] = _clean(s.name)
+            if len(s.writes) == 1 and not s.default:   # _keys of one write, inline
+                w(f"[{index:04X}sub{sub:X}]\nParameterName={name}\nObjectType=0x7\n"
+                  f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
+                  f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
+                continue
+            w(f"[{index:04X}sub{sub:X}]\nParameterName={name}\nObjectType=0x7")
             w(keys(s))
 
     def _keys(self, s: SubSpec) -> str:
