@@ -10,11 +10,14 @@ encoding (UTF-8, or Latin-1 when a string needs it; SPEC §1).
 """
 from __future__ import annotations
 
+from itertools import groupby
+from operator import itemgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter.entries import EntryTyper
 from dcf2bin.dcfwriter.spec import (R_HEADER, R_PI, R_SELECT, R_VALUE, ChannelSpec, DcfSpec,
-                                    Issues, ObjSpec, SubSpec, Write, by_size, holds, short,
+                                    Issues, ObjSpec, SubSpec, Write, by_size, short,
                                     table_type, value_text)
 from dcf2bin.dump import EdsInfo, entry_offsets, header_of
 from dcf2bin.layout import INPUT, OUTPUT, OUTPUT_FIRST, PER_INDEX, TABLE_END
@@ -42,38 +45,45 @@ class _Reader:
         attrs = c.attributes or b""
         n = len(c.entries)
         self._header_issues(n, attrs)
-        groups: dict[tuple[int, int], list[Write]] = {}
         offsets = self.spec.offsets
         n_attrs = len(attrs)
-        nv_order = self.nv_order = []      # network variables, first occurrence (SPEC §3.4)
-        for i, (index, sub, data) in enumerate(c.entries):
-            w = Write(i, offsets[i], data, attrs[i] if i < n_attrs else None)
-            g = groups.get((index, sub))
-            if g is None:
-                groups[(index, sub)] = [w]
-                if sub and NV_FIRST <= index <= NV_LAST:
-                    nv_order.append((index, sub))
-            else:
-                g.append(w)
+        attr_of = list(attrs[:n]) + [None] * (n - n_attrs) if n_attrs < n else attrs
+        indexes, subs, datas = zip(*c.entries) if n else ((), (), ())
+        writes = list(map(Write, range(n), offsets, datas, attr_of))
+        keys = list(zip(indexes, subs))
+        groups: dict[tuple[int, int], list[Write]] = dict.fromkeys(keys)
+        if len(groups) == n:        # every (index, sub) written once: one write each
+            groups = dict(zip(keys, [[w] for w in writes]))
+        else:
+            for key, w in zip(keys, writes):
+                g = groups[key]
+                if g is None:
+                    groups[key] = [w]
+                else:
+                    g.append(w)
+        # network variables, first occurrence (SPEC §3.4)
+        self.nv_order = [key for key in groups if key[1] and NV_FIRST <= key[0] <= NV_LAST]
         nv_vars = []
-        subs_of: dict[int, list[int]] = {}
-        for index, sub in groups:
-            subs_of.setdefault(index, []).append(sub)
         objects = self.objects
         typer = self.typer
-        for key in sorted(groups):
-            index, sub = key
-            obj = objects.get(index)
-            if obj is None:
-                obj = objects[index] = ObjSpec(index, typer.object_type(index, subs_of[index]),
-                                               typer.object_name(index))
-            if sub and NV_FIRST <= index <= NV_LAST:
-                nv_vars.append((index, sub, groups[key]))
+        # the written (index, sub) pairs in order, one object (a run of one index) at a time
+        for index, written in groupby(sorted(groups), key=itemgetter(0)):
+            written = list(written)
+            kind = typer.object_type(index, [key[1] for key in written])
+            obj = objects[index] = ObjSpec(index, kind, typer.object_name(index))
+            if NV_FIRST <= index <= NV_LAST:
+                if written[0][1] == 0:
+                    obj.subs[0] = typer.entry(index, 0, groups[written[0]])
+                    written = written[1:]
+                nv_vars += [(index, key[1], groups[key]) for key in written]
                 continue
-            obj.subs[sub] = typer.entry(index, sub, groups[key])
+            for key in written:
+                obj.subs[key[1]] = typer.entry(index, key[1], groups[key])
         self._network_variables(nv_vars)
         for obj in objects.values():
-            obj.subs = dict(sorted(obj.subs.items()))
+            order = list(obj.subs)
+            if order != sorted(order):
+                obj.subs = dict(sorted(obj.subs.items()))
         self._implied_sub0()
         self._choose_encoding()
         self._values()
@@ -103,23 +113,24 @@ class _Reader:
         if c.addresses is not None:
             addr_of = dict(zip(self.nv_order, c.addresses))
         vars_ = []
-        range_type: dict[int, dt.DataType | None] = {}
+        append = vars_.append
         eds = self.eds
+        typer = self.typer
+        current = tt = None
         for index, sub, writes in nv_vars:
             last = writes[-1]
             if len(writes) > 1 or last.attr != 0xF0 or sub > PER_INDEX:
-                self.typer.nv_checks(index, sub, writes)
-            dtype = None
-            if eds is None:  # fast path: the range's type fits
-                tt = range_type.get(index, 0)
-                if tt == 0:
-                    t = table_type(index)
-                    tt = range_type[index] = t[0] if t is not None else None
-                if holds(tt, last.data):
-                    dtype = tt
-            if dtype is None:
-                dtype = self.typer.nv_type(index, sub, last)
-            vars_.append((index, sub, dtype, writes, addr_of.get((index, sub))))
+                typer.nv_checks(index, sub, writes)
+            if index != current:       # the range's type, once for each index
+                current = index
+                t = table_type(index) if eds is None else None
+                tt = t[0] if t is not None else None
+            data = last.data
+            if tt is not None and tt.size == len(data) and (tt.kind != dt.BOOL or data[0] < 2):
+                dtype = tt             # fast path: the range's type holds the value (holds)
+            else:
+                dtype = typer.nv_type(index, sub, last)
+            append((index, sub, dtype, writes, addr_of.get((index, sub))))
         self._plan_channels(vars_)
         direction_of = {}
         objects = self.objects
@@ -129,8 +140,8 @@ class _Reader:
                 direction = direction_of[index] = self._direction_of(index)
             objects[index].subs[sub] = SubSpec(index, sub, dtype,
                                                "ro" if direction == INPUT else "rw", True,
-                                               writes, f"Variable {sub}" if self.eds is None
-                                               else self.typer.sub_name(index, sub))
+                                               writes, _VARIABLE[sub] if eds is None
+                                               else typer.sub_name(index, sub))
 
     def _direction_of(self, index: int) -> str:
         for ch in self.spec.channels:
@@ -143,10 +154,20 @@ class _Reader:
         c = self.c
         pi = c.pi
         by_index: dict[int, list] = {}
+        if pi is not None:
+            _, in_off, in_size, out_off, out_size = pi
+            in_end, out_end = in_off + in_size, out_off + out_size
         for index, sub, dtype, writes, addr in vars_:
             if dtype.size is None:
                 continue      # reported: no segment can hold it, compile rejects it
-            direction, off = self._area(index, addr, pi, writes[0].offset)
+            # _area's common case inline: the address in the area of the index's range
+            if addr is not None and pi is not None and (
+                    in_off <= addr < in_end if index < OUTPUT_FIRST else
+                    index < TABLE_END and out_off <= addr < out_end):
+                direction, off = (INPUT, addr - in_off) if index < OUTPUT_FIRST else \
+                    (OUTPUT, addr - out_off)
+            else:
+                direction, off = self._area(index, addr, pi, writes[0].offset)
             by_index.setdefault(index, []).append((sub, dtype, direction, off, writes[0].offset))
         nv_objects = sorted(i for i in self.objects if is_nv(i))
         regions = [(NV_FIRST + k * 0x40, NV_FIRST + k * 0x40 + 0x3F) for k in range(36)]
@@ -283,6 +304,9 @@ class _Reader:
                                     f"written as a {old.name} value in a DCF; written as "
                                     f"{s.dtype.name}")
                 s.value = text
+
+
+_VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's name
 
 
 def _pp(vs, index: int, start: int, dtype: dt.DataType):
