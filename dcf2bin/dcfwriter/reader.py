@@ -132,16 +132,15 @@ class _Reader:
                 dtype = typer.nv_type(index, sub, last)
             append((index, sub, dtype, writes, addr_of.get((index, sub))))
         self._plan_channels(vars_)
-        direction_of = {}
         objects = self.objects
+        current = access = subs = None
         for index, sub, dtype, writes, _ in vars_:
-            direction = direction_of.get(index)
-            if direction is None:
-                direction = direction_of[index] = self._direction_of(index)
-            objects[index].subs[sub] = SubSpec(index, sub, dtype,
-                                               "ro" if direction == INPUT else "rw", True,
-                                               writes, _VARIABLE[sub] if eds is None
-                                               else typer.sub_name(index, sub))
+            if index != current:       # the area, access and subs of one index at a time
+                current = index
+                access = "ro" if self._direction_of(index) == INPUT else "rw"
+                subs = objects[index].subs
+            subs[sub] = SubSpec(index, sub, dtype, access, True, writes,
+                                _VARIABLE[sub] if eds is None else typer.sub_name(index, sub))
 
     def _direction_of(self, index: int) -> str:
         for ch in self.spec.channels:
