@@ -357,8 +357,10 @@ class _Num(NamedTuple):
         return f".{self.digits}{kind}" if self.digits else kind
 
     def width(self) -> int:
-        """The width of the widest cell (the numbers' largest, written out)."""
-        largest = max(self.values, default=0)
+        """The width of the widest cell (the numbers' largest, written out); 0 for none."""
+        if not self.values:
+            return 0
+        largest = max(self.values)
         return len(self.prefix) + len(f"%{self.conversion()}" % largest)
 
     def texts(self) -> list[str]:
