@@ -6,7 +6,10 @@
     python benchmarks/table.py --skip-alternatives   # dcf2bin rows only (fast)
 
 Every row is a fresh process started from here (``python -m dcf2bin ...`` of this working
-tree, or the alternative's own command), timed from start to exit; the figure is the median
+tree, or the alternative's own command), timed from start to exit, all with one
+interpreter: by default a virtual environment made as README.md installs dcf2bin
+(``benchmarks/out/venv``: dcf2bin's dependencies, canopen among them, and dcf-tools for
+dcfchk; ``--python system`` for this interpreter, with whatever its site runs at start); the figure is the median
 of ``--repeat`` runs, and the memory the largest peak resident set (``ru_maxrss`` of that
 process, from ``os.wait4``) over those runs. Each command runs once before it is timed, so
 the byte-code caches exist (as for an installed package; they go to
@@ -87,8 +90,31 @@ def measure(cmd: list[str], repeat: int, env: dict[str, str], ok=(0,)) -> dict:
             "max_s": max(times), "peak_mib": max(peaks), "exit": code}
 
 
+# The interpreter of the timed processes: a virtual environment made as README.md installs
+# dcf2bin (``python3 -m venv``, ``pip install .``), with dcf-tools for dcfchk, so that
+# dcf2bin, canopen and dcfchk all start as they do on a user's machine. This machine's own
+# Python runs .pth hooks at every start (a sandbox's CA injection that imports certifi, the
+# editable install's finder of /work/main): 15-35 ms per process, which is noise beside
+# canopen's seconds but a tenth of a compile. ``--python system`` measures with it anyway.
+VENV = OUT / "venv"
+PYTHON = sys.executable
+
+
+def ensure_venv(repo: Path, rebuild: bool = False) -> str:
+    python = VENV / "bin" / "python"
+    if rebuild and VENV.exists():
+        shutil.rmtree(VENV)
+    if not python.exists():
+        print(f"making {VENV} (python -m venv; pip install {repo.name} dcf-tools) ...",
+              file=sys.stderr)
+        subprocess.run([sys.executable, "-m", "venv", str(VENV)], check=True)
+        subprocess.run([str(python), "-m", "pip", "install", "-q", str(repo), "dcf-tools"],
+                       check=True)
+    return str(python)
+
+
 def py(*args: str) -> list[str]:
-    return [sys.executable, *args]
+    return [PYTHON, *args]
 
 
 def dcf2bin(*args: str) -> list[str]:
@@ -96,7 +122,7 @@ def dcf2bin(*args: str) -> list[str]:
 
 
 def dcfchk_command() -> list[str] | None:
-    here = Path(sys.executable).parent / "dcfchk"    # not a shell shim (pyenv)
+    here = Path(PYTHON).parent / "dcfchk"    # not a shell shim (pyenv)
     exe = str(here) if here.exists() else shutil.which("dcfchk")
     return [exe] if exe else None
 
@@ -164,8 +190,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repo", type=Path, default=REPO,
                     help="the dcf2bin checkout to measure (default: this one; e.g. ../main "
                          "for the figures before a change)")
+    ap.add_argument("--python", default="venv",
+                    help="interpreter of the timed processes: 'venv' (default: "
+                         "benchmarks/out/venv, made on first use), 'system' (this one), "
+                         "or a path")
+    ap.add_argument("--rebuild-venv", action="store_true",
+                    help="make benchmarks/out/venv again (after a dependency changed)")
     args = ap.parse_args(argv)
     repo = args.repo.resolve()
+    global PYTHON
+    if args.python == "venv":
+        OUT.mkdir(exist_ok=True)
+        PYTHON = ensure_venv(repo, args.rebuild_venv)
+    elif args.python != "system":
+        PYTHON = args.python
     env = child_env(repo)
     big = ensure_file(args.size)
     binf = OUT / f"plc_{args.size}.bin"
@@ -201,7 +239,8 @@ def main(argv: list[str] | None = None) -> int:
 
     c, v = res["compile"], res["validate"]
     print(f"\nissue 22, whole processes, median of {r}, {args.size:,} variables "
-          f"({big.stat().st_size / MIB:.2f} MiB), dcf2bin from {repo}\n")
+          f"({big.stat().st_size / MIB:.2f} MiB), dcf2bin from {repo}, "
+          f"interpreter {PYTHON}\n")
     print("| command | dcf2bin | alternative | ratio | target |")
     print("|---|---|---|---|---|")
 

@@ -7,7 +7,12 @@ silently, and it is fast (one pass, no regex on the common path).
 from __future__ import annotations
 
 import re
+import weakref
+from bisect import bisect_left
 from dataclasses import dataclass, field
+from itertools import accumulate, count
+from operator import add, attrgetter, methodcaller
+from typing import Callable
 
 from dcf2bin.diagnostics import Diagnostics, Where
 
@@ -33,58 +38,78 @@ class Key:
 
 
 class Section:
-    """One section: its values by lower-case key, and (lazily) each key's name and line.
+    """One section: its name as written, line, values by lower-case key, and each key's
+    name and line (``keys``).
 
-    The fast reader keeps where the section's text is and the parts it has parsed;
-    ``values`` and ``keys`` (name, value and line of every key) are worked out on
-    first use, so the common case, which never prints a diagnostic, pays little.
-
-    From the fast reader, ``rest`` is the values of the section's lines with the values
-    of its ``ParameterName=`` and ``Denotation=`` lines left empty, one dict shared by
-    every section whose text is the same but for those names (the 254 sub-objects of
-    a network-variable array differ only in them), and ``param_name``/``denotation``
-    the values that were cut out (None: that line is not cut out of the template).
-    The model builds such entries once. The exact reader leaves them None.
+    The exact reader's sections (``_WrittenSection``) hold all of these. The fast
+    reader's (``_SharedSection``) hold little of their own, since a large PLC file has
+    tens of thousands of them: ``rest`` is a ``_Template``, the values of the section's
+    lines with the values of its ``ParameterName=`` and ``Denotation=`` lines left empty,
+    one dict shared by every section whose text is the same but for those names (the
+    254 sub-objects of a network-variable array differ only in them), and
+    ``param_name``/``denotation`` are the values that were cut out (None: that line is
+    not cut out of the template). The model builds such entries once. The exact reader
+    leaves ``rest``, ``param_name`` and ``denotation`` None.
     """
-    __slots__ = ("_name", "line", "_values", "_keys", "_text", "_at", "param_name", "rest",
-                 "denotation")
+    __slots__ = ()
+    param_name: str | None = None
+    rest: _Template | None = None
+    denotation: str | None = None
+    name: str
+    line: int
+    values: dict[str, str]     # lower-case key name -> value (blanks trimmed)
+    keys: dict[str, Key]       # lower-case key name -> Key(name as written, value, line)
 
-    def __init__(self, name: str | None, line: int, values: dict[str, str] | None = None,
-                 keys: dict[str, Key] | None = None, text: str | None = None, at: int = 0,
-                 param_name: str | None = None, rest: dict[str, str] | None = None,
-                 denotation: str | None = None):
-        self._name = name           # as written; None: read from the header when asked
+    def has(self, key: str) -> bool:
+        return key in self.values
+
+    def get(self, key: str) -> str | None:
+        """The value of ``key`` (lower case), or None when absent or empty."""
+        return self.values.get(key) or None
+
+    def key_names(self):
+        """The lower-case key names, in file order (``values.keys()``, without building
+        ``values`` for a section read through a shared template)."""
+        return self.values.keys()
+
+    def line_of(self, key: str) -> int:
+        if not self.has(key):
+            return self.line
+        return self.keys[key].line
+
+
+class _WrittenSection(Section):
+    """A section of the exact reader: what it read, key by key."""
+    __slots__ = ("name", "line", "values", "keys")
+
+    def __init__(self, name: str, line: int):
+        self.name = name
         self.line = line
-        if values is None and rest is None:
-            values = {}
-        self._values = values       # None: built from ``rest`` when first asked for
-        self._keys = keys
-        self._text = text           # the file's text (or its bytes, see parse_bytes); the
-                                    # section's header line starts at _at
-        self._at = at
-        self.param_name = param_name
-        self.rest = rest
-        self.denotation = denotation
+        self.values: dict[str, str] = {}
+        self.keys: dict[str, Key] = {}
+
+    def add(self, key: Key) -> None:
+        low = key.name.lower()
+        self.values[low] = key.value
+        self.keys[low] = key
+
+
+class _SharedSection(Section):
+    """A section of the fast reader: its line, its names and its template (see
+    ``Section``), in four slots (64 bytes: a PLC file has tens of thousands of these).
+    ``values`` is worked out from the template on first use, ``keys`` too (kept by the
+    file's ``_Source``, by line), the name as written from the file's text each time it
+    is asked for, so the common case, which never prints a diagnostic, pays little.
+    ``_read_sections`` makes these without ``__init__`` (it sets every slot); a section
+    whose Denotation= is cut out of its template is a ``_DenotedSection``."""
+    __slots__ = ("line", "param_name", "rest", "_values")
 
     @property
     def name(self) -> str:
-        """The section's name as written (blanks around it trimmed)."""
-        if self._name is None:              # the fast reader's: from its header line
-            text, at = self._text or "", self._at
-            if isinstance(text, bytes):
-                name = text[at + 1:text.find(b"]", at + 1)].decode("latin-1")
-            else:
-                name = text[at + 1:text.find("]", at + 1)]
-            self._name = name.strip(" \t")
-        return self._name
-
-    @name.setter
-    def name(self, value: str) -> None:
-        self._name = value
+        return self.rest.source.name_at(self.line)
 
     @property
     def values(self) -> dict[str, str]:
-        """lower-case key name -> value (blanks trimmed)."""
         if self._values is None:
             self._values = dict(self.rest)
             if self.param_name is not None:
@@ -95,24 +120,21 @@ class Section:
 
     @property
     def keys(self) -> dict[str, Key]:
-        """lower-case key name -> Key(name as written, value, line)."""
-        if self._keys is None:
-            keys: dict[str, Key] = {}
-            text = self._text or ""
-            if isinstance(text, bytes):           # the file's bytes: see parse_bytes
-                end = text.find(b"\n[", self._at)
-                own = text[self._at:end if end >= 0 else len(text)].decode("latin-1")
-            else:
-                end = text.find("\n[", self._at)
-                own = text[self._at:end if end >= 0 else len(text)]
-            lines = own.split("\n")
-            for i, raw in enumerate(lines[1:], self.line + 1):   # after the header line
+        known = self.rest.source.keys
+        keys = known.get(self.line)
+        if keys is None:
+            # the template's text has the section's lines (the names' values left out)
+            keys = known[self.line] = {}
+            for i, raw in enumerate(self.rest.text.split("\n"), self.line + 1):
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
                 if eq and k and k[0] not in ";#":
                     keys.setdefault(k.lower(), Key(k, v.strip(" \t\r"), i))
-            self._keys = keys
-        return self._keys
+            for low, value in (("parametername", self.param_name),
+                               ("denotation", self.denotation)):
+                if value is not None:           # its line is in the template, empty
+                    keys[low] = Key(keys[low].name, value, keys[low].line)
+        return keys
 
     def has(self, key: str) -> bool:
         if self._values is None:         # from the template, without building ``values``
@@ -120,7 +142,6 @@ class Section:
         return key in self._values
 
     def get(self, key: str) -> str | None:
-        """The value of ``key`` (lower case), or None when absent or empty."""
         if self._values is None:         # from the template, without building ``values``
             if key == "parametername" and self.param_name is not None:
                 return self.param_name or None
@@ -130,21 +151,63 @@ class Section:
         return self._values.get(key) or None
 
     def key_names(self):
-        """The lower-case key names, in file order (``values.keys()``, without building
-        ``values`` for a section read through a shared template)."""
         return (self.rest if self._values is None else self._values).keys()
 
-    def line_of(self, key: str) -> int:
-        if key not in self.values:
-            return self.line
-        return self.keys[key].line
 
-    def add(self, key: Key) -> None:
-        low = key.name.lower()
-        self.values[low] = key.value
-        if self._keys is None:
-            self._keys = {}
-        self._keys[low] = key
+class _DenotedSection(_SharedSection):
+    """A shared section with the value of its Denotation= line (see ``Section``)."""
+    __slots__ = ("denotation",)
+
+
+class _Template(dict):
+    """The values of the lines of sections that have the same text but for the values of
+    their names (see ``Section``), read once per file. It carries what those sections
+    have in common beyond their values: ``text``, their lines (with the names' values
+    left out), ``step``, the number of lines from one such section's header to the next
+    header (the same text has the same number of lines), and ``source``, the file in
+    which they look up their names as written."""
+    __slots__ = ("text", "step", "source")
+
+
+class _Source:
+    """The text of a file read by the fast reader (or its bytes, see ``parse_bytes``),
+    where its sections look up their names as written, by their line. Where the header
+    lines start is found on the first such question (a message), once per file: the
+    text cut as ``_read_sections`` cuts it, one part per section, in file order."""
+
+    def __init__(self, src: str | bytes, nl: str):
+        self.src, self.nl = src, nl
+        # the file whose sections these are (a weak reference: they refer to this source
+        # through their templates, and the file would outlive its last user in a cycle)
+        self.file: Callable[[], IniFile | None] = lambda: None
+        self.keys: dict[int, dict[str, Key]] = {}  # _SharedSection.keys, by line
+        self._lines: list[int] | None = None       # the sections' lines, ascending
+        self._offsets: list[int] | None = None     # where their header lines start
+
+    def name_at(self, line: int) -> str:
+        if self._lines is None:
+            self._index()
+        src = self.src
+        at = self._offsets[bisect_left(self._lines, line)] + 1     # after its '['
+        if isinstance(src, bytes):
+            return src[at:src.find(b"]", at)].decode("latin-1").strip(" \t")
+        return src[at:src.find("]", at)].strip(" \t")
+
+    def _index(self) -> None:
+        src = self.src
+        nl = self.nl.encode("latin-1") if isinstance(src, bytes) else self.nl
+        n_nl, n_sep = len(nl), len(nl) + 1
+        # part k (k >= 1) starts right after the k-th "<nl>[", whose "[" is the k-th
+        # section's (the line end put first finds a header on the first line)
+        parts = (nl + src).split(nl + (b"[" if isinstance(src, bytes) else "["))
+        ends = accumulate(map(len, parts[:-1]))     # of part k-1, counted in nl + src
+        self._offsets = list(map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
+        file = self.file()
+        if file is not None and len(file.sections) == len(self._offsets):
+            self._lines = list(map(attrgetter("line"), file.sections.values()))
+        else:                                       # (the file is gone: count its lines)
+            self._lines = list(map(add, accumulate(map(methodcaller("count", nl), parts)),
+                                   count(1)))[:-1]
 
 
 @dataclass(slots=True)
@@ -273,92 +336,182 @@ def parse_text(text: str, path: str, encoding: str = "utf-8",
 
 def _parse_fast(text: str, path: str, encoding: str,
                 source: bytes | None = None) -> IniFile | None:
-    """The common case, a clean file, one section at a time instead of one line at a time.
+    """The common case, a clean file, one section at a time instead of one line at a time
+    (``_read_sections``). Anything the exact reader would comment on (a bad line, an
+    indented line, a duplicate, text after a header, a lone CR) makes this return None,
+    and the exact reader takes the file.
 
-    The text is cut at every line that starts with '[' (a header: INI has no other
-    use for it), at the file's own line ends (no converted copy of a CRLF text); a
-    section keeps only where it starts in the text. A section's lines after its first
-    are very often the same text as another section's (see ``Section``), so that text
-    is parsed once and its values shared. Anything the exact reader would comment on
-    (a bad line, an indented line, a duplicate, text after a header, a lone CR) makes
-    this return None, and the exact reader takes the file.
+    The text is cut at its own line ends (no converted copy of a CRLF text). A file
+    with a CR is read as CRLF text; the reader declines a CR or LF that is not in a
+    CRLF, wherever it stands, and only then are the line ends counted: a file that mixes
+    CRLF with LF line ends is read again, converted to LF.
     """
-    nl = "\n"
-    lfs = None                                 # the number of line ends (counted once)
     if "\r" in text:
-        crlf = text.count("\r\n")
-        if text.count("\r") != crlf:
-            return None                        # a lone CR: let the exact reader deal with it
-        lfs = text.count("\n")
-        if crlf == lfs:
-            nl = "\r\n"                        # every line ends in CRLF
-        else:
-            text = text.replace("\r\n", "\n")   # mixed line ends
-            source = None                      # other offsets than the bytes
-    sep, close = nl + "[", "]" + nl
-    n_sep = len(sep)
-    chunks = text.split(sep)                   # each a section, from just after its '['
+        parsed = _read_sections(text, "\r\n", path, encoding, source)
+        if parsed is not None:
+            return parsed                      # every line ends in CRLF
+        # a lone CR (the exact reader says so), or a CRLF file the fast path declined
+        crlfs = text.count("\r\n")
+        if text.count("\r") != crlfs or text.count("\n") == crlfs:
+            return None
+        text, source = text.replace("\r\n", "\n"), None   # mixed line ends
+    return _read_sections(text, "\n", path, encoding, source)
+
+
+def _read_sections(text: str, nl: str, path: str, encoding: str,
+                   source: bytes | None) -> IniFile | None:
+    """The fast path's reading of ``text`` whose lines end in ``nl`` (None: a line the
+    exact reader has to see, a lone CR or LF among them).
+
+    The text is cut at every line that starts with '[' (a header: INI has no other use
+    for it); a section keeps only its line, its names and its template (see
+    ``Section``). A section's lines after its header are very often the same text as
+    another section's but for the values of ``ParameterName=`` and ``Denotation=``, so
+    that text is parsed once, into a ``_Template`` shared by those sections. When
+    ``ParameterName=`` is the first line, as configurators write it, the text after
+    that line is the template's key, compared first with the section before's (an
+    array's next sub-object), and the template tells how many lines the section spans:
+    no copy of the text with the name cut out, no counting of lines per section (with
+    a Denotation= line among them, that text with its value cut out is the key). Other
+    sections go through ``_Templates.other``.
+    """
+    chunks = text.split(nl + "[")              # each a section, from just after its '['
     if text[:1] == "[":                        # no lines before the first header
         chunks[0] = chunks[0][1:]
-        line, at = 1, 1
+        line = 1
     else:                                      # blank and comment lines only
         head = chunks.pop(0)
-        if _body_values(head, nl) != {}:
+        if _lone(head, nl) or _body_values(head, nl) != {}:
             return None
-        line, at = head.count(nl) + 2, len(head) + n_sep
+        line = head.count(nl) + 2
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    shapes: dict[str, dict[str, str] | None] = {}
-    shapes_get = shapes.get
-    lines: dict[str, tuple] = {}               # see _body_values
-    n_name = len(_NAME_KEY)
-    src = text if source is None else source
+    templates = _Templates(_Source(text if source is None else source, nl), nl)
+    by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
+    by_tail_get = by_tail.get
+    last = last_tail = None                    # the last template found by_tail, and its key
+    by_denoted: dict[str, _Template] = {}      # the same lines with Denotation= cut out
+    close_name, name_key, den_key = "]" + nl + _NAME_KEY, _NAME_KEY, _DENOTATION_KEY
+    shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
+    # str.partition, `in` and == only: find and startswith with a start index parse their
+    # arguments at a cost that shows at 60,000 sections
     for chunk in chunks:
-        name, sep_found, body = chunk.partition(close)
-        if not sep_found:                      # the last line of the file is a header
-            if chunk[-1:] != "]":
-                return None
-            name = chunk[:-1]
-        if not name.isalnum():                 # "A4C0sub1" needs no more looking at
-            if "\n" in name or "[" in name or "]" in name:
-                return None                    # text after a header, or a broken header
-            if name.strip() != name.strip(" \t"):
-                return None                    # other blanks: canonical_section's business
-            name = name.strip(" \t")
-        # the names differ between the sub-sections of an array: cut their values out,
-        # and the rest, with those lines left empty, is the template
-        if body[:n_name] == _NAME_KEY:         # the first line, as configurators write it
-            j = body.find(nl, n_name)
-            if j < 0:
-                pname, rest = body[n_name:].strip(" \t"), _NAME_KEY
+        name, hit, rest = chunk.partition(close_name)
+        canon = name.lower()
+        pname, more, tail = rest.partition(nl)
+        if hit and more and canon.isalnum():   # "[A040sub1]", "ParameterName=..." and more
+            pname, denotation = pname.strip(" \t"), None
+            if not pname.isprintable() and _lone(pname, nl):
+                return None                    # a lone CR or LF
+            if tail == last_tail:
+                template = last
             else:
-                pname, rest = body[n_name:j].strip(" \t"), _NAME_KEY + body[j:]
+                template = by_tail_get(tail)
+                if template is None and den_key in tail:
+                    denotation, key = _cut(tail, den_key, nl)     # its own line's value
+                    if denotation is not None:
+                        template = by_denoted.get(key)
+                        if template is None:
+                            found = templates.cut(name_key + rest)
+                            if found is None:
+                                return None
+                            template = by_denoted[key] = found[2]
+                        elif _lone(denotation, nl):
+                            return None        # a lone CR or LF
+                if template is None:
+                    found = templates.cut(name_key + rest)
+                    if found is None:
+                        return None
+                    pname, denotation, template = found
+                    if denotation is None:
+                        by_tail[tail] = template
+                if denotation is None:
+                    last, last_tail = template, tail
+            step = template.step
         else:
-            pname, rest = _cut(body, _NAME_KEY, nl)
+            found = templates.other(chunk)
+            if found is None:
+                return None
+            canon, pname, denotation, template, step = found
+        if len(canon) > 8 and canon[7] == "0":     # "1018sub01", or a name like it
+            spelled, canon = canon, canonical_section(canon)
+            if not canon or "[" in canon or "]" in canon:
+                return None
+            if canon != spelled:
+                respelled.append(canon)
+        sec = new(shared if denotation is None else denoted)    # 60,000: no __init__
+        sec.line = line
+        sec.param_name = pname
+        sec.rest = template
+        sec._values = None                     # worked out when asked for
+        if denotation is not None:
+            sec.denotation = denotation
+        sections[canon] = sec
+        line += step
+    if len(sections) != len(chunks):
+        return None                            # a repeated section
+    parsed = IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
+    templates.source.file = weakref.ref(parsed)
+    return parsed
+
+
+def _lone(text: str, nl: str) -> bool:
+    """Whether ``text`` has a CR or LF that is not part of a line end ``nl``."""
+    text = text.replace(nl, "")
+    return "\r" in text or "\n" in text
+
+
+class _Templates:
+    """The templates of one file's sections, by their text with the names cut out, and
+    the reading of the sections that ``_read_sections`` does not take in its loop."""
+
+    def __init__(self, source: _Source, nl: str):
+        self.source, self.nl = source, nl
+        self.by_text: dict[str, _Template] = {}
+        self.lines: dict[str, tuple] = {}      # see _body_values
+
+    def other(self, chunk: str) -> tuple[str, str | None, str | None, _Template, int] | None:
+        """(canonical name, ParameterName's value, Denotation's value, template, lines
+        to the next header) of a section (its text after its '['), or None."""
+        name, closed, body = chunk.partition("]" + self.nl)
+        step = 0
+        if not closed:
+            if chunk[-1:] != "]":
+                return None                    # text after a header, or a broken header
+            name, step = chunk[:-1], -1        # a header right before the next: no line end
+        if "\n" in name or "\r" in name or "[" in name or "]" in name:
+            return None                        # text after a header, or a broken header
+        if name.strip() != name.strip(" \t"):
+            return None                        # other blanks: canonical_section's business
+        name = name.strip(" \t")
+        if not name:
+            return None
+        found = self.cut(body)
+        if found is None:
+            return None
+        pname, denotation, template = found
+        return name.lower(), pname, denotation, template, template.step + step
+
+    def cut(self, body: str) -> tuple[str | None, str | None, _Template] | None:
+        """(ParameterName's value, Denotation's value, the template) of a section's
+        lines, or None when a line is one the exact reader has to see."""
+        nl = self.nl
+        pname, rest = _cut(body, _NAME_KEY, nl)
         denotation = None
         if _DENOTATION_KEY in rest:            # a name too (SPEC §1), cut out the same way
             denotation, rest = _cut(rest, _DENOTATION_KEY, nl)
-        shape = shapes_get(rest)
-        if shape is None:
-            shape = shapes[rest] = _body_values(rest, nl, lines)
-            if shape is None:
+        if (pname is not None and _lone(pname, nl)
+                or denotation is not None and _lone(denotation, nl)):
+            return None                        # a lone CR or LF
+        template = self.by_text.get(rest)
+        if template is None:
+            template = None if _lone(rest, nl) else _body_values(rest, nl, self.lines)
+            if template is None:
                 return None
-        canon = name.lower()
-        if (len(canon) > 8 and canon[7] == "0") or not canon:
-            canon = canonical_section(name)
-            if not canon or "[" in canon or "]" in canon:
-                return None
-            respelled.append(canon)
-        if canon in sections:
-            return None                        # a repeated section
-        # the name as written is read again from the header line when a message needs it
-        sections[canon] = Section(None, line, None, None, src, at - 1, pname, shape,
-                                  denotation)
-        line += chunk.count(nl) + 1
-        at += len(chunk) + n_sep
-    if lfs is None:
-        lfs = text.count("\n")
-    return IniFile(path, encoding, sections, [], Diagnostics(), lfs + 1, respelled=respelled)
+            self.by_text[rest] = template
+            template.text, template.source = rest, self.source
+            template.step = rest.count(nl) + 2   # the header's line and the next header's
+        return pname, denotation, template
 
 
 # The two keys whose values are names, cut out of a section's template, as configurators
@@ -383,12 +536,12 @@ def _cut(body: str, key: str, nl: str) -> tuple[str | None, str]:
 
 
 def _body_values(body: str, nl: str = "\n",
-                 lines: dict[str, tuple] | None = None) -> dict[str, str] | None:
+                 lines: dict[str, tuple] | None = None) -> _Template | None:
     """The keys of a section's lines (no header among them), or None when a line is
     one the exact reader has to see (not key=value, comment or blank; indented; a
     repeated key). ``lines`` remembers each line's reading for the next section
     (a file repeats "ObjectType=0x7" and "AccessType=rw" thousands of times)."""
-    values: dict[str, str] = {}
+    values = _Template()
     if lines is None:
         lines = {}
     for raw in body.split(nl):
@@ -462,7 +615,7 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
                 duplicates.append(Duplicate(canon, None, first.line, lineno))
                 current, skipping = first, True
             else:
-                current = Section(name, lineno, keys={})
+                current = _WrittenSection(name, lineno)
                 sections[canon] = current
                 skipping = False
                 if canon != name.lower():
