@@ -4,6 +4,7 @@ replaced: the same text for random containers and variable maps, edge cases incl
 variables, no PI parameters, empty containers)."""
 from __future__ import annotations
 
+import json
 import random
 
 import pytest
@@ -11,7 +12,7 @@ import pytest
 from dcf2bin import container, datatypes as dt, dump
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter import convert, roundtrip, text as dcftext
-from dcf2bin.dump import text as dumptext
+from dcf2bin.dump import jsonform, text as dumptext
 from dcf2bin.plc import tables
 from dcf2bin.plc.varmap import VarMap, make_row
 
@@ -284,3 +285,12 @@ def test_value_texts_made_once_per_type_and_bytes_are_the_same():
         for s in obj.subs.values():
             if s.writes:
                 assert s.value == value_text(s.dtype, s.data, spec.encoding)
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_json_entry_lines_are_json_dumps_of_to_dict(seed):
+    c = _random_container(random.Random(seed))
+    doc = dump.to_dict(c)
+    want = dump.format_json(doc)       # every entry through json.dumps
+    assert dump.to_json(c) == want
+    assert [json.loads(x) for x in jsonform._entry_lines(c)] == doc["entries"]
