@@ -86,7 +86,7 @@ class _Reader:
                 obj.subs = dict(sorted(obj.subs.items()))
         self._implied_sub0()
         self._choose_encoding()
-        self._values()
+        _values(self.spec)
         return self.spec
 
     def _header_issues(self, n: int, attrs: bytes) -> None:
@@ -274,35 +274,37 @@ class _Reader:
                         self.spec.encoding = "latin-1"
                         return
 
-    def _values(self) -> None:
-        enc = self.spec.encoding
-        # the text of a value depends on its type and bytes only: made once for each pair
-        # (the variables of one object share a type; tens of thousands of them share a few
-        # hundred values)
-        by_type: dict = {}
-        dtype = texts = None
-        for obj in self.objects.values():
-            for s in obj.subs.values():
-                if not s.writes:
-                    continue
-                if s.dtype is not dtype:
-                    dtype = s.dtype
-                    texts = by_type.setdefault(dtype, {})
-                data = s.data
-                text = texts.get(data, False)
-                if text is False:
-                    text = texts[data] = value_text(dtype, data, enc)
-                if text is None:
-                    # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
-                    # encoding: keep the bytes exact, lose the type (and its attribute bit)
-                    old = s.dtype
-                    s.dtype = dt.OCTET_STRING if old.size is None else by_size(len(s.data))
-                    text = value_text(s.dtype, s.data, enc)
-                    self.issues.add(R_VALUE, s.writes[-1].offset,
-                                    f"0x{s.index:04X}sub{s.sub:X}: {short(s.data)} cannot be "
-                                    f"written as a {old.name} value in a DCF; written as "
-                                    f"{s.dtype.name}")
-                s.value = text
+
+def _values(spec: DcfSpec) -> None:
+    """The ParameterValue text of every written sub (SPEC §1 encodings)."""
+    enc = spec.encoding
+    # the text of a value depends on its type and bytes only: made once for each pair
+    # (the variables of one object share a type; tens of thousands of them share a few
+    # hundred values)
+    by_type: dict = {}
+    dtype = texts = None
+    for obj in spec.objects.values():
+        for s in obj.subs.values():
+            if not s.writes:
+                continue
+            if s.dtype is not dtype:
+                dtype = s.dtype
+                texts = by_type.setdefault(dtype, {})
+            data = s.data
+            text = texts.get(data, False)
+            if text is False:
+                text = texts[data] = value_text(dtype, data, enc)
+            if text is None:
+                # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
+                # encoding: keep the bytes exact, lose the type (and its attribute bit)
+                old = s.dtype
+                s.dtype = dt.OCTET_STRING if old.size is None else by_size(len(s.data))
+                text = value_text(s.dtype, s.data, enc)
+                spec.issues.add(R_VALUE, s.writes[-1].offset,
+                                f"0x{s.index:04X}sub{s.sub:X}: {short(s.data)} cannot be "
+                                f"written as a {old.name} value in a DCF; written as "
+                                f"{s.dtype.name}")
+            s.value = text
 
 
 _VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's name

@@ -90,13 +90,13 @@ class _Predictor:
             return False, []
         attrs = c.attributes or b""
         actual = c.entries
-        first_diff = self._first_difference(writes)
+        first_diff = _first_difference(c, writes)
         entries_ok = first_diff is None and len(attrs) == len(actual)
         select_all = False
         if first_diff is not None and len(attrs) == len(actual):
             # SPEC §3.2 --entries all: group 2 takes every entry with a value, ro ones too
-            select_all = self._first_difference(
-                creation + self._configuration(idxs, everything=True) + pdo) is None
+            select_all = _first_difference(
+                c, creation + self._configuration(idxs, everything=True) + pdo) is None
         addresses, pi = layout
         pi_ok = (addresses == c.addresses and pi == c.pi and c.raw_piparam is None)
         no_pi_ok = c.addresses is None and c.pi is None and c.raw_piparam is None
@@ -144,23 +144,6 @@ class _Predictor:
                             f"container ({', '.join(what)}); for a lossless copy use "
                             "'dcf2bin dump --format json'")
         return False, options
-
-    def _first_difference(self, writes) -> int | None:
-        """The first entry where ``writes`` and the container differ (None: they agree)."""
-        attrs = self.c.attributes or b""
-        actual = self.c.entries
-        n = len(actual)
-        if len(writes) == n and len(attrs) >= n and \
-                list(map(_ENTRY, writes)) == actual and \
-                list(map(_ATTR, writes)) == list(attrs[:n]):
-            return None      # the common case, compared in bulk; else find the entry below
-        for i in range(max(len(writes), len(actual))):
-            e = writes[i] if i < len(writes) else None
-            a = actual[i] if i < len(actual) else None
-            a_attr = attrs[i] if i < len(attrs) else None
-            if e is None or a is None or e[:3] != a or e[3] != a_attr:
-                return i
-        return None
 
     def _difference(self, writes, i: int, advice: str) -> tuple[int | None, str]:
         """(offset, message) of the B2D010 warning that names entry ``i``."""
@@ -320,6 +303,24 @@ class _Predictor:
         if not has_nv:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None
+
+
+def _first_difference(c, writes) -> int | None:
+    """The first entry where ``writes`` and the container differ (None: they agree)."""
+    attrs = c.attributes or b""
+    actual = c.entries
+    n = len(actual)
+    if len(writes) == n and len(attrs) >= n and \
+            list(map(_ENTRY, writes)) == actual and \
+            list(map(_ATTR, writes)) == list(attrs[:n]):
+        return None      # the common case, compared in bulk; else find the entry below
+    for i in range(max(len(writes), len(actual))):
+        e = writes[i] if i < len(writes) else None
+        a = actual[i] if i < len(actual) else None
+        a_attr = attrs[i] if i < len(attrs) else None
+        if e is None or a is None or e[:3] != a or e[3] != a_attr:
+            return i
+    return None
 
 
 def _channel(spec: DcfSpec, index: int):
