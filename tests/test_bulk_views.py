@@ -292,3 +292,37 @@ def test_json_entry_lines_are_json_dumps_of_to_dict(seed):
     want = dump.format_json(doc)       # every entry through json.dumps
     assert dump.to_json(c) == want
     assert [json.loads(x) for x in jsonform._entry_lines(c)] == doc["entries"]
+
+
+def _ref_overlap(spans, area):
+    reach = -1
+    for start, end, index, sub in sorted(spans):
+        if start < reach:
+            return f"0x{index:04X}sub{sub:X} overlaps another variable in the {area} area"
+        reach = max(reach, end)
+    return None
+
+
+def test_overlap_by_blocks_matches_the_per_variable_check():
+    rng = random.Random(5)
+    for _ in range(500):
+        blocks, spans = [], []
+        for index in rng.sample(range(0xA000, 0xA010), rng.randrange(0, 6)):
+            size = rng.choice([1, 2, 4])
+            subs = sorted(rng.sample(range(1, 20), rng.randrange(1, 6)))
+            base = rng.randrange(0, 60)
+            offs = [base + sub * size for sub in subs]
+            blocks.append((offs[0], offs[-1] + size, index, subs[0], offs, subs, size))
+            spans += [(off, off + size, index, sub) for off, sub in zip(offs, subs)]
+        assert roundtrip._overlap(blocks, "input") == _ref_overlap(spans, "input")
+
+
+def test_addresses_follow_the_first_writes_when_not_in_placement_order():
+    # a container whose variables are written in another order than compile's: the
+    # prediction looks their first writes up, and says the DCF will not round-trip
+    c, _ = container.read((ROOT / "samples" / "plc.bin").read_bytes())
+    nv = [k for k, e in enumerate(c.entries) if 0xA000 <= e[0] <= 0xAFFF and e[1]]
+    assert len(nv) >= 2
+    c.entries[nv[0]], c.entries[nv[1]] = c.entries[nv[1]], c.entries[nv[0]]
+    res = convert(c, "plc.bin", dcf_name="plc.dcf")
+    assert not res.roundtrip

@@ -22,7 +22,7 @@ from dcf2bin.model import is_pdo_mapping as is_mapping
 from dcf2bin.select import CAN_ID_MASK, COB_INVALID, PdoRules
 
 # parts of a predicted write (index, sub, data, attribute)
-_ENTRY, _ATTR, _INDEX, _SUB = itemgetter(0, 1, 2), itemgetter(3), itemgetter(0), itemgetter(1)
+_ENTRY, _ATTR, _KEY = itemgetter(0, 1, 2), itemgetter(3), itemgetter(0, 1)
 _DIS2_OFF = 0xC0000000   # DIS-2 disables a PDO with bits 31 and 30 (no RTR) set
 
 
@@ -253,8 +253,9 @@ class _Predictor:
         if not nv_objs:
             return (None, None), None
         has_nv = any(s for i in nv_objs for s in self.objects[i].subs)
-        spans: dict[str, list] = {INPUT: [], OUTPUT: []}
-        placed = {}        # (index, sub) -> (area, offset in it)
+        blocks: dict[str, list] = {INPUT: [], OUTPUT: []}   # one run of variables an index
+        order_keys: list[tuple[int, int]] = []    # (index, sub) placed, in placement order
+        where: list[tuple[str, int]] = []          # (area, offset in it) of each
         for index in sorted(nv_objs):
             ch = _channel(self.spec, index)
             if ch is None:
@@ -271,38 +272,62 @@ class _Predictor:
                     return None, f"0x{index:04X}sub{bad:X}: subindex above 254"
                 return None, (f"0x{index:04X}sub{bad:X}: {subs[bad].dtype.name} does not "
                               f"match the range type {dtype.name}")
+            if not keys:
+                continue
             # the variables of one index, one after the other from its place in the range
             size = dtype.size
             base = pp + ((index - first) * PER_INDEX - 1) * size
             offs = [base + sub * size for sub in keys]
-            placed.update(zip(zip(repeat(index), keys), zip(repeat(direction), offs)))
-            spans[direction] += zip(offs, [off + size for off in offs], repeat(index), keys)
+            order_keys += zip(repeat(index), keys)
+            where += zip(repeat(direction), offs)
+            blocks[direction].append((offs[0], offs[-1] + size, index, keys[0], offs, keys,
+                                      size))
         sizes = {}
-        for area, lst in spans.items():
-            lst.sort()
-            reach = -1
-            for start, end, index, sub in lst:
-                if start < reach:
-                    return None, (f"0x{index:04X}sub{sub:X} overlaps another variable in the "
-                                  f"{area} area")
-                if end > reach:
-                    reach = end
-            sizes[area] = max((e for _, e, _, _ in lst), default=0)
+        for area, lst in blocks.items():
+            error = _overlap(lst, area)
+            if error:
+                return None, error
+            sizes[area] = max((b[1] for b in lst), default=0)
         in_size, out_size = sizes[INPUT], sizes[OUTPUT]
         out_off = -(-in_size // 8) * 8 if out_size else 0
         total = out_off + out_size if out_size else in_size
-        # the placed variables in the order of their first write (D-10)
-        order = dict.fromkeys(filter(placed.__contains__, zip(map(_INDEX, writes),
-                                                              map(_SUB, writes))))
-        addresses = [off if direction == INPUT else out_off + off
-                     for direction, off in map(placed.__getitem__, order)]
+        # the placed variables in the order of their first write (D-10): compile writes
+        # them first, in placement order (then it is that order; else look them up)
+        if list(map(_KEY, writes[:len(order_keys)])) != order_keys:
+            placed = dict(zip(order_keys, where))
+            order = dict.fromkeys(filter(placed.__contains__, map(_KEY, writes)))
+            order_keys, where = list(order), list(map(placed.__getitem__, order))
+        addresses = [off if direction == INPUT else out_off + off for direction, off in where]
         if addresses and max(addresses) > 0xFFFF:
-            (index, sub), addr = next((key, addr) for key, addr in zip(order, addresses)
+            (index, sub), addr = next((key, addr) for key, addr in zip(order_keys, addresses)
                                       if addr > 0xFFFF)
             return None, f"0x{index:04X}sub{sub:X}: address 0x{addr:X} above 0xFFFF"
         if not has_nv:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None
+
+
+def _overlap(blocks: list, area: str) -> str | None:
+    """The error of the first variable that overlaps another in ``area`` (None: none does).
+    ``blocks``: one per index, its variables one after the other (start, end, index, first
+    sub, offsets, subs, size). Blocks that do not overlap hold no overlapping variables;
+    else the variables are sorted and checked one by one."""
+    blocks.sort(key=itemgetter(0, 1, 2, 3))
+    reach = -1
+    for start, end, *_ in blocks:
+        if start < reach:
+            break
+        reach = max(reach, end)
+    else:
+        return None
+    spans = sorted((off, off + size, index, sub) for _, _, index, _, offs, subs, size in blocks
+                   for off, sub in zip(offs, subs))
+    reach = -1
+    for start, end, index, sub in spans:
+        if start < reach:
+            return f"0x{index:04X}sub{sub:X} overlaps another variable in the {area} area"
+        reach = max(reach, end)
+    return None
 
 
 def _first_difference(c, writes) -> int | None:
