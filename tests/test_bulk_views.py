@@ -326,3 +326,40 @@ def test_addresses_follow_the_first_writes_when_not_in_placement_order():
     c.entries[nv[0]], c.entries[nv[1]] = c.entries[nv[1]], c.entries[nv[0]]
     res = convert(c, "plc.bin", dcf_name="plc.dcf")
     assert not res.roundtrip
+
+
+def _read_or_error(data):
+    try:
+        c, warnings = container.read(data)
+    except container.ContainerError as exc:
+        return ("error", str(exc), exc.offset, exc.rule)
+    return (c, [w.format() for w in warnings])
+
+
+def test_index_read_without_bounds_checks_matches_the_checked_read(monkeypatch):
+    rng = random.Random(9)
+    base = (ROOT / "samples" / "plc.bin").read_bytes()
+    offsets = dump.entry_offsets(container.read(base)[0])
+    for _ in range(300):
+        data = bytearray(base)
+        for _ in range(rng.randrange(1, 3)):
+            pos = rng.choice(offsets) + rng.randrange(0, 8)
+            data[pos] = rng.randrange(256)
+        data = bytes(data)
+        fast = _read_or_error(data)
+        with monkeypatch.context() as m:
+            m.setattr(container, "_read_entries", lambda seg, count: None)
+            checked = _read_or_error(data)
+        assert fast == checked
+
+
+def test_entry_offsets_in_bulk():
+    rng = random.Random(2)
+    for _ in range(50):
+        c = _random_container(rng)
+        h = dump.header_of(c)
+        pos, want = h["index_offset"] + 4, []
+        for _, _, data in c.entries:
+            want.append(pos)
+            pos += 7 + len(data)
+        assert dump.entry_offsets(c, h) == want
