@@ -117,6 +117,7 @@ class _Reader:
         eds = self.eds
         typer = self.typer
         current = tt = None
+        size, boolean = -1, False      # of the range's type (-1: no type, no data fits)
         for index, sub, writes in nv_vars:
             last = writes[-1]
             if len(writes) > 1 or last.attr != 0xF0 or sub > PER_INDEX:
@@ -125,8 +126,9 @@ class _Reader:
                 current = index
                 t = table_type(index) if eds is None else None
                 tt = t[0] if t is not None else None
+                size, boolean = (tt.size, tt.kind == dt.BOOL) if tt is not None else (-1, False)
             data = last.data
-            if tt is not None and tt.size == len(data) and (tt.kind != dt.BOOL or data[0] < 2):
+            if len(data) == size and (not boolean or data[0] < 2):
                 dtype = tt             # fast path: the range's type holds the value (holds)
             else:
                 dtype = typer.nv_type(index, sub, last)
@@ -153,21 +155,22 @@ class _Reader:
         c = self.c
         pi = c.pi
         by_index: dict[int, list] = {}
-        if pi is not None:
-            _, in_off, in_size, out_off, out_size = pi
-            in_end, out_end = in_off + in_size, out_off + out_size
+        # _area's common case inline: the address in the area of the index's range
+        lo = hi = base = 0
+        direction = None
+        current = vs = None
         for index, sub, dtype, writes, addr in vars_:
             if dtype.size is None:
                 continue      # reported: no segment can hold it, compile rejects it
-            # _area's common case inline: the address in the area of the index's range
-            if addr is not None and pi is not None and (
-                    in_off <= addr < in_end if index < OUTPUT_FIRST else
-                    index < TABLE_END and out_off <= addr < out_end):
-                direction, off = (INPUT, addr - in_off) if index < OUTPUT_FIRST else \
-                    (OUTPUT, addr - out_off)
+            if index != current:        # the area of the index's range, once an index
+                current = index
+                vs = by_index.setdefault(index, [])
+                lo, hi, base, direction = _range_area(index, pi)
+            if addr is not None and lo <= addr < hi:
+                vs.append((sub, dtype, direction, addr - base, writes[0].offset))
             else:
-                direction, off = self._area(index, addr, pi, writes[0].offset)
-            by_index.setdefault(index, []).append((sub, dtype, direction, off, writes[0].offset))
+                vs.append((sub, dtype, *self._area(index, addr, pi, writes[0].offset),
+                           writes[0].offset))
         nv_objects = sorted(i for i in self.objects if is_nv(i))
         regions = [(NV_FIRST + k * 0x40, NV_FIRST + k * 0x40 + 0x3F) for k in range(36)]
         regions.append((TABLE_END, NV_LAST))
@@ -305,6 +308,18 @@ def _values(spec: DcfSpec) -> None:
                                 f"written as a {old.name} value in a DCF; written as "
                                 f"{s.dtype.name}")
             s.value = text
+
+
+def _range_area(index: int, pi) -> tuple[int, int, int, str | None]:
+    """(first address, end, area start, area) of the area of ``index``'s CiA 405 range in
+    the PI parameters: an address in [first, end) lies where _area puts it, at its
+    offset from the area start. An empty span where there is no such area."""
+    if pi is None or index >= TABLE_END:
+        return 0, 0, 0, None
+    _, in_off, in_size, out_off, out_size = pi
+    if index < OUTPUT_FIRST:
+        return in_off, in_off + in_size, in_off, INPUT
+    return out_off, out_off + out_size, out_off, OUTPUT
 
 
 _VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's name
