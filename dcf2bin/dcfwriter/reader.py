@@ -327,11 +327,9 @@ _VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's n
 
 def _pp(vs, index: int, start: int, dtype: dt.DataType):
     """The segment start (PPOffset) that places all of ``vs`` in index ``index``."""
-    pps = set()
-    for sub, _, _, off, _ in vs:
-        if off is None:
-            continue
-        pps.add(off - ((index - start) * PER_INDEX + sub - 1) * dtype.size)
+    first = (index - start) * PER_INDEX - 1
+    size = dtype.size
+    pps = {off - (first + sub) * size for sub, _, _, off, _ in vs if off is not None}
     if not pps:
         return None
     if len(pps) > 1:
