@@ -363,3 +363,18 @@ def test_entry_offsets_in_bulk():
             want.append(pos)
             pos += 7 + len(data)
         assert dump.entry_offsets(c, h) == want
+
+
+@pytest.mark.parametrize("name", ["plc", "device", "bild8"])
+def test_report_with_an_eds_matches_the_per_entry_rows(name):
+    c, _ = container.read((ROOT / "samples" / f"{name}.bin").read_bytes())
+    eds, _, _ = dump.load_eds(str(ROOT / "samples" / f"{name}.dcf"))
+    h = dump.header_of(c)
+    lines = dump.report(c, f"{name}.bin", eds=eds).splitlines()
+    want = _ref_index_rows(c, h, eds, False)
+    start = lines.index(want[0])
+    assert lines[start:start + len(want)] == want
+    if c.addresses:
+        want_pi = _ref_address_rows(c, _ref_nv_keys(c), eds)
+        start = lines.index(want_pi[0])
+        assert lines[start:start + len(want_pi)] == want_pi
