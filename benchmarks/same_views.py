@@ -13,7 +13,8 @@ generated 6,000-variable DCFs) and the generated 1k/10k/60k files in /work/perf 
 present. A DCF/EDS/INI is compiled first (in-process); a file that does not compile gives
 no container (its ``map`` of the DCF is still recorded). Each command runs in-process
 through click; the record holds a digest of its exit code, standard output and standard
-error (paths of the checkout written as <repo>).
+error (paths of the checkout, its corpus and temporary files written as <repo>,
+<corpus>, <tmp>).
 """
 from __future__ import annotations
 
@@ -52,9 +53,13 @@ def views(path: Path, repo: Path, tmp: Path) -> dict:
     from dcf2bin.cli import main
     runner = CliRunner()
 
+    corpus = repo.parent / "shared" / "corpus" / "files"
+
     def clean(b: bytes) -> bytes:
-        return (b.replace(str(tmp).encode(), b"<tmp>").replace(str(repo).encode(), b"<repo>")
-                .replace(str(HERE / "out").encode(), b"<out>"))
+        for path, name in ((tmp, b"<tmp>"), (corpus, b"<corpus>"), (corpus.resolve(), b"<corpus>"),
+                           (HERE / "out", b"<out>"), (repo, b"<repo>")):
+            b = b.replace(str(path).encode(), name)
+        return b
 
     def run(*args: str) -> str:
         r = runner.invoke(main, list(args))
