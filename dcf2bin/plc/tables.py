@@ -11,6 +11,11 @@ from dcf2bin.plc.varmap import VarMap
 CSV_HEADER = ("name", "index", "subindex", "type", "direction", "offset", "address", "size")
 
 
+# the fields of a row in the text table, in its order (offsets are >= 0)
+_TEXT_FIELDS = attrgetter("address", "direction", "offset", "label", "dtype.size",
+                          "dtype.name", "name")
+
+
 def to_text(vm: VarMap) -> str:
     """A readable table; the PI parameter numbers above it."""
     total, in_off, in_size, out_off, out_size = vm.pi
@@ -20,23 +25,16 @@ def to_text(vm: VarMap) -> str:
            f"  output area  offset {out_off:<6} size {out_size}",
            ""]
     rows = vm.rows
-    # one column per field, then one printf template for all rows (no f-string per row)
-    addresses = list(map(attrgetter("address"), rows))
-    directions = list(map(attrgetter("direction"), rows))
-    offsets = list(map(attrgetter("offset"), rows))
-    labels = list(map(attrgetter("label"), rows))
-    sizes = list(map(attrgetter("dtype.size"), rows))
-    types = list(map(attrgetter("dtype.name"), rows))
-    names = list(map(attrgetter("name"), rows))
-    w_off = max(len("offset"), len(str(max(offsets, default=0))))   # offsets are >= 0
-    w_entry = max(len("entry"), max(map(len, labels), default=0))
-    w_type = max(len("type"), max(map(len, set(types)), default=0))
+    # the widths from three columns, then one printf template over each row's fields
+    w_off = max(len("offset"), len(str(max(map(attrgetter("offset"), rows), default=0))))
+    w_entry = max(len("entry"), max(map(len, map(attrgetter("label"), rows)), default=0))
+    w_type = max(len("type"), max(map(len, set(map(attrgetter("dtype.name"), rows))),
+                                  default=0))
     w_size = len("size")          # sizes are 1..8
     out.append(f"address  area    {'offset':>{w_off}}  {'entry':<{w_entry}}  "
                f"{'size':>{w_size}}  {'type':<{w_type}}  name")
     fmt = f"0x%04X   %-6s  %{w_off}d  %-{w_entry}s  %{w_size}d  %-{w_type}s  %s"
-    out += map(str.rstrip, map(fmt.__mod__, zip(addresses, directions, offsets, labels, sizes,
-                                                types, names)))
+    out += map(str.rstrip, map(fmt.__mod__, map(_TEXT_FIELDS, rows)))
     return "\n".join(out) + "\n"
 
 
