@@ -293,7 +293,7 @@ def _values(spec: DcfSpec) -> None:
             if s.dtype is not dtype:
                 dtype = s.dtype
                 texts = by_type.setdefault(dtype, {})
-            data = s.data
+            data = s.writes[-1].data
             text = texts.get(data, False)
             if text is False:
                 text = texts[data] = value_text(dtype, data, enc)
