@@ -10,8 +10,8 @@ encoding (UTF-8, or Latin-1 when a string needs it; SPEC §1).
 """
 from __future__ import annotations
 
-from itertools import groupby
-from operator import itemgetter
+from itertools import groupby, repeat
+from operator import is_, itemgetter
 
 from dcf2bin import datatypes as dt
 from dcf2bin.container import BinContainer
@@ -111,7 +111,13 @@ class _Reader:
         c = self.c
         addr_of = {}
         if c.addresses is not None:
-            addr_of = dict(zip(self.nv_order, c.addresses))
+            if list(map(_KEY, nv_vars)) == self.nv_order:
+                # first written in ascending order (as compile writes them): the addresses
+                # follow the variables one for one
+                addr_of = None
+                addrs = c.addresses + [None] * (len(nv_vars) - len(c.addresses))
+            else:
+                addr_of = dict(zip(self.nv_order, c.addresses))
         vars_ = []
         append = vars_.append
         eds = self.eds
@@ -132,7 +138,8 @@ class _Reader:
                 dtype = tt             # fast path: the range's type holds the value (holds)
             else:
                 dtype = typer.nv_type(index, sub, last)
-            append((index, sub, dtype, writes, addr_of.get((index, sub))))
+            append((index, sub, dtype, writes, addr_of.get((index, sub))
+                    if addr_of is not None else addrs[len(vars_)]))
         self._plan_channels(vars_)
         objects = self.objects
         current = access = subs = None
@@ -186,7 +193,8 @@ class _Reader:
                 if not vs:
                     continue
                 _, dtype, direction, _, where = vs[0]
-                if any(v[1] is not dtype or v[2] != direction for v in vs[1:]):
+                if not (all(map(is_, repeat(dtype), map(_DTYPE, vs)))
+                        and all(map(direction.__eq__, map(_DIRECTION, vs)))):
                     self.issues.add(R_PI, where, f"0x{index:04X}: its variables differ in type "
                                     "or area; one [DynamicChannels] segment cannot hold them")
                 cur = region[-1] if region else None
@@ -323,6 +331,7 @@ def _range_area(index: int, pi) -> tuple[int, int, int, str | None]:
 
 
 _VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's name
+_KEY, _DTYPE, _DIRECTION = itemgetter(0, 1), itemgetter(1), itemgetter(2)
 
 
 def _pp(vs, index: int, start: int, dtype: dt.DataType):
