@@ -169,26 +169,28 @@ def parse_channels(dev) -> list[Channel]:
                   f"{len(segments)} segment{'s' if len(segments) != 1 else ''}",
                   w("nrofseg"), rule="DCF312",
                   hint="NrOfSeg counts the segments Type<k>/Dir<k>/Range<k>, k = 1..NrOfSeg")
+    keys = sec.keys
     for k in segments:
-        missing = [name for name in ("Type", "Dir", "Range") if f"{name.lower()}{k}" not in sec.keys]
-        if missing:
+        tk, dk, rk = f"type{k}", f"dir{k}", f"range{k}"
+        if tk not in keys or dk not in keys or rk not in keys:
+            missing = [name for name in ("Type", "Dir", "Range") if f"{name.lower()}{k}" not in keys]
             dev.error(f"[DynamicChannels] segment {k} lacks {', '.join(m + str(k) for m in missing)}",
                       Where(dev.path, sec.line), rule="DCF312")
             continue
-        code = num(f"type{k}")
+        code = num(tk)
         dtype = dt.BY_CODE.get(code) if code is not None else None
         if dtype is None or dtype.size is None:
             if code is not None:
                 dev.error(f"[DynamicChannels] Type{k}=0x{code:04X} is not a fixed-size data type",
-                          w(f"type{k}"), rule="DCF313")
+                          w(tk), rule="DCF313")
             continue
-        dtext = (sec.get(f"dir{k}") or "").strip().lower()
+        dtext = (sec.get(dk) or "").strip().lower()
         direction = _DIRS.get(dtext)
         if direction is None:
             dev.error(f"[DynamicChannels] Dir{k}='{dtext}' must be ro, rw, rwr or rww",
-                      w(f"dir{k}"), rule="DCF313")
+                      w(dk), rule="DCF313")
             continue
-        m = _split_range(sec.get(f"range{k}") or "")
+        m = _split_range(sec.get(rk) or "")
         try:
             if not m:
                 raise values.ValueProblem("expected 0xSSSS-0xEEEE")
@@ -197,13 +199,13 @@ def parse_channels(dev) -> list[Channel]:
                 raise values.ValueProblem(f"0x{first:04X}-0x{last:04X} is not an ascending range "
                                           "inside 0xA000-0xAFFF")
         except values.ValueProblem as exc:
-            dev.error(f"[DynamicChannels] Range{k}: {exc}", w(f"range{k}"), rule="DCF313")
+            dev.error(f"[DynamicChannels] Range{k}: {exc}", w(rk), rule="DCF313")
             continue
         pp_key, pi_key = f"ppoffset{k}", f"pioffset{k}"
-        if pp_key in sec.keys and pi_key in sec.keys:
+        if pp_key in keys and pi_key in keys:
             dev.error(f"[DynamicChannels] segment {k} gives both PPOffset{k} and PIOffset{k}",
                       w(pi_key), rule="DCF314")
-        off_key = pp_key if pp_key in sec.keys else pi_key  # D-3: PIOffset<k> is a synonym
+        off_key = pp_key if pp_key in keys else pi_key  # D-3: PIOffset<k> is a synonym
         offset = 0
         text = sec.get(off_key)
         if text is not None:
@@ -226,8 +228,7 @@ def parse_channels(dev) -> list[Channel]:
                           rule="DCF313")
                 offset = 0
         max_count = num(f"maxcnt{k}")
-        channels.append(Channel(k, dtype, direction, first, last, offset, max_count,
-                                w(f"range{k}")))
+        channels.append(Channel(k, dtype, direction, first, last, offset, max_count, w(rk)))
     # Overlaps in one sweep by first index: each segment that overlaps one before it is
     # named once, with the segment reaching furthest so far (not every pair: a file of
     # 2,000 equal ranges would otherwise make two million errors).

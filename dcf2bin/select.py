@@ -6,6 +6,7 @@ written entries are collected, not raised, so one run reports all of them.
 """
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass, field
 from itertools import repeat
 
@@ -110,10 +111,12 @@ class _Selector:
             except DcfError as exc:
                 self.error(exc)
                 data = b""
-        self.sel.entries.append((entry.index, entry.sub, data))
-        self.sel.attrs.append(attribute(entry))
-        self.sel.emitted.add((entry.index, entry.sub))
-        self.sel.emitted_objects.add(entry.index)
+        sel, index, sub = self.sel, entry.index, entry.sub
+        sel.entries.append((index, sub, data))
+        sel.attrs.append(attribute_byte(index, sub, entry.dtype, entry.access,
+                                        entry.pdo_mapping))
+        sel.emitted.add((index, sub))
+        sel.emitted_objects.add(index)
 
     def counts(self, entry: Entry) -> bool:
         """Configured (auto) or has any value (all)."""
@@ -147,22 +150,26 @@ class _Selector:
                 attrs.extend(map(attribute, es.values()))
         self.sel.created = created
         # 2. configuration
+        auto = self.policy == AUTO
         for obj in objs:
             if obj.index in created or is_pdo_object(obj.index):
                 continue
             for e in obj.entries.values():
                 if e.obj_flags & 1:
                     continue
-                if self.policy == AUTO:
+                if auto:
                     if e.configured and e.access not in ("ro", "const"):
                         self.write(e)
                 elif e.has_value:
                     self.write(e)
-        # 3. PDOs
+        # 3. PDOs: the communication objects present, RPDOs (0x1400-0x15FF) then TPDOs
+        # (0x1800-0x19FF), each by ascending index (``objs`` is sorted)
         self.check_pairs()
-        for base in (0x1400, 0x1800):
-            for comm in range(base, base + 0x200):
-                if comm in created or comm not in dev.objects:
+        keys = [obj.index for obj in objs]
+        for lo, hi in ((0x1400, 0x15FF), (0x1800, 0x19FF)):
+            for obj in objs[bisect_left(keys, lo):bisect_right(keys, hi)]:
+                comm = obj.index
+                if comm in created:
                     continue
                 if self.pdo_is_configured(comm) and (comm + 0x200) not in created:
                     self.pdo_block(comm)

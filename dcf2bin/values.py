@@ -100,6 +100,18 @@ def uses_nodeid(text: str) -> bool:
 def parse_int(text: str) -> int:
     """Parse a SPEC §1 integer literal (no ``$NODEID``); blanks around it are ignored."""
     t = text.strip(_BLANKS)
+    if t.isascii() and len(t) <= MAX_DIGITS:
+        # fast paths, what _literal gives: a decimal literal (no sign, no leading 0), or
+        # 0x and hex digits (isalnum keeps out the '_' and blanks int() would take; a
+        # letter after 'f' makes int() fail: the slow way words the message)
+        if t.isdigit():
+            if t[0] != "0":
+                return int(t)
+        elif t[:2] in ("0x", "0X") and t[2:].isalnum():
+            try:
+                return int(t[2:], 16)
+            except ValueError:
+                pass
     if uses_nodeid(t):
         raise ValueProblem(f"$NODEID is not allowed here: '{_q(t)}'")
     return _literal(t)[0]

@@ -91,6 +91,18 @@ def test_success_and_what_it_reports():
     assert p.mapped == [(0x2000, 0, 8, None), (0x2001, 0, 32, None)]
 
 
+
+def test_pdos_are_worked_out_when_first_asked_for():
+    # a compile's target check only asks whether the run succeeded: the PDO list (with the
+    # PI address of every mapped variable) is made on first use, and is then kept
+    c = app(pdo(0x1800, 0x181, [0x20000008]))
+    out = run(c)
+    assert out._pdos is None
+    first = out.pdos
+    assert [p.comm_index for p in first] == [0x1800] and out.pdos is first
+    c.attributes = c.attributes[:-1]        # a failing run has no PDOs
+    assert run(c).pdos == []
+
 def test_0xA1_extended_info_count():
     c = app(pdo(0x1800, 0x181, [0x20000008]))
     c.attributes = c.attributes[:-1]
@@ -387,7 +399,13 @@ def test_boolean_bit_mapping_and_granularity():
                          "bit mapping"
     out = run(c, granularity=8)
     assert (out.code, out.entry) == (C.PDO_MAPPING, 4)
-    assert "whole bytes only" in out.reason
+    assert out.reason == "0x2000sub0 is mapped with 1 bits, and the target maps whole bytes " \
+                         "only (granularity 8)"
+    c4 = BinContainer(entries=[(0x2000, 0, b"\x00")] + pdo(0x1800, 0x181, [0x20000004]),
+                      attributes=attrs[:1] + bytes([RW] * 5))
+    out = run(c4)
+    assert (out.code, out.entry, out.reason) == (
+        C.PDO_MAPPING, 4, "0x2000sub0 is a BOOLEAN mapped with 4 bits (1 or 8)")
     assert run(BinContainer(entries=[(0x2000, 0, b"\x00")] + pdo(0x1800, 0x181, [0x20000008]),
                             attributes=attrs[:1] + bytes([RW] * 5)), granularity=8,
                bit_mapping=False).ok

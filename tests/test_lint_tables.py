@@ -143,6 +143,8 @@ def _check_tables(ctx: DcfContext) -> None:
         for key in ("parametername", "denotation"):
             assert tables.name_values(rest, secs, key) == [s.get(key) for s in secs]
         assert all(list(ctx.key_names(s)) == list(ctx.key_names(secs[0])) for s in secs)
+        if rest is not None:        # DCF050 reads a group's key names from its template
+            assert list(rest) == list(ctx.key_names(secs[0]))
     assert sorted(map(id, covered)) == sorted(map(id, sections.values()))
     nameless = tables.nameless(ctx)
     assert {i for ids in nameless.values() for i in ids} == {
@@ -257,3 +259,38 @@ def test_unknown_keys_is_known_key_for_each():
             "ppoffset0", "line\u0663", "tool", "1a", "", "maxcnt", "pioffset7", "dir"]
     for kind in ["object", "sub", "dummyusage", "aux", "nonsense", *FIXED, *NUMBERED]:
         assert unknown_keys(kind, keys) == [k for k in keys if not known_key(kind, k)], kind
+
+
+# -- values the model encoded already ----------------------------------------------------------
+
+_VALUES = [("0x0007", "0x20000008"), ("0x0007", "$NODEID+0x180"), ("0x0007", "384 ; cob"),
+           ("0x0003", "0xFFFF"), ("0x0003", "-2"), ("0x0001", "1"), ("0x0005", "256"),
+           ("0x0005", "abc"), ("0x0004", "0x80000000"), ("0x0009", "text ; not a comment"),
+           ("0x0007", "$NODEID+0x180 ; with a comment")]
+
+
+def _values_file(node_id: str) -> str:
+    out = [_HEAD.replace("[DeviceInfo]", f"[DeviceComissioning]\n{node_id}\n[DeviceInfo]")]
+    for k, (dtype, value) in enumerate(_VALUES):
+        out.append(f"[{0x2000 + k:04X}]\nParameterName=v{k}\nObjectType=0x7\nDataType={dtype}\n"
+                   f"AccessType=rw\nParameterValue={value}\n")
+    return "".join(out)
+
+
+@pytest.mark.parametrize("node_id", ["NodeID=5", ""])
+def test_values_encoded_by_the_model_give_the_same_verdicts(node_id):
+    # int_value and DCF200 take a value the model encoded already (Device.encoded, filled
+    # by the selection) as it is: the same as encoding it again, $NODEID, signed hex,
+    # numeric comments (never in the cache) and values that cannot be encoded included
+    from dcf2bin import select
+    from dcf2bin.lint import rules_values
+    text = _values_file(node_id)
+    fresh, warm = _context(text), _context(text)
+    select.select(warm.dev)
+    assert warm.dev.encoded and not fresh.dev.encoded
+    es = tables.entries(fresh)
+    warm_es = tables.entries(warm)
+    assert [fresh.int_value(e) for e in es] == [warm.int_value(e) for e in warm_es]
+    assert list(rules_values.bad_value(fresh)) == list(rules_values.bad_value(warm))
+    # (fresh gets no encodings from these: it stays the plain path)
+    assert not fresh.dev.encoded

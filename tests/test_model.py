@@ -4,6 +4,7 @@ from __future__ import annotations
 import pytest
 
 from dcf2bin import datatypes as dt
+from dcf2bin.diagnostics import Where
 from helpers import compile_text, load_text, messages
 
 
@@ -56,6 +57,9 @@ def test_compact_sub_obj_with_names_and_values():
     # the sub-entries are built from one worked-out entry, each with lines of its own
     assert [(e.name, e.value_where.line) for e in obj.entries.values()] == [
         ("Highest sub-index supported", 1), ("HB1", 6), ("Node 2", 14), ("HB3", 6)]
+    # each is where the object's section is (not the section it was built from: none)
+    assert [(e.where, e.section) for e in obj.entries.values()] == [
+        (Where("test.dcf", 1), None)] * 4
 
 
 def test_compact_sub_obj_without_data_type_reports_every_sub_entry():
@@ -266,6 +270,8 @@ def test_entry_where_is_made_from_its_section_when_first_read(tmp_path):
     dev = model.load("t.dcf", data=text.encode())
     e = dev.entry(0xA040, 2)
     assert e._where == "t.dcf"                  # built from the template of sub 1
+    first = dev.entry(0xA040, 1)                # built from its own section: the same
+    assert first._where == "t.dcf" and first.where == Where("t.dcf", 5)
     assert e.where == Where("t.dcf", 9) and e.where is e.where
     e.where = Where("u.dcf", 1)
     assert e.where == Where("u.dcf", 1)

@@ -300,3 +300,18 @@ def test_group_one_data_column_equals_entry_by_entry():
     assert sum("DCF203" in p.diagnostic.format() for p in dev.problems) == 2
     # the bytes of equal values are shared, as the cache of encodings gives them
     assert sel.entries[1][2] is sel.entries[2][2]
+
+
+def test_pdo_blocks_rpdos_then_tpdos_by_index_at_the_range_ends():
+    """The PDO blocks come RPDOs (0x1400-0x15FF) then TPDOs (0x1800-0x19FF), each by
+    ascending index, whatever the file order; a comm object at either end of its range
+    counts, and the mapping objects between the ranges are no PDO of their own."""
+    def block(comm):
+        return (PDO.replace("1800", f"{comm:04X}").replace("1A00", f"{comm + 0x200:04X}")
+                .format(cob="ParameterValue=0x181", tt=""))
+    # one CAN-ID for all: the target check is off here, only the order counts
+    text = block(0x19FF) + block(0x1800) + block(0x15FF) + block(0x1400)
+    blocks = [i for i, s, _, _ in writes(compile_text(text)) if s == 1 and i < 0x1600
+              or s == 1 and 0x1800 <= i < 0x1A00]
+    # every block writes its COB-ID twice: disable, then enable
+    assert blocks == [0x1400, 0x1400, 0x15FF, 0x15FF, 0x1800, 0x1800, 0x19FF, 0x19FF]

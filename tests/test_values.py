@@ -535,3 +535,29 @@ def test_bytes_match_canopen_struct_types(dtype):
     for value in (dtype.min, dtype.max, 0, 1, dtype.max // 3):
         assert encode(dtype, str(value)) == packer.pack(value)
         assert packer.unpack(encode(dtype, str(value)))[0] == value
+
+
+def _parse_int_reference(text: str):
+    """parse_int without its fast paths: the literal grammar of SPEC §1 alone."""
+    from dcf2bin import values
+    t = text.strip(" \t")
+    try:
+        if values.uses_nodeid(t):
+            raise ValueProblem(f"$NODEID is not allowed here: '{values._q(t)}'")
+        return values._literal(t)[0]
+    except ValueProblem as exc:
+        return str(exc)
+
+
+@settings(max_examples=2000, deadline=None)
+@given(st.text(alphabet="0123456789abcdefABCDEFxXg_+- \t$NODEID\u0663", max_size=70)
+       | st.from_regex(r"[ \t]*(0[xX][0-9A-Fa-f_g]{0,70}|[0-9]{1,70})[ \t]*", fullmatch=True))
+def test_parse_int_fast_paths_agree_with_the_grammar(text):
+    # the decimal and 0x fast paths give what the regular expression gives, and leave
+    # every other text (a sign, a leading 0, '_', a non-ASCII digit, too many digits,
+    # $NODEID) to it, with its message
+    try:
+        got = parse_int(text)
+    except ValueProblem as exc:
+        got = str(exc)
+    assert got == _parse_int_reference(text)

@@ -110,9 +110,7 @@ class _Engine(_StructureStep, _EntriesStep, _PdoSemantics, _Results):
                     self.applied = f.pos
         out.entries_applied = self.applied
         out.created = Created(sorted(self.created_objects), self.n_created, self.created_bytes)
-        out.warnings = self.warnings()
-        if out.ok:
-            out.pdos = self.pdos()
+        out.warnings = self.warnings()    # out.pdos: when asked for
         return out
 
     def locate(self, out: Outcome, pos: int) -> None:

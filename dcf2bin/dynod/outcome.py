@@ -104,10 +104,10 @@ class Outcome:
     warnings: list[TargetWarning] = field(default_factory=list)
     descriptor: Descriptor | None = None
     created: Created = field(default_factory=Created)
-    pdos: list[Pdo] = field(default_factory=list)
     entries_applied: int = 0
     _engine: object = field(default=None, repr=False)   # the emulate._Engine that ran
     _od: dict | None = field(default=None, repr=False)
+    _pdos: list[Pdo] | None = field(default=None, repr=False)
 
     @property
     def name(self) -> str:
@@ -126,6 +126,19 @@ class Outcome:
         if self.index is None:
             return None
         return f"0x{self.index:04X}sub{self.subindex:X}"
+
+    @property
+    def pdos(self) -> list[Pdo]:
+        """The valid PDOs after a successful run (none after a failure), each with its
+        mapped objects and their PI addresses: worked out on first use (a compile's target
+        check only asks whether the run succeeded)."""
+        if self._pdos is None:
+            self._pdos = self._engine.pdos() if self._engine is not None and self.ok else []
+        return self._pdos
+
+    @pdos.setter
+    def pdos(self, value: list[Pdo]) -> None:
+        self._pdos = value
 
     @property
     def od(self) -> dict[int, dict[int, TargetEntry]]:

@@ -7,6 +7,11 @@ from dcf2bin.dynod import codes as C
 from dcf2bin.dynod.outcome import _dir, _Fail, _le, _pdo_name, can_id_problem, RX, TX
 
 
+def _label(key: tuple[int, int]) -> str:
+    """``0x1A00sub1``: a mapped object as the messages name it."""
+    return f"0x{key[0]:04X}sub{key[1]:X}"
+
+
 class _PdoSemantics:
     """The CiA 301 PDO semantics ``_Engine`` applies to a write: COB-ID and mapping rules."""
 
@@ -74,10 +79,10 @@ class _PdoSemantics:
         """(bits of the object, reason it cannot be mapped or None, code); None when the
         object cannot be checked (unknown static OD)."""
         m_idx, m_sub, bits = value >> 16, (value >> 8) & 0xFF, value & 0xFF
-        label = f"0x{m_idx:04X}sub{m_sub:X}"
+        key = (m_idx, m_sub)
         if 1 <= m_idx <= 7 and m_sub == 0:                          # dummy entries
             t = dt.BY_CODE[m_idx]
-            return self.length_problem(label, t.kind == dt.BOOL, t.bits, bits, True, True, True,
+            return self.length_problem(key, t.kind == dt.BOOL, t.bits, bits, True, True, True,
                                        direction)
         rec = self.record(m_idx, m_sub)
         if rec is None:
@@ -85,43 +90,46 @@ class _PdoSemantics:
                 self.warn(("mapped", m_idx, m_sub), pos)
                 return None
             if self.exists_index(m_idx):
-                return C.SUBINDEX_NOT_EXIST, f"the mapped object {label} does not exist (no " \
-                                             f"sub {m_sub} in 0x{m_idx:04X})"
+                return C.SUBINDEX_NOT_EXIST, f"the mapped object 0x{m_idx:04X}sub{m_sub:X} " \
+                                             f"does not exist (no sub {m_sub} in 0x{m_idx:04X})"
             return C.INDEX_NOT_EXIST, f"the mapped object 0x{m_idx:04X} does not exist"
         attr, data, st = rec
         if st is not None:
             t = st.dtype
             obits = t.bits if t is not None and t.size is not None else len(data or b"") * 8
             is_bool = t is not None and t.kind == dt.BOOL
-            return self.length_problem(label, is_bool, obits, bits, st.pdo_mapping,
+            return self.length_problem(key, is_bool, obits, bits, st.pdo_mapping,
                                        st.access in dt.READABLE, st.access in dt.WRITABLE,
                                        direction)
         if attr is None:            # written earlier without an attribute byte
             self.warn(("mapped-untyped", m_idx, m_sub), pos)
             return None
-        return self.length_problem(label, bool(attr & dt.ATTR_BOOLEAN), len(data) * 8, bits,
+        return self.length_problem(key, bool(attr & dt.ATTR_BOOLEAN), len(data) * 8, bits,
                                    bool(attr & dt.ATTR_PDO), bool(attr & dt.ATTR_READ),
                                    bool(attr & dt.ATTR_WRITE), direction)
 
-    def length_problem(self, label, is_bool, obits, bits, mappable, readable, writable,
+    def length_problem(self, key, is_bool, obits, bits, mappable, readable, writable,
                        direction):
+        """Why the object ``key`` (index, sub) cannot be mapped with ``bits``, or None (its
+        label is made only for a message)."""
         if not mappable:
-            return C.PDO_MAPPING, f"{label} is not PDO-mappable"
+            return C.PDO_MAPPING, f"{_label(key)} is not PDO-mappable"
         if direction == RX and not writable:
-            return C.PDO_MAPPING, f"{label} is not writable, so an RPDO cannot map it"
+            return C.PDO_MAPPING, f"{_label(key)} is not writable, so an RPDO cannot map it"
         if direction == TX and not readable:
-            return C.PDO_MAPPING, f"{label} is not readable, so a TPDO cannot map it"
+            return C.PDO_MAPPING, f"{_label(key)} is not readable, so a TPDO cannot map it"
         if is_bool:
             if bits == 1 and not self.opts.bit_mapping:
-                return C.PDO_MAPPING, f"{label} is a BOOLEAN mapped with 1 bit, and the target " \
-                                      "has no bit mapping"
+                return C.PDO_MAPPING, f"{_label(key)} is a BOOLEAN mapped with 1 bit, and " \
+                                      "the target has no bit mapping"
             if bits not in (1, 8):
-                return C.PDO_MAPPING, f"{label} is a BOOLEAN mapped with {bits} bits (1 or 8)"
+                return C.PDO_MAPPING, f"{_label(key)} is a BOOLEAN mapped with {bits} bits " \
+                                      "(1 or 8)"
         elif bits != obits:
-            return C.PDO_MAPPING, f"{label} has {obits} bits, the mapping says {bits}"
+            return C.PDO_MAPPING, f"{_label(key)} has {obits} bits, the mapping says {bits}"
         if self.opts.granularity == 8 and bits % 8:
-            return C.PDO_MAPPING, f"{label} is mapped with {bits} bits, and the target maps " \
-                                  "whole bytes only (granularity 8)"
+            return C.PDO_MAPPING, f"{_label(key)} is mapped with {bits} bits, and the " \
+                                  "target maps whole bytes only (granularity 8)"
         return None
 
     def check_mapped(self, pos: int, value: int, direction: str) -> None:

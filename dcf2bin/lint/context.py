@@ -146,22 +146,34 @@ class DcfContext:
         callers can still compare offsets; ``uses_nodeid`` tells them. None when the
         value cannot be worked out (DCF200 reports it).
         """
-        key = id(entry) if text is None else None
-        if key is not None and key in self._ints:
-            return self._ints[key]
+        if text is None:
+            key = id(entry)
+            got = self._ints.get(key)
+            if got is not None:
+                return got
+            text = entry.value_text
+        else:
+            key = None
         result: tuple[int | None, bool] = (None, False)
         dtype = entry.dtype
-        if text is None:
-            text = entry.value_text
-        if dtype is not None and dtype.is_integer and text is not None:
-            t = values.split_numeric_comment(text)[0] if dtype.kind != dt.BOOL else text
-            nodeid = values.uses_nodeid(t)
-            node = self.dev.node_id if self.dev.node_id is not None else 0
-            try:
-                data = values.encode(dtype, t, node_id=node)
-                result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT), nodeid)
-            except values.ValueProblem:
-                result = (None, nodeid)
+        if text is not None and dtype is not None and dtype.is_integer:
+            # the model's encodings (Device.encoded, filled by the selection) hold only
+            # values encoded without a numeric comment, with the file's node-ID: the same
+            # bytes as encoding ``t`` here (a $NODEID value without a node-ID is never there)
+            data = self.dev.encoded.get((dtype.code, text))
+            if data is not None:
+                result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT),
+                          values.uses_nodeid(text))
+            else:
+                t = values.split_numeric_comment(text)[0] if dtype.kind != dt.BOOL else text
+                nodeid = values.uses_nodeid(t)
+                node = self.dev.node_id if self.dev.node_id is not None else 0
+                try:
+                    data = values.encode(dtype, t, node_id=node)
+                    result = (int.from_bytes(data, "little", signed=dtype.kind == dt.SINT),
+                              nodeid)
+                except values.ValueProblem:
+                    result = (None, nodeid)
         if key is not None:
             self._ints[key] = result
         return result

@@ -348,8 +348,8 @@ def granularity(ctx):
         if not is_pdo_mapping(idx):
             continue
         obj = ctx.dev.objects[idx]
-        configured = [e for e in obj.entries.values() if e.configured]
         if g == 0:
+            configured = [e for e in obj.entries.values() if e.configured]
             if configured:
                 line = configured[0].value_where.line
                 yield Finding(f"PDO mapping 0x{idx:04X} is configured but [DeviceInfo] "

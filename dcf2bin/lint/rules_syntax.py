@@ -31,7 +31,8 @@ def unknown_key(ctx):
     for kind, rest, secs in ctx.groups:     # one verdict per shared template
         if kind is None or kind == "aux":
             continue   # [<index>Name]/[<index>Value]/[<index>Denotation] keys: DCF026
-        names = tuple(ctx.key_names(secs[0]))
+        # a template's keys are its sections' (the names' lines are in it, empty)
+        names = tuple(rest) if rest is not None else tuple(ctx.key_names(secs[0]))
         unknown = verdicts.get((kind, names))
         if unknown is None:
             unknown = verdicts[(kind, names)] = unknown_keys(kind, names)

@@ -67,6 +67,8 @@ def _bad_values(ctx, e, known: dict, seen: set):
 
 
 def _value_problem(ctx, dtype, text: str) -> str | None:
+    if (dtype.code, text) in ctx.dev.encoded:
+        return None     # the model encoded it already (the selection's values): no problem
     try:
         _encode(ctx, dtype, text, ctx.dev.node_id)
     except values.NeedsNodeId:

@@ -221,6 +221,13 @@ def nameless(ctx) -> dict[str | None, set[int]]:
     if got is None:
         got = {}
         for kind, rest, secs in groups(ctx):
+            if rest is not None and len(secs) == 1:    # most groups but the variables'
+                s = secs[0]
+                v = s.param_name
+                if (v if v is not None else rest.get("parametername")):
+                    continue        # (name_values' answer for one section, without lists)
+                got.setdefault(kind, set()).add(id(s))
+                continue
             names = name_values(rest, secs, "parametername")
             if None in names:
                 got.setdefault(kind, set()).update(

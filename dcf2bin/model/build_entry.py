@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt, ini as ini_mod, values
 from dcf2bin.diagnostics import Where
-from dcf2bin.indexes import is_network_variable_index
+from dcf2bin.indexes import NV_FIRST, NV_LAST
 from dcf2bin.model.objects import Entry
 from dcf2bin.model.sections import _ACCESS, _DTYPES, _pdo_flag, _proto
 
@@ -32,19 +32,27 @@ class _EntrySteps:
 
     def _entry_from(self, idx: int, sub: int, sec: ini_mod.Section, obj_flags: int,
                     obj_map: bool, sub0: bool) -> Entry:
-        dev = self.dev
-        get = sec.values.get  # '' counts as absent
+        # the section's values: its template's (the fast reader's) with the names cut out
+        # of it put back, without building the section's own dict of them
+        rest = sec.rest
+        get = (rest if rest is not None else sec.values).get   # '' counts as absent
+        name = sec.param_name if rest is not None else None
+        if name is None:
+            name = get("parametername")
+        den = sec.denotation if rest is not None else None
+        if den is None:
+            den = get("denotation")
+        lazy = self.lazy_where    # Entry.where makes the Where from the section's line
         # positional, in field order
-        e = Entry(idx, sub, get("parametername") or "", None, None, False, 0,
+        e = Entry(idx, sub, name or "", None, None, False, obj_flags,
                   get("defaultvalue") or None, get("parametervalue") or None,
                   get("downloadfile") or None, get("lowlimit") or None,
-                  get("highlimit") or None, get("denotation") or None,
-                  Where(self.path, sec.line), None, False, sec)
-        e.obj_flags = (self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
-                       if get("objflags") else obj_flags)
-        pm = get("pdomapping") or None
-        e.pdo_mapping = _pdo_flag(pm) if pm is not None else obj_map
-        nv = is_network_variable_index(idx) and sub >= 1
+                  get("highlimit") or None, den or None,
+                  lazy if lazy is not None else Where(self.path, sec.line), None, False, sec)
+        if get("objflags"):
+            e.obj_flags = self._int_key(sec, "objflags", obj_flags, idx, sub) or 0
+        pm = get("pdomapping")
+        e.pdo_mapping = _pdo_flag(pm) if pm else obj_map
         text = get("datatype")
         if text:
             e.dtype = _DTYPES.get(text)
@@ -52,22 +60,22 @@ class _EntrySteps:
                 e.dtype = self._datatype(sec, text, idx, sub)
         elif sub0:
             e.dtype = dt.UNSIGNED8
-        elif not nv:
-            dev.error(f"[{sec.name}] has no DataType", self.w(sec.line), idx, sub,
-                      rule="DCF031")
+        elif not (sub >= 1 and NV_FIRST <= idx <= NV_LAST):
+            self.dev.error(f"[{sec.name}] has no DataType", self.w(sec.line), idx, sub,
+                           rule="DCF031")
         text = get("accesstype")
         if text:
             acc = _ACCESS.get(text) or text.strip().lower()
             if acc in dt.ACCESS_ATTR:
                 e.access = acc
             else:
-                dev.error(f"[{sec.name}] unknown AccessType '{text}'",
-                          self.w(sec.line_of("accesstype")), idx, sub, rule="DCF032")
+                self.dev.error(f"[{sec.name}] unknown AccessType '{text}'",
+                               self.w(sec.line_of("accesstype")), idx, sub, rule="DCF032")
         elif sub0:
             e.access = "ro"
-        elif not nv:
-            dev.error(f"[{sec.name}] has no AccessType", self.w(sec.line), idx, sub,
-                      rule="DCF033")
+        elif not (sub >= 1 and NV_FIRST <= idx <= NV_LAST):
+            self.dev.error(f"[{sec.name}] has no AccessType", self.w(sec.line), idx, sub,
+                           rule="DCF033")
         return e
 
     def _datatype(self, sec: ini_mod.Section, text: str, idx: int, sub: int):

@@ -100,6 +100,7 @@ class _ObjectStep:
             e = self._entry(idx, s, sec, obj_flags=obj_flags, obj_map=obj_map)
             e.name = f"{base_name}{s}"
             e.param = None
+            e.where = Where(self.path, sec.line)   # (not from the section, which goes:)
             e.section = None            # its keys are the object's: lines by hand
             e.lines = {k: sec.line_of(k) for k in sec.values if k != "parametervalue"}
             obj.entries[s] = e

@@ -94,6 +94,9 @@ class _ValueChecks:
         return out
 
     def _text_check(self, out: list, seen: set, e: Entry, key: str, text: str) -> None:
+        k = (e.dtype.code, text)
+        if k in self.encoded or (k in self._verdicts and self._verdicts[k] is None):
+            return          # encoded already, or found fine before (text_problem's answer)
         problem = self.text_problem(e.dtype, text)
         if problem is None:
             return
