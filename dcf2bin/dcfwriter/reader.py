@@ -85,7 +85,7 @@ class _Reader:
             if order != sorted(order):
                 obj.subs = dict(sorted(obj.subs.items()))
         self._implied_sub0()
-        self._choose_encoding()
+        _choose_encoding(self.spec)
         _values(self.spec)
         return self.spec
 
@@ -273,17 +273,19 @@ class _Reader:
                                 "container; compile writes sub 0 of every network-variable "
                                 "object")
 
-    # -- values -----------------------------------------------------------------------------------
-    def _choose_encoding(self) -> None:
-        """UTF-8, unless a VISIBLE_STRING holds bytes that are not: then Latin-1 (SPEC §1)."""
-        for obj in self.objects.values():
-            for s in obj.subs.values():
-                if s.writes and s.dtype.kind == dt.VSTRING:
-                    try:
-                        s.data.decode("utf-8")
-                    except UnicodeDecodeError:
-                        self.spec.encoding = "latin-1"
-                        return
+
+# -- values ---------------------------------------------------------------------------------------
+
+def _choose_encoding(spec: DcfSpec) -> None:
+    """UTF-8, unless a VISIBLE_STRING holds bytes that are not: then Latin-1 (SPEC §1)."""
+    for obj in spec.objects.values():
+        for s in obj.subs.values():
+            if s.writes and s.dtype.kind == dt.VSTRING:
+                try:
+                    s.data.decode("utf-8")
+                except UnicodeDecodeError:
+                    spec.encoding = "latin-1"
+                    return
 
 
 def _values(spec: DcfSpec) -> None:
