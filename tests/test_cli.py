@@ -201,3 +201,40 @@ def test_refuses_binary_to_a_terminal():
     assert out.returncode == 2
     assert out.stderr == ("dcf2bin: error: refusing to write binary data to a terminal; "
                           "use -o FILE or a pipe\n")
+
+
+def test_compile_leaves_the_collector_alone_until_exit(tmp_path, monkeypatch):
+    # the last scans of the teardown are spared by gc.freeze at exit (cli/compile.py):
+    # registered once however many compiles a process runs, and nothing frozen before
+    import atexit
+    import gc
+
+    import dcf2bin.cli.compile as compile_cli
+    calls = []
+    monkeypatch.setattr(compile_cli, "atexit", type(atexit)("fake_atexit"))
+    compile_cli.atexit.register = lambda fn: calls.append(("register", fn))
+    compile_cli.atexit.unregister = lambda fn: calls.append(("unregister", fn))
+    frozen = gc.get_freeze_count()
+    for n in range(2):
+        r = run("compile", str(SAMPLES / "plc.dcf"), "-o", str(tmp_path / f"{n}.bin"))
+        assert r.exit_code == 0, r.output
+        assert (tmp_path / f"{n}.bin").read_bytes() == (SAMPLES / "plc.bin").read_bytes()
+    assert calls == [("unregister", gc.freeze), ("register", gc.freeze)] * 2
+    assert gc.get_freeze_count() == frozen
+
+
+def test_compile_process_freezes_at_exit_and_finishes_its_teardown(tmp_path):
+    # a handler registered before the command runs after the freeze (last in, first
+    # out): the exit still runs every handler and flushes the streams
+    out = tmp_path / "plc.bin"
+    code = ("import atexit, gc, sys\n"
+            "atexit.register(lambda: print('frozen at exit:', gc.get_freeze_count() > 0))\n"
+            "from dcf2bin.cli import main\n"
+            "print('frozen before:', gc.get_freeze_count() > 0)\n"
+            "main(sys.argv[1:])\n")
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(__file__).parents[1]))
+    p = subprocess.run([sys.executable, "-c", code, "compile", str(SAMPLES / "plc.dcf"),
+                        "-o", str(out)], capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout == "frozen before: False\nfrozen at exit: True\n"
+    assert out.read_bytes() == (SAMPLES / "plc.bin").read_bytes()
