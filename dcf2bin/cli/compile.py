@@ -5,8 +5,6 @@ the command so that ``dcf2bin --help`` stays fast.
 """
 from __future__ import annotations
 
-import atexit
-import gc
 import os
 
 import click
@@ -82,7 +80,6 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                 c_decl, debug):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
-    _no_scan_at_exit()
     out_format = fmt
     data_in = read_input(input)
     fmt = input_kind(input, data_in, ("dcf", "json"), from_, quiet=quiet)
@@ -122,18 +119,6 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
             msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
                     f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
         click.echo(msg, err=True)
-
-
-def _no_scan_at_exit() -> None:
-    """Spare the interpreter's teardown its last scans for reference cycles among the
-    objects of the imported modules (about 8 ms of every compile, a tenth of a small
-    file's): at exit, before the modules are torn down, the cyclic collector is told to
-    leave every object then alive alone (``gc.freeze``). Nothing else of the teardown
-    changes: the atexit handlers run, the streams are flushed, every module is cleared
-    and whatever is not in a cycle is freed. It waits for the exit, so a process that
-    compiles and goes on (a test, a library user calling the command) is not touched."""
-    atexit.unregister(gc.freeze)    # once, however many compiles the process runs
-    atexit.register(gc.freeze)
 
 
 def _writer(out_format: str, c_name: str | None, c_decl: str, input: str):
