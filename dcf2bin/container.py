@@ -69,8 +69,20 @@ class BinContainer:
                 "extinfo": self.extinfo_bytes(), "piparam": self.piparam_bytes()}
 
     # -- bytes --------------------------------------------------------------------------------
+    def segment_sizes(self) -> dict[str, int]:
+        """The size of each segment's bytes, without making them (``segments``' lengths)."""
+        entries = self.entries
+        index = schema.COUNT.size + schema.ENTRY_HEAD.size * len(entries) + sum(
+            map(len, [e[2] for e in entries]))
+        return {"index": index,
+                "address": schema.ADDRESS_SIZE * len(self.addresses or ()),
+                "extinfo": len(self.attributes or b""),
+                "piparam": len(self.piparam_bytes())}
+
     def canonical_header(self) -> dict[str, int]:
-        segs = self.segments()
+        # the header depends on the segments' sizes only: the schema builds it from
+        # zero bytes of those sizes, so that a dump need not make the index segment
+        segs = {name: bytes(size) for name, size in self.segment_sizes().items()}
         built = schema.Container.build(dict(version=self.version, **segs))
         parsed = schema.HeaderC.parse(built[:schema.HEADER_SIZE])
         return {k: parsed[k] for k in schema.HEADER_FIELDS}
@@ -196,7 +208,10 @@ def _read_index(seg: bytes, base: int) -> list[tuple[int, int, bytes]]:
     if count * schema.ENTRY_HEAD.size > n - 4:
         raise ContainerError(f"index segment claims {count} entries, but {n - 4} bytes hold at "
                              f"most {(n - 4) // schema.ENTRY_HEAD.size}", base, "CNT011")
-    entries = []
+    entries = _read_entries(seg, count)
+    if entries is not None:
+        return entries
+    entries = []        # a segment that does not hold its entries exactly: find where
     pos = 4
     unpack = schema.ENTRY_HEAD.unpack_from
     head = schema.ENTRY_HEAD.size
@@ -215,3 +230,23 @@ def _read_index(seg: bytes, base: int) -> list[tuple[int, int, bytes]]:
     if pos != n:
         raise ContainerError(f"{n - pos} bytes after the last index entry", base + pos, "CNT011")
     return entries
+
+
+def _read_entries(seg: bytes, count: int) -> list[tuple[int, int, bytes]] | None:
+    """The ``count`` entries of an index segment that holds them exactly, read without a
+    bounds check each; None when it does not (``_read_index`` then says where not)."""
+    unpack = schema.ENTRY_HEAD.unpack_from
+    head = schema.ENTRY_HEAD.size
+    seg = bytes(seg)
+    entries = []
+    append = entries.append
+    pos = 4
+    try:
+        for _ in range(count):
+            index, sub, size = unpack(seg, pos)
+            pos += head
+            append((index, sub, seg[pos:pos + size]))
+            pos += size
+    except struct.error:
+        return None
+    return entries if pos == len(seg) else None

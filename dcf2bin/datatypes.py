@@ -25,6 +25,7 @@ ATTR_TYPE_MASK = ATTR_BOOLEAN | ATTR_VSTRING | ATTR_NUMERIC
 
 @dataclass(frozen=True)
 class DataType:
+    """A CiA 301 data type: its code, name, size in bytes (None: variable length) and kind."""
     code: int
     name: str
     size: int | None  # bytes; None = variable length

@@ -32,6 +32,7 @@ def canonical_section(name: str) -> str:
 
 @dataclass(slots=True)
 class Key:
+    """One key of a section: its name as written, its value (trimmed) and its line."""
     name: str   # as written
     value: str  # trimmed
     line: int
@@ -212,6 +213,7 @@ class _Source:
 
 @dataclass(slots=True)
 class Duplicate:
+    """A repeated section (``key`` None) or key, with the line of its first occurrence."""
     section: str        # canonical section name
     key: str | None     # lower-case key name; None for a repeated section
     first_line: int
@@ -220,6 +222,7 @@ class Duplicate:
 
 @dataclass
 class IniFile:
+    """A read INI file: its sections by canonical name, what was repeated, its findings."""
     path: str
     encoding: str
     sections: dict[str, Section]

@@ -265,6 +265,7 @@ def attach_channels(dev) -> None:
 
 @dataclass(slots=True)
 class Variable:
+    """A network variable's place in the process image: its area and offset there."""
     index: int
     sub: int
     dtype: dt.DataType
@@ -279,6 +280,7 @@ _FIRST_SUB = operator.itemgetter(4)      # a run's first subindex
 
 @dataclass
 class Layout:
+    """The process image: the areas' sizes and offsets, and where each variable lies."""
     input_size: int = 0
     output_offset: int = 0
     output_size: int = 0

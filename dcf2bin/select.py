@@ -24,6 +24,7 @@ MAX_MAPPED = 64
 
 @dataclass(slots=True)
 class Write:
+    """One entry the container writes: index, subindex, data and attribute byte."""
     index: int
     sub: int
     data: bytes

@@ -140,3 +140,32 @@ def test_first_occurrences_of_network_variables(keys, ascending):
             seen.add((i, s))
             expected.append(p)
     assert structure.nv_firsts(entries)[0] == expected
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([0x1000, 0x9FFF, 0xA000, 0xA040, 0xA041, 0xAFFF,
+                                           0xB000]), st.integers(0, 3)), max_size=16),
+       st.booleans())
+def test_network_variables_ascend_run_by_run(keys, ascending):
+    # the run-by-run shortcut says "ascending" exactly when the keys of the network
+    # variables (sub 0 is none), in position order, ascend strictly: also across runs of
+    # the same object split by another, and for an object written twice
+    if ascending:
+        keys = sorted(keys)     # repeats kept: a key twice does not ascend strictly
+    entries = [(i, s, b"") for i, s in keys]
+    nv = [(i << 8 | s, p) for p, (i, s, _) in enumerate(entries) if 0xA000 <= i <= 0xAFFF and s]
+    strictly = all(a < b for (a, _), (b, _) in zip(nv, nv[1:]))
+    positions, flag = structure.nv_firsts(entries)
+    assert flag is strictly
+    assert structure._ascending_runs(entries) == ([p for _, p in nv] if strictly else None)
+    if strictly:
+        assert positions == [p for _, p in nv]
+
+
+def test_network_variables_ascend_across_a_split_object():
+    # 0xA040 sub 1-2, another object, 0xA040 sub 3: ascending; sub 2 again: not
+    split = [(0xA040, 0, b""), (0xA040, 1, b""), (0xA040, 2, b""), (0x1000, 0, b""),
+             (0xA040, 3, b"")]
+    assert structure.nv_firsts(split) == ([1, 2, 4], True)
+    again = split[:4] + [(0xA040, 2, b""), (0xA040, 3, b"")]
+    assert structure.nv_firsts(again) == ([1, 2, 5], False)

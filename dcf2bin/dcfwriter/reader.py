@@ -10,11 +10,14 @@ encoding (UTF-8, or Latin-1 when a string needs it; SPEC §1).
 """
 from __future__ import annotations
 
+from itertools import groupby, repeat
+from operator import is_, itemgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter.entries import EntryTyper
 from dcf2bin.dcfwriter.spec import (R_HEADER, R_PI, R_SELECT, R_VALUE, ChannelSpec, DcfSpec,
-                                    Issues, ObjSpec, SubSpec, Write, by_size, holds, short,
+                                    Issues, ObjSpec, SubSpec, Write, by_size, short,
                                     table_type, value_text)
 from dcf2bin.dump import EdsInfo, entry_offsets, header_of
 from dcf2bin.layout import INPUT, OUTPUT, OUTPUT_FIRST, PER_INDEX, TABLE_END
@@ -42,41 +45,48 @@ class _Reader:
         attrs = c.attributes or b""
         n = len(c.entries)
         self._header_issues(n, attrs)
-        groups: dict[tuple[int, int], list[Write]] = {}
         offsets = self.spec.offsets
         n_attrs = len(attrs)
-        nv_order = self.nv_order = []      # network variables, first occurrence (SPEC §3.4)
-        for i, (index, sub, data) in enumerate(c.entries):
-            w = Write(i, offsets[i], data, attrs[i] if i < n_attrs else None)
-            g = groups.get((index, sub))
-            if g is None:
-                groups[(index, sub)] = [w]
-                if sub and NV_FIRST <= index <= NV_LAST:
-                    nv_order.append((index, sub))
-            else:
-                g.append(w)
+        attr_of = list(attrs[:n]) + [None] * (n - n_attrs) if n_attrs < n else attrs
+        indexes, subs, datas = zip(*c.entries) if n else ((), (), ())
+        writes = list(map(Write, range(n), offsets, datas, attr_of))
+        keys = list(zip(indexes, subs))
+        groups: dict[tuple[int, int], list[Write]] = dict.fromkeys(keys)
+        if len(groups) == n:        # every (index, sub) written once: one write each
+            groups = dict(zip(keys, [[w] for w in writes]))
+        else:
+            for key, w in zip(keys, writes):
+                g = groups[key]
+                if g is None:
+                    groups[key] = [w]
+                else:
+                    g.append(w)
+        # network variables, first occurrence (SPEC §3.4)
+        self.nv_order = [key for key in groups if key[1] and NV_FIRST <= key[0] <= NV_LAST]
         nv_vars = []
-        subs_of: dict[int, list[int]] = {}
-        for index, sub in groups:
-            subs_of.setdefault(index, []).append(sub)
         objects = self.objects
         typer = self.typer
-        for key in sorted(groups):
-            index, sub = key
-            obj = objects.get(index)
-            if obj is None:
-                obj = objects[index] = ObjSpec(index, typer.object_type(index, subs_of[index]),
-                                               typer.object_name(index))
-            if sub and NV_FIRST <= index <= NV_LAST:
-                nv_vars.append((index, sub, groups[key]))
+        # the written (index, sub) pairs in order, one object (a run of one index) at a time
+        for index, written in groupby(sorted(groups), key=itemgetter(0)):
+            written = list(written)
+            kind = typer.object_type(index, [key[1] for key in written])
+            obj = objects[index] = ObjSpec(index, kind, typer.object_name(index))
+            if NV_FIRST <= index <= NV_LAST:
+                if written[0][1] == 0:
+                    obj.subs[0] = typer.entry(index, 0, groups[written[0]])
+                    written = written[1:]
+                nv_vars += [(index, key[1], groups[key]) for key in written]
                 continue
-            obj.subs[sub] = typer.entry(index, sub, groups[key])
+            for key in written:
+                obj.subs[key[1]] = typer.entry(index, key[1], groups[key])
         self._network_variables(nv_vars)
         for obj in objects.values():
-            obj.subs = dict(sorted(obj.subs.items()))
+            order = list(obj.subs)
+            if order != sorted(order):
+                obj.subs = dict(sorted(obj.subs.items()))
         self._implied_sub0()
-        self._choose_encoding()
-        self._values()
+        _choose_encoding(self.spec)
+        _values(self.spec)
         return self.spec
 
     def _header_issues(self, n: int, attrs: bytes) -> None:
@@ -101,36 +111,45 @@ class _Reader:
         c = self.c
         addr_of = {}
         if c.addresses is not None:
-            addr_of = dict(zip(self.nv_order, c.addresses))
+            if list(map(_KEY, nv_vars)) == self.nv_order:
+                # first written in ascending order (as compile writes them): the addresses
+                # follow the variables one for one
+                addr_of = None
+                addrs = c.addresses + [None] * (len(nv_vars) - len(c.addresses))
+            else:
+                addr_of = dict(zip(self.nv_order, c.addresses))
         vars_ = []
-        range_type: dict[int, dt.DataType | None] = {}
+        append = vars_.append
         eds = self.eds
+        typer = self.typer
+        current = tt = None
+        size, boolean = -1, False      # of the range's type (-1: no type, no data fits)
         for index, sub, writes in nv_vars:
             last = writes[-1]
             if len(writes) > 1 or last.attr != 0xF0 or sub > PER_INDEX:
-                self.typer.nv_checks(index, sub, writes)
-            dtype = None
-            if eds is None:  # fast path: the range's type fits
-                tt = range_type.get(index, 0)
-                if tt == 0:
-                    t = table_type(index)
-                    tt = range_type[index] = t[0] if t is not None else None
-                if holds(tt, last.data):
-                    dtype = tt
-            if dtype is None:
-                dtype = self.typer.nv_type(index, sub, last)
-            vars_.append((index, sub, dtype, writes, addr_of.get((index, sub))))
+                typer.nv_checks(index, sub, writes)
+            if index != current:       # the range's type, once for each index
+                current = index
+                t = table_type(index) if eds is None else None
+                tt = t[0] if t is not None else None
+                size, boolean = (tt.size, tt.kind == dt.BOOL) if tt is not None else (-1, False)
+            data = last.data
+            if len(data) == size and (not boolean or data[0] < 2):
+                dtype = tt             # fast path: the range's type holds the value (holds)
+            else:
+                dtype = typer.nv_type(index, sub, last)
+            append((index, sub, dtype, writes, addr_of.get((index, sub))
+                    if addr_of is not None else addrs[len(vars_)]))
         self._plan_channels(vars_)
-        direction_of = {}
         objects = self.objects
+        current = access = subs = None
         for index, sub, dtype, writes, _ in vars_:
-            direction = direction_of.get(index)
-            if direction is None:
-                direction = direction_of[index] = self._direction_of(index)
-            objects[index].subs[sub] = SubSpec(index, sub, dtype,
-                                               "ro" if direction == INPUT else "rw", True,
-                                               writes, f"Variable {sub}" if self.eds is None
-                                               else self.typer.sub_name(index, sub))
+            if index != current:       # the area, access and subs of one index at a time
+                current = index
+                access = "ro" if self._direction_of(index) == INPUT else "rw"
+                subs = objects[index].subs
+            subs[sub] = SubSpec(index, sub, dtype, access, True, writes,
+                                _VARIABLE[sub] if eds is None else typer.sub_name(index, sub))
 
     def _direction_of(self, index: int) -> str:
         for ch in self.spec.channels:
@@ -143,11 +162,22 @@ class _Reader:
         c = self.c
         pi = c.pi
         by_index: dict[int, list] = {}
+        # _area's common case inline: the address in the area of the index's range
+        lo = hi = base = 0
+        direction = None
+        current = vs = None
         for index, sub, dtype, writes, addr in vars_:
             if dtype.size is None:
                 continue      # reported: no segment can hold it, compile rejects it
-            direction, off = self._area(index, addr, pi, writes[0].offset)
-            by_index.setdefault(index, []).append((sub, dtype, direction, off, writes[0].offset))
+            if index != current:        # the area of the index's range, once an index
+                current = index
+                vs = by_index.setdefault(index, [])
+                lo, hi, base, direction = _range_area(index, pi)
+            if addr is not None and lo <= addr < hi:
+                vs.append((sub, dtype, direction, addr - base, writes[0].offset))
+            else:
+                vs.append((sub, dtype, *self._area(index, addr, pi, writes[0].offset),
+                           writes[0].offset))
         nv_objects = sorted(i for i in self.objects if is_nv(i))
         regions = [(NV_FIRST + k * 0x40, NV_FIRST + k * 0x40 + 0x3F) for k in range(36)]
         regions.append((TABLE_END, NV_LAST))
@@ -163,7 +193,8 @@ class _Reader:
                 if not vs:
                     continue
                 _, dtype, direction, _, where = vs[0]
-                if any(v[1] is not dtype or v[2] != direction for v in vs[1:]):
+                if not (all(map(is_, repeat(dtype), map(_DTYPE, vs)))
+                        and all(map(direction.__eq__, map(_DIRECTION, vs)))):
                     self.issues.add(R_PI, where, f"0x{index:04X}: its variables differ in type "
                                     "or area; one [DynamicChannels] segment cannot hold them")
                 cur = region[-1] if region else None
@@ -242,45 +273,74 @@ class _Reader:
                                 "container; compile writes sub 0 of every network-variable "
                                 "object")
 
-    # -- values -----------------------------------------------------------------------------------
-    def _choose_encoding(self) -> None:
-        """UTF-8, unless a VISIBLE_STRING holds bytes that are not: then Latin-1 (SPEC §1)."""
-        for obj in self.objects.values():
-            for s in obj.subs.values():
-                if s.writes and s.dtype.kind == dt.VSTRING:
-                    try:
-                        s.data.decode("utf-8")
-                    except UnicodeDecodeError:
-                        self.spec.encoding = "latin-1"
-                        return
 
-    def _values(self) -> None:
-        enc = self.spec.encoding
-        for obj in self.objects.values():
-            for s in obj.subs.values():
-                if not s.writes:
-                    continue
+# -- values ---------------------------------------------------------------------------------------
+
+def _choose_encoding(spec: DcfSpec) -> None:
+    """UTF-8, unless a VISIBLE_STRING holds bytes that are not: then Latin-1 (SPEC §1)."""
+    for obj in spec.objects.values():
+        for s in obj.subs.values():
+            if s.writes and s.dtype.kind == dt.VSTRING:
+                try:
+                    s.data.decode("utf-8")
+                except UnicodeDecodeError:
+                    spec.encoding = "latin-1"
+                    return
+
+
+def _values(spec: DcfSpec) -> None:
+    """The ParameterValue text of every written sub (SPEC §1 encodings)."""
+    enc = spec.encoding
+    # the text of a value depends on its type and bytes only: made once for each pair
+    # (the variables of one object share a type; tens of thousands of them share a few
+    # hundred values)
+    by_type: dict = {}
+    dtype = texts = None
+    for obj in spec.objects.values():
+        for s in obj.subs.values():
+            if not s.writes:
+                continue
+            if s.dtype is not dtype:
+                dtype = s.dtype
+                texts = by_type.setdefault(dtype, {})
+            data = s.writes[-1].data
+            text = texts.get(data, False)
+            if text is False:
+                text = texts[data] = value_text(dtype, data, enc)
+            if text is None:
+                # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
+                # encoding: keep the bytes exact, lose the type (and its attribute bit)
+                old = s.dtype
+                s.dtype = dt.OCTET_STRING if old.size is None else by_size(len(s.data))
                 text = value_text(s.dtype, s.data, enc)
-                if text is None:
-                    # BOOLEAN other than 0/1, a string with CR/LF or not in the file's
-                    # encoding: keep the bytes exact, lose the type (and its attribute bit)
-                    old = s.dtype
-                    s.dtype = dt.OCTET_STRING if old.size is None else by_size(len(s.data))
-                    text = value_text(s.dtype, s.data, enc)
-                    self.issues.add(R_VALUE, s.writes[-1].offset,
-                                    f"0x{s.index:04X}sub{s.sub:X}: {short(s.data)} cannot be "
-                                    f"written as a {old.name} value in a DCF; written as "
-                                    f"{s.dtype.name}")
-                s.value = text
+                spec.issues.add(R_VALUE, s.writes[-1].offset,
+                                f"0x{s.index:04X}sub{s.sub:X}: {short(s.data)} cannot be "
+                                f"written as a {old.name} value in a DCF; written as "
+                                f"{s.dtype.name}")
+            s.value = text
+
+
+def _range_area(index: int, pi) -> tuple[int, int, int, str | None]:
+    """(first address, end, area start, area) of the area of ``index``'s CiA 405 range in
+    the PI parameters: an address in [first, end) lies where _area puts it, at its
+    offset from the area start. An empty span where there is no such area."""
+    if pi is None or index >= TABLE_END:
+        return 0, 0, 0, None
+    _, in_off, in_size, out_off, out_size = pi
+    if index < OUTPUT_FIRST:
+        return in_off, in_off + in_size, in_off, INPUT
+    return out_off, out_off + out_size, out_off, OUTPUT
+
+
+_VARIABLE = [f"Variable {sub}" for sub in range(256)]   # a network variable's name
+_KEY, _DTYPE, _DIRECTION = itemgetter(0, 1), itemgetter(1), itemgetter(2)
 
 
 def _pp(vs, index: int, start: int, dtype: dt.DataType):
     """The segment start (PPOffset) that places all of ``vs`` in index ``index``."""
-    pps = set()
-    for sub, _, _, off, _ in vs:
-        if off is None:
-            continue
-        pps.add(off - ((index - start) * PER_INDEX + sub - 1) * dtype.size)
+    first = (index - start) * PER_INDEX - 1
+    size = dtype.size
+    pps = {off - (first + sub) * size for sub, _, _, off, _ in vs if off is not None}
     if not pps:
         return None
     if len(pps) > 1:

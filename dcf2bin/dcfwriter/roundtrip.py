@@ -8,6 +8,9 @@ tests/test_bin2dcf.py checks the prediction against the real compiler.
 """
 from __future__ import annotations
 
+from itertools import repeat
+from operator import itemgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.dcfwriter.spec import R_PDO, R_SUMMARY, DcfSpec, Issues, short, table_type
 from dcf2bin.diagnostics import Severity
@@ -18,6 +21,8 @@ from dcf2bin.model import is_pdo_comm as is_comm
 from dcf2bin.model import is_pdo_mapping as is_mapping
 from dcf2bin.select import CAN_ID_MASK, COB_INVALID, PdoRules
 
+# parts of a predicted write (index, sub, data, attribute)
+_ENTRY, _ATTR, _KEY = itemgetter(0, 1, 2), itemgetter(3), itemgetter(0, 1)
 _DIS2_OFF = 0xC0000000   # DIS-2 disables a PDO with bits 31 and 30 (no RTR) set
 
 
@@ -85,13 +90,13 @@ class _Predictor:
             return False, []
         attrs = c.attributes or b""
         actual = c.entries
-        first_diff = self._first_difference(writes)
+        first_diff = _first_difference(c, writes)
         entries_ok = first_diff is None and len(attrs) == len(actual)
         select_all = False
         if first_diff is not None and len(attrs) == len(actual):
             # SPEC §3.2 --entries all: group 2 takes every entry with a value, ro ones too
-            select_all = self._first_difference(
-                creation + self._configuration(idxs, everything=True) + pdo) is None
+            select_all = _first_difference(
+                c, creation + self._configuration(idxs, everything=True) + pdo) is None
         addresses, pi = layout
         pi_ok = (addresses == c.addresses and pi == c.pi and c.raw_piparam is None)
         no_pi_ok = c.addresses is None and c.pi is None and c.raw_piparam is None
@@ -139,18 +144,6 @@ class _Predictor:
                             f"container ({', '.join(what)}); for a lossless copy use "
                             "'dcf2bin dump --format json'")
         return False, options
-
-    def _first_difference(self, writes) -> int | None:
-        """The first entry where ``writes`` and the container differ (None: they agree)."""
-        attrs = self.c.attributes or b""
-        actual = self.c.entries
-        for i in range(max(len(writes), len(actual))):
-            e = writes[i] if i < len(writes) else None
-            a = actual[i] if i < len(actual) else None
-            a_attr = attrs[i] if i < len(attrs) else None
-            if e is None or a is None or e[:3] != a or e[3] != a_attr:
-                return i
-        return None
 
     def _difference(self, writes, i: int, advice: str) -> tuple[int | None, str]:
         """(offset, message) of the B2D010 warning that names entry ``i``."""
@@ -260,52 +253,99 @@ class _Predictor:
         if not nv_objs:
             return (None, None), None
         has_nv = any(s for i in nv_objs for s in self.objects[i].subs)
-        spans: dict[str, list] = {INPUT: [], OUTPUT: []}
-        placed = {}
+        blocks: dict[str, list] = {INPUT: [], OUTPUT: []}   # one run of variables an index
+        order_keys: list[tuple[int, int]] = []    # (index, sub) placed, in placement order
+        where: list[tuple[str, int]] = []          # (area, offset in it) of each
         for index in sorted(nv_objs):
             ch = _channel(self.spec, index)
             if ch is None:
                 return None, (f"0x{index:04X} lies in 0xA900-0xAFFF without a "
                               "[DynamicChannels] segment")
             first, dtype, direction, pp = ch
-            for sub, s in self.objects[index].subs.items():
-                if sub == 0:
-                    continue
-                if sub > PER_INDEX:
-                    return None, f"0x{index:04X}sub{sub:X}: subindex above 254"
-                if s.dtype.code != dtype.code:
-                    return None, (f"0x{index:04X}sub{sub:X}: {s.dtype.name} does not match "
-                                  f"the range type {dtype.name}")
-                off = pp + ((index - first) * PER_INDEX + sub - 1) * dtype.size
-                placed[(index, sub)] = (direction, off)
-                spans[direction].append((off, off + dtype.size, index, sub))
+            subs = self.objects[index].subs
+            keys = [sub for sub in subs if sub]
+            code = dtype.code
+            bad = next((sub for sub in keys
+                        if sub > PER_INDEX or subs[sub].dtype.code != code), None)
+            if bad is not None:
+                if bad > PER_INDEX:
+                    return None, f"0x{index:04X}sub{bad:X}: subindex above 254"
+                return None, (f"0x{index:04X}sub{bad:X}: {subs[bad].dtype.name} does not "
+                              f"match the range type {dtype.name}")
+            if not keys:
+                continue
+            # the variables of one index, one after the other from its place in the range
+            size = dtype.size
+            base = pp + ((index - first) * PER_INDEX - 1) * size
+            offs = [base + sub * size for sub in keys]
+            order_keys += zip(repeat(index), keys)
+            where += zip(repeat(direction), offs)
+            blocks[direction].append((offs[0], offs[-1] + size, index, keys[0], offs, keys,
+                                      size))
         sizes = {}
-        for area, lst in spans.items():
-            lst.sort()
-            reach = -1
-            for start, end, index, sub in lst:
-                if start < reach:
-                    return None, (f"0x{index:04X}sub{sub:X} overlaps another variable in the "
-                                  f"{area} area")
-                reach = max(reach, end)
-            sizes[area] = max((e for _, e, _, _ in lst), default=0)
+        for area, lst in blocks.items():
+            error = _overlap(lst, area)
+            if error:
+                return None, error
+            sizes[area] = max((b[1] for b in lst), default=0)
         in_size, out_size = sizes[INPUT], sizes[OUTPUT]
         out_off = -(-in_size // 8) * 8 if out_size else 0
         total = out_off + out_size if out_size else in_size
-        addresses = []
-        seen = set()
-        for index, sub, _, _ in writes:
-            key = (index, sub)
-            if key in placed and key not in seen:
-                seen.add(key)
-                direction, off = placed[key]
-                addr = off if direction == INPUT else out_off + off
-                if addr > 0xFFFF:
-                    return None, f"0x{index:04X}sub{sub:X}: address 0x{addr:X} above 0xFFFF"
-                addresses.append(addr)
+        # the placed variables in the order of their first write (D-10): compile writes
+        # them first, in placement order (then it is that order; else look them up)
+        if list(map(_KEY, writes[:len(order_keys)])) != order_keys:
+            placed = dict(zip(order_keys, where))
+            order = dict.fromkeys(filter(placed.__contains__, map(_KEY, writes)))
+            order_keys, where = list(order), list(map(placed.__getitem__, order))
+        addresses = [off if direction == INPUT else out_off + off for direction, off in where]
+        if addresses and max(addresses) > 0xFFFF:
+            (index, sub), addr = next((key, addr) for key, addr in zip(order_keys, addresses)
+                                      if addr > 0xFFFF)
+            return None, f"0x{index:04X}sub{sub:X}: address 0x{addr:X} above 0xFFFF"
         if not has_nv:
             return (None, None), None
         return (addresses, (total, 0, in_size, out_off, out_size)), None
+
+
+def _overlap(blocks: list, area: str) -> str | None:
+    """The error of the first variable that overlaps another in ``area`` (None: none does).
+    ``blocks``: one per index, its variables one after the other (start, end, index, first
+    sub, offsets, subs, size). Blocks that do not overlap hold no overlapping variables;
+    else the variables are sorted and checked one by one."""
+    blocks.sort(key=itemgetter(0, 1, 2, 3))
+    reach = -1
+    for start, end, *_ in blocks:
+        if start < reach:
+            break
+        reach = max(reach, end)
+    else:
+        return None
+    spans = sorted((off, off + size, index, sub) for _, _, index, _, offs, subs, size in blocks
+                   for off, sub in zip(offs, subs))
+    reach = -1
+    for start, end, index, sub in spans:
+        if start < reach:
+            return f"0x{index:04X}sub{sub:X} overlaps another variable in the {area} area"
+        reach = max(reach, end)
+    return None
+
+
+def _first_difference(c, writes) -> int | None:
+    """The first entry where ``writes`` and the container differ (None: they agree)."""
+    attrs = c.attributes or b""
+    actual = c.entries
+    n = len(actual)
+    if len(writes) == n and len(attrs) >= n and \
+            list(map(_ENTRY, writes)) == actual and \
+            list(map(_ATTR, writes)) == list(attrs[:n]):
+        return None      # the common case, compared in bulk; else find the entry below
+    for i in range(max(len(writes), len(actual))):
+        e = writes[i] if i < len(writes) else None
+        a = actual[i] if i < len(actual) else None
+        a_attr = attrs[i] if i < len(attrs) else None
+        if e is None or a is None or e[:3] != a or e[3] != a_attr:
+            return i
+    return None
 
 
 def _channel(spec: DcfSpec, index: int):

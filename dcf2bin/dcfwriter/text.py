@@ -7,6 +7,8 @@ value written; earlier writes are comments above it. ``[DeviceInfo]`` and
 """
 from __future__ import annotations
 
+from operator import attrgetter
+
 from dcf2bin import datatypes as dt
 from dcf2bin.dcfwriter.spec import DcfSpec, ObjSpec, SubSpec, value_text
 from dcf2bin.layout import INPUT
@@ -27,6 +29,7 @@ class _Renderer:
         self.eds_device = eds_device
         self.objects = spec.objects
         self.channels = spec.channels
+        self._names: dict[str, str] = {}     # a sub's name -> as written (_clean)
 
     def render(self) -> str:
         c = self.spec.container
@@ -71,7 +74,7 @@ class _Renderer:
                 w(f"{k}=0x{i:04X}")
             w("")
         for index in sorted(self.objects):
-            self._object(w, self.objects[index])
+            self._object(out, self.objects[index])
         return "\n".join(out).rstrip("\n") + "\n"
 
     def _device_info(self, w) -> None:
@@ -111,7 +114,8 @@ class _Renderer:
                 w(f"Dummy{code:04X}=1")
             w("")
 
-    def _object(self, w, obj: ObjSpec) -> None:
+    def _object(self, out: list[str], obj: ObjSpec) -> None:
+        w = out.append
         if obj.object_type == dt.OT_VAR:
             s = obj.subs[0]
             w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name or s.name)}\nObjectType=0x7")
@@ -120,10 +124,40 @@ class _Renderer:
         w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name)}\n"
           f"ObjectType=0x{obj.object_type:X}\nSubNumber={len(obj.subs)}\n")
         index = obj.index
-        keys = self._keys
-        for sub, s in obj.subs.items():
-            w(f"[{index:04X}sub{sub:X}]\nParameterName={_clean(s.name)}\nObjectType=0x7")
-            w(keys(s))
+        names = self._names
+        subs = list(obj.subs.values())
+        if len(subs) > 2 and _alike(subs[1:]):
+            # the subs after the first (sub 0, most often) differ in number, name and value
+            # only, as the variables of a network-variable object: one template for them
+            self._sub(w, subs[0])
+            rest = subs[1:]
+            for text in set(map(_NAME, rest)):
+                if text not in names:
+                    names[text] = _clean(text)
+            s = rest[0]
+            template = (f"[{index:04X}sub%X]\nParameterName=%s\nObjectType=0x7\n"
+                        f"DataType=0x{s.dtype.code:04X}\n"
+                        f"AccessType={s.access.replace('%', '%%')}\n"
+                        f"PDOMapping={1 if s.pdo else 0}\nParameterValue=%s\n")
+            out += map(template.__mod__, zip(map(_SUB, rest), map(names.__getitem__,
+                                                                    map(_NAME, rest)),
+                                             map(_VALUE, rest)))
+            return
+        for s in subs:
+            self._sub(w, s)
+
+    def _sub(self, w, s: SubSpec) -> None:
+        names = self._names
+        name = names.get(s.name)
+        if name is None:
+            name = names[s.name] = _clean(s.name)
+        if len(s.writes) == 1 and not s.default:   # _keys of one write, inline
+            w(f"[{s.index:04X}sub{s.sub:X}]\nParameterName={name}\nObjectType=0x7\n"
+              f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
+              f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
+            return
+        w(f"[{s.index:04X}sub{s.sub:X}]\nParameterName={name}\nObjectType=0x7")
+        w(self._keys(s))
 
     def _keys(self, s: SubSpec) -> str:
         if len(s.writes) == 1 and not s.default:
@@ -153,6 +187,15 @@ class _Renderer:
             out.append(f"; entry {s.writes[-1].pos + 1} (offset 0x{s.writes[-1].offset:X}) "
                        "wrote the ParameterValue below")
         return out
+
+
+_SUB, _NAME, _VALUE = attrgetter("sub"), attrgetter("name"), attrgetter("value")
+
+
+def _alike(subs: list[SubSpec]) -> bool:
+    """Do ``subs`` all have one write (no DefaultValue) of one type, access and mapping?"""
+    return len({(s.dtype.code, s.access, s.pdo, len(s.writes), s.default)
+                for s in subs}) == 1 and len(subs[0].writes) == 1 and not subs[0].default
 
 
 def _clean(text: str) -> str:

@@ -3,6 +3,8 @@ of its stored bytes every view uses: the header (``header_of``), the offset of e
 """
 from __future__ import annotations
 
+from itertools import accumulate
+
 from dcf2bin import schema
 from dcf2bin.container import BinContainer, ContainerError, read as read_container
 from dcf2bin.diagnostics import Diagnostic, Severity
@@ -28,10 +30,8 @@ def entry_offsets(c: BinContainer, header: dict[str, int] | None = None) -> list
     """Byte offset of each index entry (its WORD index) from the container's start."""
     h = header or header_of(c)
     pos = h["index_offset"] + schema.COUNT.size
-    head = schema.ENTRY_HEAD.size
-    out = []
-    append = out.append
-    for _, _, data in c.entries:
-        append(pos)
-        pos += head + len(data)
-    return out
+    if not c.entries:
+        return []
+    # each entry starts where the one before ends: its head and data after the previous
+    sizes = map(schema.ENTRY_HEAD.size.__add__, map(len, [e[2] for e in c.entries[:-1]]))
+    return list(accumulate(sizes, initial=pos))

@@ -35,15 +35,16 @@ JSON_SCHEMA = load_schema("dump")
 
 # -- container -> JSON ----------------------------------------------------------------------
 
-def to_dict(c: BinContainer) -> dict:
-    """The lossless document as Python data (key order is the documented one)."""
+def to_dict(c: BinContainer, *, entries: bool = True) -> dict:
+    """The lossless document as Python data (key order is the documented one).
+    ``entries=False``: an empty list for the entries (``to_json`` writes them itself)."""
     h = header_of(c)
     attrs = c.attributes or b""
     n = len(c.entries)
-    entries = []
-    for i, (index, sub, data) in enumerate(c.entries):
-        entries.append({"index": f"0x{index:04X}", "subindex": sub, "data": data.hex().upper(),
-                        "attribute": f"0x{attrs[i]:02X}" if i < len(attrs) else None})
+    rows = []
+    for i, (index, sub, data) in enumerate(c.entries if entries else ()):
+        rows.append({"index": f"0x{index:04X}", "subindex": sub, "data": data.hex().upper(),
+                     "attribute": f"0x{attrs[i]:02X}" if i < len(attrs) else None})
     if c.raw_piparam is not None:
         pi = {"raw": c.raw_piparam.hex().upper()}
     elif c.pi is not None:
@@ -55,7 +56,7 @@ def to_dict(c: BinContainer) -> dict:
         "version": SCHEMA_VERSION,
         "layout": STORED if c.header is not None else CANONICAL,
         "header": {k: h[k] for k in HEADER_FIELDS},
-        "entries": entries,
+        "entries": rows,
         "extra_attributes": attrs[n:].hex().upper(),
         "addresses": list(c.addresses) if c.addresses is not None else None,
         "pi_parameters": pi,
@@ -65,7 +66,31 @@ def to_dict(c: BinContainer) -> dict:
 
 def to_json(c: BinContainer) -> str:
     """``to_dict`` as stable, diff-friendly JSON text: one entry per line."""
-    return format_json(to_dict(c))
+    doc = to_dict(c, entries=False)
+    doc["entries"] = _entry_lines(c)
+    return format_json(doc)
+
+
+class _Lines(list):
+    """Array items already written as JSON text (``format_json`` puts them as they are)."""
+
+
+# the JSON text of one entry, as json.dumps writes its object (key order of to_dict)
+_ENTRY_JSON = '{"index": "0x%04X", "subindex": %d, "data": "%s", "attribute": %s}'
+_ATTR_JSON = [f'"0x{a:02X}"' for a in range(256)]
+
+
+def _entry_lines(c: BinContainer) -> _Lines:
+    """The entries of ``to_dict`` as JSON text, written column by column with one template
+    instead of a dict and a json.dumps each."""
+    n = len(c.entries)
+    if not n:
+        return _Lines()
+    indexes, subs, datas = zip(*c.entries)
+    attrs = c.attributes or b""
+    attr_json = list(map(_ATTR_JSON.__getitem__, attrs[:n])) + ["null"] * (n - len(attrs))
+    return _Lines(map(_ENTRY_JSON.__mod__, zip(indexes, subs, map(str.upper, map(
+        bytes.hex, datas)), attr_json)))
 
 
 def format_json(doc: dict) -> str:
@@ -83,9 +108,9 @@ def format_json(doc: dict) -> str:
             out.append(f"  }}{comma}")
         elif key in ("entries", "gaps") and isinstance(value, list) and value:
             out.append(f"  {d(key)}: [")
-            last = len(value) - 1
-            for i, item in enumerate(value):
-                out.append(f"    {d(item)}{',' if i < last else ''}")
+            items = value if isinstance(value, _Lines) else list(map(d, value))
+            out += map("    %s,".__mod__, items[:-1])
+            out.append(f"    {items[-1]}")
             out.append(f"  ]{comma}")
         elif key == "addresses" and isinstance(value, list) and value:
             out.append('  "addresses": [')

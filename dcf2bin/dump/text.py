@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import json
+from typing import NamedTuple, Sequence
 
 from dcf2bin import datatypes as dt, schema, values
 from dcf2bin.container import BinContainer
@@ -93,13 +94,16 @@ def _short_hex(data: bytes, full: bool) -> str:
 
 def nv_keys(c: BinContainer) -> list[tuple[int, int]]:
     """Network variables in index-segment order, first occurrence (SPEC §3.4)."""
-    seen = set()
-    out = []
-    for index, sub, _ in c.entries:
-        if 0xA000 <= index <= 0xAFFF and sub >= 1 and (index, sub) not in seen:
-            seen.add((index, sub))
-            out.append((index, sub))
-    return out
+    indexes, subs, _ = _columns(c)
+    return [key for key in dict.fromkeys(zip(indexes, subs))
+            if 0xA000 <= key[0] <= 0xAFFF and key[1] >= 1]
+
+
+def _columns(c: BinContainer) -> tuple[tuple, tuple, tuple]:
+    """The index entries as three columns: indexes, subindexes, data."""
+    if not c.entries:
+        return (), (), ()
+    return tuple(zip(*c.entries))
 
 
 def header_notes(c: BinContainer, h: dict[str, int], nvs: int) -> dict[str, str]:
@@ -170,28 +174,13 @@ def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
 
     # -- index segment
     attrs = c.attributes or b""
-    offsets = entry_offsets(c, h)
     n = len(c.entries)
     w("")
     w(f"Index segment: {n} entr{'y' if n == 1 else 'ies'}")
     if n:
-        rows = []
-        counts: dict[tuple[int, int], int] = {}
-        for index, sub, _ in c.entries:
-            counts[(index, sub)] = counts.get((index, sub), 0) + 1
-        seen: dict[tuple[int, int], int] = {}
-        for i, (index, sub, data) in enumerate(c.entries):
-            attr = attrs[i] if i < len(attrs) else None
-            key = (index, sub)
-            seen[key] = seen.get(key, 0) + 1
-            rep = f"{seen[key]}/{counts[key]}" if counts[key] > 1 else ""
-            rows.append((str(i + 1), f"0x{offsets[i]:X}", f"0x{index:04X}", str(sub),
-                         str(len(data)), _short_hex(data, full),
-                         value_text(index, sub, data, attr, eds, full),
-                         f"0x{attr:02X}" if attr is not None else "-",
-                         _FLAGS[attr] if attr is not None else "-", rep))
         head = ("#", "offset", "index", "sub", "size", "data", "value", "attr", "flags", "write")
-        out.extend(_table(head, rows, right={0, 3, 4}))
+        out.extend(_table_columns(head, _index_columns(c, entry_offsets(c, h), eds, full),
+                                  right={0, 3, 4}))
     if len(attrs) > n:
         w(f"  ! {_count(len(attrs) - n, 'attribute byte')} without an entry: "
           f"{_short_hex(attrs[n:], full)}")
@@ -205,26 +194,10 @@ def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
         w(f"PI address segment: {_count(len(addrs), 'address', 'addresses')}, "
           f"{_count(len(nvs), 'network variable')}"
           + ("  ! they should match" if "address_size" in notes else ""))
-        pi = c.pi
-        first: dict[tuple[int, int], bytes] = {}
-        for index, sub, d in c.entries:
-            first.setdefault((index, sub), d)
-        rows = []
-        for k in range(max(len(addrs), len(nvs))):
-            a = addrs[k] if k < len(addrs) else None
-            key = nvs[k] if k < len(nvs) else None
-            area, off = _area_of(a, pi) if a is not None else ("", "")
-            data = first[key] if key is not None else None
-            t = nv_type(key[0], key[1], len(data), eds) if key is not None else None
-            rows.append((str(k + 1),
-                         f"0x{a:04X}" if a is not None else "-", area, str(off),
-                         f"0x{key[0]:04X}" if key else "-", str(key[1]) if key else "-",
-                         str(len(data)) if data is not None else "-",
-                         t.name if t is not None else "-",
-                         eds.name(*key) if eds is not None and key else ""))
-        if rows:
+        if addrs or nvs:
             head = ("#", "address", "area", "offset", "index", "sub", "size", "type", "name")
-            out.extend(_table(head, rows, right={0, 3, 5, 6}))
+            out.extend(_table_columns(head, _address_columns(c, nvs, eds),
+                                      right={0, 3, 5, 6}))
 
     w("")
     if c.raw_piparam is not None:
@@ -250,6 +223,114 @@ def report(c: BinContainer, name: str, *, eds: EdsInfo | None = None,
     return "\n".join(out) + "\n"
 
 
+def _index_columns(c: BinContainer, offsets: list[int], eds: EdsInfo | None,
+                   full: bool) -> list:
+    """The index segment's table, column by column (one list of cells per column).
+
+    Each column is made by one pass over the entries; a cell's text is computed once per
+    distinct value (data, attribute, a network variable's value by type) and looked up for
+    the other entries that share it (a PLC container repeats few of them)."""
+    n = len(c.entries)
+    attrs = c.attributes or b""
+    indexes, subs, datas = _columns(c)
+    attr_of: list[int | None] = list(attrs[:n])
+    if len(attr_of) < n:
+        attr_of += [None] * (n - len(attr_of))
+
+    shown = {d: _short_hex(d, full) for d in set(datas)}
+    values: list[str] = []
+    append = values.append
+    # a network variable's value depends on its range's type, its attribute and its data
+    # only (value_text looks at the index for PDO records alone): one cache per type,
+    # found once per (index, size)
+    slots: dict[tuple[int, int], dict] = {}
+    by_type: dict = {}
+    for index, sub, data, attr in zip(indexes, subs, datas, attr_of):
+        if eds is None and 0xA000 <= index <= 0xAFFF and sub:
+            texts = slots.get((index, len(data)))
+            if texts is None:
+                texts = by_type.setdefault(_range_type(index, len(data)), {})
+                slots[(index, len(data))] = texts
+            text = texts.get((attr, data))
+            if text is None:
+                text = texts[(attr, data)] = value_text(index, sub, data, attr, None, full)
+            append(text)
+        else:
+            append(value_text(index, sub, data, attr, eds, full))
+
+    # the write column: "k/n" for the k-th of n writes of one (index, sub), else empty
+    keys = list(zip(indexes, subs))
+    counts: dict[tuple[int, int], int] = {}
+    for key in keys:
+        counts[key] = counts.get(key, 0) + 1
+    writes = [""] * n
+    if len(counts) < n:
+        seen: dict[tuple[int, int], int] = {}
+        for i, key in enumerate(keys):
+            total = counts[key]
+            if total > 1:
+                seen[key] = k = seen.get(key, 0) + 1
+                writes[i] = f"{k}/{total}"
+    attr_text = [f"0x{a:02X}" for a in range(256)]
+    return [_Num(range(1, n + 1)),
+            _Num(offsets, "0x"),
+            _Num(indexes, "0x", 4),
+            _Num(subs),
+            _Num(list(map(len, datas))),
+            list(map(shown.__getitem__, datas)),
+            values,
+            [attr_text[a] if a is not None else "-" for a in attr_of],
+            [_FLAGS[a] if a is not None else "-" for a in attr_of],
+            writes]
+
+
+def _address_columns(c: BinContainer, nvs: list[tuple[int, int]],
+                     eds: EdsInfo | None) -> list:
+    """The PI address table, column by column: one row per address or network variable
+    (a "-" where one list is longer than the other)."""
+    addrs = c.addresses or []
+    n_addr, n_nv = len(addrs), len(nvs)
+    rows = max(n_addr, n_nv)
+    # the first data of each (index, sub): later writes are assigned first and overwritten
+    indexes, subs, datas = _columns(c)
+    first = dict(zip(zip(reversed(indexes), reversed(subs)), map(len, reversed(datas))))
+    pi = c.pi
+    if pi is None:
+        areas, offsets = [""] * n_addr, [""] * n_addr
+    else:
+        _, in_off, in_size, out_off, out_size = pi
+        in_end, out_end = in_off + in_size, out_off + out_size
+        areas = ["input" if in_off <= a < in_end else "output" if out_off <= a < out_end
+                 else "outside" for a in addrs]
+        offsets = [a - in_off if in_off <= a < in_end else a - out_off
+                   if out_off <= a < out_end else "" for a in addrs]
+    sizes = [first[key] for key in nvs]
+    types: dict[tuple[int, int, int], str] = {}
+    type_names = []
+    for (index, sub), size in zip(nvs, sizes):
+        key = (index, sub, size) if eds is not None else (index, 0xFF, size)
+        name = types.get(key)
+        if name is None:
+            t = nv_type(index, sub, size, eds)
+            name = types[key] = t.name if t is not None else "-"
+        type_names.append(name)
+    names = [eds.name(*key) for key in nvs] if eds is not None else [""] * n_nv
+    cols = [_Num(range(1, rows + 1)), _Num(addrs, "0x", 4), areas, offsets,
+            _Num([k[0] for k in nvs], "0x", 4), _Num([k[1] for k in nvs]), _Num(sizes),
+            type_names, names]
+    if rows == n_addr == n_nv and "" not in offsets:
+        cols[3] = _Num(offsets)
+        return cols
+    # an address without a variable or the other way round, or one outside both areas
+    cols = [col.texts() if isinstance(col, _Num) else col for col in cols]
+    cols[3] = list(map(str, offsets))
+    for col in (1, 2, 3):
+        cols[col] += ["-" if col == 1 else ""] * (rows - n_addr)
+    for col in (4, 5, 6, 7, 8):
+        cols[col] += ["" if col == 8 else "-"] * (rows - n_nv)
+    return cols
+
+
 def _pi_notes(pi) -> dict[str, str]:
     total, in_off, in_size, out_off, out_size = pi
     notes = {}
@@ -263,21 +344,49 @@ def _pi_notes(pi) -> dict[str, str]:
     return notes
 
 
-def _area_of(addr: int, pi) -> tuple[str, int | str]:
-    if pi is None:
-        return "", ""
-    _, in_off, in_size, out_off, out_size = pi
-    if in_off <= addr < in_off + in_size:
-        return "input", addr - in_off
-    if out_off <= addr < out_off + out_size:
-        return "output", addr - out_off
-    return "outside", ""
+class _Num(NamedTuple):
+    """A table column of non-negative integers, written as ``prefix`` and the number in
+    decimal, or in upper-case hex when there is a prefix (at least ``digits`` digits)."""
+    values: Sequence[int]
+    prefix: str = ""
+    digits: int = 0
+
+    def conversion(self) -> str:
+        """The printf conversion of one cell, without its width."""
+        kind = "X" if self.prefix else "d"
+        return f".{self.digits}{kind}" if self.digits else kind
+
+    def width(self) -> int:
+        """The width of the widest cell (the numbers' largest, written out); 0 for none."""
+        if not self.values:
+            return 0
+        largest = max(self.values)
+        return len(self.prefix) + len(f"%{self.conversion()}" % largest)
+
+    def texts(self) -> list[str]:
+        return list(map(f"{self.prefix}%{self.conversion()}".__mod__, self.values))
 
 
-def _table(head: tuple, rows: list[tuple], right: set[int]) -> list[str]:
-    widths = [len(h) for h in head]
-    for col, cells in enumerate(zip(*rows)):
-        widths[col] = max(widths[col], max(map(len, cells)))
-    fmt = "  " + "  ".join(f"{{{i}:{'>' if i in right else '<'}{w}}}"
-                           for i, w in enumerate(widths))
-    return [fmt.format(*head).rstrip()] + [fmt.format(*r).rstrip() for r in rows]
+def _table_columns(head: tuple, cols: list, right: set[int]) -> list[str]:
+    """A table of left- or right-aligned columns under a head, two spaces apart, each line
+    without trailing blanks. The cells come column by column, as lists of text or as
+    ``_Num`` columns of numbers; the lines are made by one printf-style template (``%-8s``,
+    ``0x%-6.4X``: the column's width), the fastest way to pad here, and numbers are
+    written by it directly."""
+    heads, specs = [], []
+    for i, (title, col) in enumerate(zip(head, cols)):
+        if isinstance(col, _Num):
+            width = max(len(title), col.width())
+            if i in right:
+                assert not col.prefix, "a right-aligned number column has no prefix"
+                specs.append(f"%{width}{col.conversion()}")
+            else:
+                specs.append(f"{col.prefix}%-{width - len(col.prefix)}{col.conversion()}")
+        else:
+            width = max(len(title), max(map(len, col), default=0))
+            specs.append(f"%{'' if i in right else '-'}{width}s")
+        heads.append(title.rjust(width) if i in right else title.ljust(width))
+    fmt = "  " + "  ".join(specs)
+    values = [col.values if isinstance(col, _Num) else col for col in cols]
+    return [("  " + "  ".join(heads)).rstrip()] + list(
+        map(str.rstrip, map(fmt.__mod__, zip(*values))))

@@ -28,6 +28,7 @@ class TargetOptions:
 
 @dataclass(slots=True)
 class TargetEntry:
+    """One entry of the emulated object dictionary after the run: its data, type and access."""
     index: int
     sub: int
     data: bytes
@@ -51,6 +52,7 @@ class TargetEntry:
 
 @dataclass
 class Pdo:
+    """A PDO as the target would run it: its direction, comm object, COB-ID and mapping."""
     direction: str            # "rx" or "tx"
     comm_index: int
     cob_id: int               # the COB-ID as last written (bit 31 clear)
@@ -85,6 +87,7 @@ class Descriptor:
 
 @dataclass
 class Created:
+    """What the container created: the objects, their entries and their data bytes."""
     objects: list[int] = field(default_factory=list)   # indexes the container created
     entries: int = 0
     bytes: int = 0
@@ -92,6 +95,7 @@ class Created:
 
 @dataclass
 class Outcome:
+    """The verdict of an emulated DynBuildOd() run: its code, and where and why it failed."""
     code: int
     reason: str = ""
     entry: int | None = None          # 1-based position in the index segment

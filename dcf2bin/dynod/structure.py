@@ -2,7 +2,7 @@
 """
 from __future__ import annotations
 
-from itertools import compress, islice
+from itertools import compress, groupby, islice
 from operator import add, itemgetter, le, lt, ne, sub as minus
 
 from dcf2bin.dynod import codes as C
@@ -10,7 +10,7 @@ from dcf2bin.dynod.outcome import _Fail, _OUTPUT_FIRST
 from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 
-_DATA = itemgetter(2)     # (index, sub, data) -> data
+_INDEX, _SUB, _DATA = itemgetter(0), itemgetter(1), itemgetter(2)   # of (index, sub, data)
 _FEW_BLOCKS = 256         # blocks of consecutive addresses compared span by span
 
 
@@ -20,19 +20,42 @@ def nv_firsts(entries: list) -> tuple[list[int], bool]:
     with them (then a variable is found by bisection).
 
     A compiled container writes each variable once, by ascending index and subindex: when
-    the keys ascend strictly, every position is a first occurrence. Otherwise a dict from
-    the reversed keys keeps, for every key, the smallest position (a dict of 60,000 keys
-    and positions was the memory peak of a compile: hence not the first try)."""
+    the keys ascend strictly, every position is a first occurrence. That is found run by
+    run of one index (``_ascending_runs``). Otherwise a dict from the reversed keys keeps,
+    for every key, the smallest position (a dict of 60,000 keys and positions was the
+    memory peak of a compile: hence not the first try)."""
+    positions = _ascending_runs(entries)
+    if positions is not None:
+        return positions, True
     keys = [index << 8 | sub if NV_FIRST <= index <= NV_LAST and sub else 0
             for index, sub, _ in entries]          # 0: no network variable
-    nv = list(filter(None, keys))
-    if all(map(lt, nv, islice(nv, 1, None))):
-        return list(compress(range(len(keys)), keys)), True
-    del nv
     firsts = dict(zip(reversed(keys), range(len(keys) - 1, -1, -1)))
     del keys                    # (each temporary goes as soon as it is used)
     firsts.pop(0, None)
     return sorted(firsts.values()), False
+
+
+def _ascending_runs(entries: list) -> list[int] | None:
+    """The positions of the network variables when their keys (index << 8 | sub) ascend
+    strictly, else None. The entries come in runs of one index (an object's sub-entries):
+    a run's subindexes are taken at once, and only a network-variable object's, instead
+    of a key made per entry (at 60,000 variables: 4.5 against 7.2 ms, most of it in
+    reaching the entries, which the target check reads here first)."""
+    positions: list[int] = []
+    pos, last = 0, -1           # last: the key of the last network variable so far
+    for index, run in groupby(entries, key=_INDEX):
+        run = list(run)
+        if NV_FIRST <= index <= NV_LAST:
+            subs = list(map(_SUB, run))
+            variables = list(filter(None, subs))        # sub 0 is none
+            if variables:
+                if (index << 8 | variables[0]) <= last or not all(
+                        map(lt, variables, islice(variables, 1, None))):
+                    return None
+                last = index << 8 | variables[-1]
+                positions.extend(compress(range(pos, pos + len(run)), subs))
+        pos += len(run)
+    return positions
 
 
 class _StructureStep:

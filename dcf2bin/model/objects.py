@@ -120,6 +120,7 @@ class Entry:
 
 @dataclass(slots=True, eq=False)
 class Obj:
+    """One object: its name, ObjectType and entries by subindex, and where it was written."""
     index: int
     name: str = ""
     object_type: int = dt.OT_VAR

@@ -4,10 +4,16 @@ from __future__ import annotations
 import csv
 import io
 import json
+from operator import attrgetter
 
 from dcf2bin.plc.varmap import VarMap
 
 CSV_HEADER = ("name", "index", "subindex", "type", "direction", "offset", "address", "size")
+
+
+# the fields of a row in the text table, in its order (offsets are >= 0)
+_TEXT_FIELDS = attrgetter("address", "direction", "offset", "label", "dtype.size",
+                          "dtype.name", "name")
 
 
 def to_text(vm: VarMap) -> str:
@@ -19,16 +25,16 @@ def to_text(vm: VarMap) -> str:
            f"  output area  offset {out_off:<6} size {out_size}",
            ""]
     rows = vm.rows
-    labels = [r.label for r in rows]
-    w_off = max([len("offset")] + [len(str(r.offset)) for r in rows])
-    w_entry = max([len("entry")] + [len(x) for x in labels])
-    w_type = max([len("type")] + [len(t) for t in {r.dtype.name for r in rows}])
+    # the widths from three columns, then one printf template over each row's fields
+    w_off = max(len("offset"), len(str(max(map(attrgetter("offset"), rows), default=0))))
+    w_entry = max(len("entry"), max(map(len, map(attrgetter("label"), rows)), default=0))
+    w_type = max(len("type"), max(map(len, set(map(attrgetter("dtype.name"), rows))),
+                                  default=0))
     w_size = len("size")          # sizes are 1..8
     out.append(f"address  area    {'offset':>{w_off}}  {'entry':<{w_entry}}  "
                f"{'size':>{w_size}}  {'type':<{w_type}}  name")
-    out += [f"0x{r.address:04X}   {r.direction:<6}  {r.offset:>{w_off}}  {lab:<{w_entry}}  "
-            f"{r.dtype.size:>{w_size}}  {r.dtype.name:<{w_type}}  {r.name}".rstrip()
-            for r, lab in zip(rows, labels)]
+    fmt = f"0x%04X   %-6s  %{w_off}d  %-{w_entry}s  %{w_size}d  %-{w_type}s  %s"
+    out += map(str.rstrip, map(fmt.__mod__, map(_TEXT_FIELDS, rows)))
     return "\n".join(out) + "\n"
 
 

@@ -31,7 +31,14 @@ class Row:
     address: int            # from the start of the complete image (D-10 "image")
     size: int
     label: str              # 0xA580sub3, as the tool names entries everywhere
-    where: Where | None = None
+    # where the variable is declared: a Where, or the model's entry, whose file:line is
+    # then made only when asked (a diagnostic), not for each of tens of thousands of rows
+    origin: object = None
+
+    @property
+    def where(self) -> Where | None:
+        origin = self.origin
+        return origin if origin is None or isinstance(origin, Where) else origin.where
 
 
 _SUB_HEX = [f"{s:X}" for s in range(256)]
@@ -87,7 +94,7 @@ def from_result(res, source: str) -> VarMap:
             e = entries[sub]
             name = e.denotation or e.name or generated_name(direction, dtype, idx, sub)
             append(Row(name, idx, sub, dtype, direction, off, off + shift, size,
-                       prefix + _SUB_HEX[sub], e.where))
+                       prefix + _SUB_HEX[sub], e))
             off += size
     total = lay.total_size
     pi = (total, 0, lay.input_size, lay.output_offset, lay.output_size)
