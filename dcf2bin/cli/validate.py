@@ -45,8 +45,8 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
 @click.option("-j", "--jobs", type=Integer(1), metavar="N",
               help="Check up to N files at a time, in this process and N-1 worker processes "
-                   "(default: one per usable CPU core; 1: one after the other; never more "
-                   "than the cores idle at the start). The report is the same.")
+                   "(default: one per usable CPU core; 1: one after the other). The report "
+                   "is the same.")
 @quiet_option("Text format: no summary line either.")
 @debug_option
 @guarded

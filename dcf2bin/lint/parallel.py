@@ -130,7 +130,6 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
     ``lint`` is a module-level function (``runner.lint_path``): the workers receive it
     by name.
 
-    No more processes are used than ``idle_cores`` finds idle (where it can tell).
     The tasks are taken from one shared counter, the largest files first (so that no one
     is left with a big file at the end). This process lints from the start, while the
     workers are still being started; a worker that dies leaves its file to this process,
@@ -207,10 +206,9 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
         starter.start()
     # The results are collected here, between this process's own files, not by a thread:
     # a thread that wakes for each result takes the GIL from the linting one (up to the
-    # switch interval each time, longer when the machine is busy, with the worker waiting
-    # on a full pipe meanwhile): on the corpus each process lost ~55 ms between files,
-    # more than -j 2 gained once linting got faster. The pipes are widened so that a
-    # worker seldom waits for the end of this process's current file.
+    # switch interval each time, with the worker waiting on a full pipe meanwhile); that
+    # cost more than the second process gained once a file took ~5 ms. The pipes are
+    # widened so that a worker seldom waits for the end of this process's current file.
     while (k := _take(counter, n)) is not None:
         i, path, shown = tasks[k]
         out[i] = lint(path, shown, opts)
