@@ -3,7 +3,6 @@ in every format, with the same exit code (issue 22). Speed is measured in benchm
 from __future__ import annotations
 
 import multiprocessing
-import os
 import sys
 
 import pytest
@@ -12,8 +11,6 @@ from click.testing import CliRunner
 from conftest import CORPUS, SAMPLES, needs_corpus
 from dcf2bin.cli import main
 from dcf2bin.lint import Options, parallel, runner
-
-idle_cores = parallel.idle_cores      # the real one (the fixture below replaces it)
 
 FORMATS = ("text", "json", "sarif", "github")
 
@@ -43,13 +40,6 @@ def test_more_jobs_than_cores_and_argument_order():
     assert f"in {len(files)} files" in serial[1].splitlines()[-1]
 
 
-@pytest.fixture(autouse=True)
-def idle_machine(monkeypatch):
-    """Every test here as on an idle machine: validate -j N starts no more workers than
-    there are idle cores, and the workers are what these tests check."""
-    monkeypatch.setattr(parallel, "idle_cores", lambda: None)
-
-
 @pytest.fixture
 def always_parallel(monkeypatch):
     """Workers even for a few small files (normally checked in this process alone)."""
@@ -63,41 +53,6 @@ def test_little_input_is_checked_here(monkeypatch):
     files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
     assert parallel.lint_paths([(p, p) for p in files], Options(), 2, runner.lint_path) == [
         runner.lint_path(p, p, Options()) for p in files]
-
-
-@pytest.mark.parametrize("idle", [0, 1])
-def test_no_more_processes_than_idle_cores(monkeypatch, always_parallel, idle):
-    # another job busy on every core but one (or on all): two processes would share one
-    # core and finish later than one, so this process checks every file itself
-    def no_workers(*args, **kwargs):
-        raise AssertionError("a worker process was started")
-    monkeypatch.setattr(parallel, "idle_cores", lambda: idle)
-    monkeypatch.setattr(parallel, "_context", no_workers)
-    files = sorted(str(p) for p in SAMPLES.glob("*.dcf"))
-    assert parallel.lint_paths([(p, p) for p in files], Options(), 2, runner.lint_path) == [
-        runner.lint_path(p, p, Options()) for p in files]
-
-
-@pytest.mark.skipif(not hasattr(os, "sched_getaffinity")
-                    or len(os.sched_getaffinity(0)) != os.cpu_count(),
-                    reason="idle cores are counted only where this process may use every CPU")
-@pytest.mark.parametrize(("running", "idle"), [
-    (1, None), (2, -1), (None, 0)], ids=["only-this", "one-other", "all-busy"])
-def test_idle_cores_from_the_running_count(tmp_path, running, idle):
-    # the 4th field of /proc/loadavg: tasks running now (this one among them) / all tasks
-    cores = os.cpu_count()
-    if running is None:
-        running = cores + 1
-    loadavg = tmp_path / "loadavg"
-    loadavg.write_text(f"1.31 1.28 1.30 {running}/91 31932\n")
-    expected = cores if idle is None else (cores + idle if idle < 0 else idle)
-    assert idle_cores(str(loadavg)) == expected
-
-
-def test_idle_cores_unknown(tmp_path):
-    assert idle_cores(str(tmp_path / "missing")) is None
-    (tmp_path / "odd").write_text("not a load average\n")
-    assert idle_cores(str(tmp_path / "odd")) is None
 
 
 def test_unreadable_inputs_and_stdin_keep_their_place(tmp_path, always_parallel):
@@ -118,6 +73,7 @@ def test_jobs_must_be_positive():
 
 
 def test_default_is_the_usable_cores():
+    import os
     assert parallel.usable_cores() == len(os.sched_getaffinity(0))
 
 
@@ -178,6 +134,7 @@ def _big_result(path: str, shown: str, opts: Options) -> tuple[str, str]:
 
 @pytest.mark.skipif(sys.platform != "linux", reason="the fork start method of Linux")
 def test_results_larger_than_the_pipe_arrive_in_order(tmp_path, always_parallel):
+    import os
     _PARENT[0] = os.getpid()
     _THREADS_SEEN.clear()
     items = []

@@ -63,21 +63,6 @@ def usable_cores() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def idle_cores(loadavg: str = "/proc/loadavg") -> int | None:
-    """The CPUs of this machine that no other task is running on at this instant (Linux:
-    the running count of ``/proc/loadavg``, less this process), or None where that cannot
-    be known: no such file, or this process may use fewer CPUs than the machine has (a
-    container's cpuset: the others' tasks may run on CPUs it cannot use)."""
-    try:
-        if len(os.sched_getaffinity(0)) != os.cpu_count():
-            return None
-        with open(loadavg, "rb") as f:
-            running = int(f.read().split()[3].split(b"/")[0])
-    except (AttributeError, OSError, ValueError, IndexError):
-        return None
-    return max(0, (os.cpu_count() or 1) - max(0, running - 1))
-
-
 def _context():
     import multiprocessing     # here: a validate of one file only asks usable_cores (5-7 ms)
     methods = multiprocessing.get_all_start_methods()
@@ -138,14 +123,6 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
     n = len(items)
     jobs = min(jobs, n)
     sizes = [_size(path) for path, _ in items] if jobs > 1 else []
-    if jobs > 1 and sum(sizes) >= MIN_PARALLEL_BYTES:
-        # "up to N": no more processes than there are idle cores. Two processes sharing
-        # the one core that another job leaves us finish later than one: each pays the
-        # costs above, and they evict each other's caches at every switch (the corpus,
-        # -j 2 against -j 1 with the other core busy: 0.60-0.66 s against 0.55 s).
-        idle = idle_cores()
-        if idle is not None:
-            jobs = min(jobs, max(1, idle))
     if jobs <= 1 or sum(sizes) < MIN_PARALLEL_BYTES:
         return [lint(path, shown, opts) for path, shown in items]
     order = sorted(range(n), key=lambda i: -sizes[i])
