@@ -183,9 +183,12 @@ def lint_paths(items: list[tuple[str, str]], opts: Options, jobs: int,
         starter.start()
     # The results are collected here, between this process's own files, not by a thread:
     # a thread that wakes for each result takes the GIL from the linting one (up to the
-    # switch interval each time, with the worker waiting on a full pipe meanwhile); that
-    # cost more than the second process gained once a file took ~5 ms. The pipes are
-    # widened so that a worker seldom waits for the end of this process's current file.
+    # switch interval each time, longer when the machine is busy and the thread waits for
+    # a CPU), with the worker blocked on a full pipe meanwhile. On the corpus, -j 2 in
+    # process: 0.27-0.29 -> 0.26-0.29 s on an idle machine, 0.37-0.42 -> 0.37-0.41 s
+    # beside one CPU-bound process (-j 1: 0.46 s); 0.40-0.56 -> 0.27 s under other
+    # sessions' load. The pipes are widened so that a worker seldom waits for the end of
+    # this process's current file.
     while (k := _take(counter, n)) is not None:
         i, path, shown = tasks[k]
         out[i] = lint(path, shown, opts)
