@@ -114,3 +114,36 @@ def test_both_ways_of_starting_workers_give_the_serial_results(always_parallel, 
     assert parallel.lint_paths(items, Options(), 3, runner.lint_path) == [
         runner.lint_path(p, p, Options()) for p in files]
 
+
+
+# -- how the results come back (fork start method, Linux) -------------------------------------
+
+_PARENT = [0]
+_THREADS_SEEN: list[int] = []
+
+
+def _big_result(path: str, shown: str, opts: Options) -> tuple[str, str]:
+    """A stand-in for lint_path whose result is larger than a pipe holds (1 MiB): the
+    worker must wait until this process reads it, and nothing may be lost or reordered."""
+    import os
+    import threading
+    if os.getpid() == _PARENT[0]:
+        _THREADS_SEEN.append(threading.active_count())
+    return shown, shown[-1] * (3 << 20)
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the fork start method of Linux")
+def test_results_larger_than_the_pipe_arrive_in_order(tmp_path, always_parallel):
+    import os
+    _PARENT[0] = os.getpid()
+    _THREADS_SEEN.clear()
+    items = []
+    for k in range(6):
+        f = tmp_path / f"{k}.dcf"
+        f.write_bytes(b"x" * (k + 1))           # different sizes: the largest are taken first
+        items.append((str(f), f"file{k}"))
+    got = parallel.lint_paths(items, Options(), 2, _big_result)
+    assert got == [(shown, shown[-1] * (3 << 20)) for _, shown in items]
+    # the results are collected by this thread between its own files: no thread of ours
+    # competes with the linting one for the GIL (that made -j 2 slower than -j 1)
+    assert _THREADS_SEEN and set(_THREADS_SEEN) == {1}
