@@ -9,9 +9,10 @@ the DCF it was compiled from) and ``simulate`` (text and JSON). The companion of
     python benchmarks/same_views.py record out/main.json --repo ../main
 
 Inputs: the files of ``same_output.inputs`` (samples/, tests/fixtures/, the corpus, two
-generated 6,000-variable DCFs) and the generated 1k/10k/60k files in /work/perf when
-present. A DCF/EDS/INI is compiled first (in-process); a file that does not compile gives
-no container (its ``map`` of the DCF is still recorded). Each command runs in-process
+generated 6,000-variable DCFs) and the 1,000/10,000/60,000-variable files that
+``table.py`` generates in ``benchmarks/out`` when present. A DCF/EDS/INI is compiled
+first (in-process); a file that does not compile gives no container (its ``map`` of the
+DCF is still recorded). Each command runs in-process
 through click; the record holds a digest of its exit code, standard output and standard
 error (paths of the checkout, its corpus and temporary files written as <repo>,
 <corpus>, <tmp>).
@@ -27,7 +28,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
-PERF = Path("/work/perf")
+OUT = HERE / "out"          # table.py's generated files
 MAP_FORMATS = ("text", "csv", "json", "iec", "c", "svg", "html")
 
 
@@ -35,10 +36,10 @@ def inputs(repo: Path) -> list[tuple[str, Path]]:
     sys.path.insert(0, str(HERE))
     import same_output
     files = same_output.inputs(repo)
-    for n in ("1k", "10k", "60k"):
-        p = PERF / f"plc{n}.dcf"
+    for n in (1000, 10000, 60000):
+        p = OUT / f"plc_{n}.dcf"
         if p.is_file():
-            files.append((f"perf/{p.name}", p))
+            files.append((f"out/{p.name}", p))
     return files
 
 

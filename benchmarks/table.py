@@ -292,6 +292,16 @@ def main(argv: list[str] | None = None) -> int:
         spread = max(xs) / min(xs) - 1
         print(f"{what}: per-1,000 figures within {spread * 100:.0f} % of each other "
               f"(target 25 %: {verdict(spread <= SCALING_SPREAD)})")
+    # what each step up in size costs per 1,000 more entries: a fixed part of every file
+    # (its device sections, the same in each) drops out here, a cost growing faster than
+    # the file does not (information beside the target, not a verdict)
+    for what in per:
+        steps = [(b[what] - a[what]) / (b["entries"] - a["entries"]) * 1e6
+                 for a, b in zip(rows, rows[1:])]
+        if steps and min(steps) > 0:
+            print(f"{what}: each further 1,000 entries cost "
+                  + " / ".join(f"{x:.2f} ms" for x in steps)
+                  + f" ({max(steps) / min(steps) - 1:.0%} apart)")
     load = os.getloadavg()
     print(f"\nload average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on "
           f"{os.cpu_count()} CPUs; Python {sys.version.split()[0]}")
