@@ -11,7 +11,7 @@ import weakref
 from bisect import bisect_left
 from dataclasses import dataclass, field
 from itertools import accumulate, count
-from operator import add, attrgetter, methodcaller
+from operator import add, methodcaller
 from typing import Callable
 
 from dcf2bin.diagnostics import Diagnostics, Where
@@ -203,12 +203,10 @@ class _Source:
         parts = (nl + src).split(nl + (b"[" if isinstance(src, bytes) else "["))
         ends = accumulate(map(len, parts[:-1]))     # of part k-1, counted in nl + src
         self._offsets = list(map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
-        file = self.file()
-        if file is not None and len(file.sections) == len(self._offsets):
-            self._lines = list(map(attrgetter("line"), file.sections.values()))
-        else:                                       # (the file is gone: count its lines)
-            self._lines = list(map(add, accumulate(map(methodcaller("count", nl), parts)),
-                                   count(1)))[:-1]
+        # the header lines counted from the text itself (not taken from the file's
+        # sections dict, whose order a caller may change)
+        self._lines = list(map(add, accumulate(map(methodcaller("count", nl), parts)),
+                               count(1)))[:-1]
 
 
 @dataclass(slots=True)

@@ -205,3 +205,14 @@ def test_an_array_with_denotations_shares_one_template():
     assert len({id(s.rest) for s in secs[:5]}) == 1
     assert [s.denotation for s in secs] == [f"Pump {s}" for s in range(1, 6)] + [None, None]
     assert secs[5].get("denotation") == "x" and secs[6].get("denotation") is None
+
+
+def test_names_as_written_survive_a_reordered_sections_dict():
+    # a caller may sort or reorder IniFile.sections; the names as written are found from
+    # the file's text, not from the dict's order
+    from pathlib import Path
+    sample = Path(__file__).resolve().parent.parent / "samples" / "plc.dcf"
+    expected = {k: s.name for k, s in ini.read(str(sample)).sections.items()}
+    f = ini.read(str(sample))
+    f.sections = dict(sorted(f.sections.items(), reverse=True))
+    assert {k: s.name for k, s in f.sections.items()} == expected
