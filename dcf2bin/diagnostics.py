@@ -107,6 +107,19 @@ def format_text(d: Diagnostic, colour: bool = False) -> str:
     return text
 
 
+def shorten(text: str, n: int = 60) -> str:
+    """A user's number or text as a message quotes it: whole when it has at most ``n``
+    characters, else its first 40 and last 12 with the count between them
+    (``0xFFFFFFFF...FFFF (4002 characters)``), so that a diagnostic stays one readable line
+    whatever the input holds. Every message that shows a literal, a key or a name read
+    from a file goes through this; a number is shown as it was written, never converted
+    to decimal first (Python refuses to print an int of more than 4300 digits)."""
+    if isinstance(text, int) and text.bit_length() > 256:   # hex: no limit, linear
+        text = f"{'-' if text < 0 else ''}0x{abs(text):X}"
+    text = str(text)
+    return text if len(text) <= n else f"{text[:40]}...{text[-12:]} ({len(text)} characters)"
+
+
 @dataclass(slots=True)
 class Where:
     """A place in an input file: every model element carries one."""
@@ -179,4 +192,4 @@ class DiagnosticWarning(UserWarning):
 
 
 __all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
-           "Where"]
+           "Where", "shorten"]

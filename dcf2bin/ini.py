@@ -593,17 +593,17 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
         if c == "[":
             end = s.find("]")
             if end < 0:
-                diags.error(f"malformed section header '{s}': missing ']'", Where(path, lineno),
-                            rule="DCF003")
+                diags.error(f"malformed section header '{_clip(s)}': missing ']'",
+                            Where(path, lineno), rule="DCF003")
                 current, skipping = None, True
                 continue
             rest = s[end + 1:].strip(" \t")
             if rest:
                 if rest[0] in ";#":
-                    diags.warning(f"comment after section header ignored: '{rest}'",
+                    diags.warning(f"comment after section header ignored: '{_clip(rest)}'",
                                   Where(path, lineno), rule="DCF004")
                 else:
-                    diags.error(f"text after section header: '{rest}'", Where(path, lineno),
+                    diags.error(f"text after section header: '{_clip(rest)}'", Where(path, lineno),
                                 rule="DCF003")
             name = s[1:end].strip(" \t")
             if not name:

@@ -514,7 +514,7 @@ class Integer(click.ParamType):
             try:
                 n = values.parse_int(str(value))
             except values.ValueProblem as exc:
-                self.fail(f"'{value}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
+                self.fail(f"'{values.shorten(str(value))}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
                           "as in a DCF)", param, ctx)
         if (self.min is not None and n < self.min) or (self.max is not None and n > self.max):
             self.fail(f"{value} is not in the range {self._range()}", param, ctx)

@@ -17,7 +17,7 @@ import os
 import re
 
 from dcf2bin import ini, values
-from dcf2bin.diagnostics import Diagnostics, Severity, Where
+from dcf2bin.diagnostics import Diagnostics, Severity, Where, shorten
 from dcf2bin.network.model import SLAVE, Network, Node
 from dcf2bin.network.rules import NetRule
 
@@ -89,7 +89,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         if d.severity is Severity.ERROR:
             _add(diags, "NET050", d.message, Where(path, d.line))
     for dup in parsed.duplicates:
-        what = f"key '{dup.key}'" if dup.key else f"section [{dup.section}]"
+        what = (f"key '{shorten(dup.key)}'" if dup.key else
+                f"section [{shorten(dup.section)}]")
         _add(diags, "NET050", f"{what} repeated (first at line {dup.first_line}; the "
              "first is used)", Where(path, dup.line))
     name = section_name(net)
@@ -108,13 +109,18 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         m = _NODE_KEY.fullmatch(low)
         if m is None:
             if low not in _NET_KEYS:
-                _add(diags, "NET058", f"[{sec.name}] {k.name}: not a key of a CiA 306-3 "
-                     "network", Where(path, k.line))
+                _add(diags, "NET058", f"[{sec.name}] {shorten(k.name)}: not a key of a CiA "
+                     "306-3 network", Where(path, k.line))
             continue
-        x = int(m.group(1))
+        digits = m.group(1)
+        if len(digits) > values.MAX_DIGITS:
+            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID "
+                 f"{values.too_long(len(digits))}", Where(path, k.line))
+            continue
+        x = int(digits)
         if not 1 <= x <= 127:
-            _add(diags, "NET053", f"[{sec.name}] {k.name}: node-ID {x} is outside 1…127",
-                 Where(path, k.line))
+            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID {x} is outside "
+                 "1…127", Where(path, k.line))
             continue
         keys = nodes.setdefault(x, {})
         if m.group(2) in keys:               # Node1Present and Node01Present
@@ -144,12 +150,12 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
             node.device = model.load(node.file, node_id=x, data=node_data)
             network.files.setdefault(node.file, node_data)     # network check lints these
         except OSError as exc:
-            _add(diags, "NET055", f"{dcf[2]}: cannot read '{dcf[0]}': "
+            _add(diags, "NET055", f"{dcf[2]}: cannot read '{shorten(dcf[0])}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
         own = _own_node_id(node.device)
         if own is not None and own != x:
-            _add(diags, "NET059", f"node {x}: its DCF '{dcf[0]}' sets NodeID {own}; the "
+            _add(diags, "NET059", f"node {x}: its DCF '{shorten(dcf[0])}' sets NodeID {own}; the "
                  f"project's node-ID {x} is used", Where(path, dcf[1]))
         # its PDOs as the file has them, the mapping rules every PDO of a network obeys
         # (the object is in the file and mappable that way), its heartbeat, SYNC, EMCY, TIME
@@ -161,7 +167,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if count is not None:
         n = _int(diags, path, sec, "nodes")
         if n is not None and n != present:
-            _add(diags, "NET056", f"[{sec.name}] Nodes={count} but {present} node"
+            _add(diags, "NET056", f"[{sec.name}] Nodes={shorten(count)} but {present} node"
                  f"{'' if present == 1 else 's'} {'is' if present == 1 else 'are'} present",
                  Where(path, sec.line_of("nodes")))
     if not present:
@@ -214,7 +220,7 @@ def _flag(diags: Diagnostics, path: str, sec, keys, x: int, what: str) -> bool:
     except values.ValueProblem as exc:
         v, why = None, str(exc)
     else:
-        why = f"'{text}' is neither 0 nor 1"
+        why = f"'{shorten(text)}' is neither 0 nor 1"
     if v not in (0, 1):
         _add(diags, "NET052", f"[{sec.name}] {keys[what][2]}: {why}", Where(path, line))
         return False

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.network.model import MASTER, SLAVE, Network, Node
 from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
                                       kind_of)
@@ -78,7 +78,7 @@ class _Reader(Items):
             for key in root:
                 if key not in ("options", "master", "defaults", "nodes") and not (
                         isinstance(key, str) and key.startswith(".")):
-                    self.diags.info(f"top-level key '{key}' is not read in the nodes: "
+                    self.diags.info(f"top-level key '{shorten(key)}' is not read in the nodes: "
                                     "layout; ignored", self.w(root.lines[key]), rule="NET007")
         else:
             slaves = YMap(root.line)
@@ -124,7 +124,8 @@ class _Reader(Items):
     # -- a node ----------------------------------------------------------------------------
     def node(self, name: str, value, line: int, role: str, defaults: YMap | None) -> None:
         if not isinstance(value, YMap):
-            self.err(f"'{name}' must be a mapping of its keys, found {kind_of(value)}", line)
+            self.err(f"'{shorten(name)}' must be a mapping of its keys, found "
+                     f"{kind_of(value)}", line)
             return
         merged = value
         if defaults:
@@ -135,7 +136,8 @@ class _Reader(Items):
             for k, v in value.items():
                 if k in defaults:
                     self.diags.warning(
-                        f"'{k}' of {name} is also in defaults: (line {defaults.lines[k]}); "
+                        f"'{shorten(k)}' of {shorten(name)} is also in defaults: "
+                        f"(line {defaults.lines[k]}); "
                         "the node's value is taken", self.w(value.lines[k]), rule="NET009")
                 merged[k] = v
                 merged.lines[k] = value.lines[k]
@@ -174,10 +176,10 @@ class _Reader(Items):
         nid = node.config.get("node_id")
         if nid is None:
             if "node_id" not in node.config_where:
-                self.err(f"{name} has no node_id", line, "NET005")
+                self.err(f"{shorten(name)} has no node_id", line, "NET005")
             return
         if role == SLAVE and "dcf" not in node.config_where:
-            self.err(f"{name} has no dcf (its EDS or DCF file)", line, "NET005")
+            self.err(f"{shorten(name)} has no dcf (its EDS or DCF file)", line, "NET005")
         node.node_id = nid
         node.mandatory = bool(node.config.get("mandatory", False))
         self.net.nodes.append(node)

@@ -7,9 +7,9 @@ import difflib
 import os
 
 from dcf2bin import values
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 from dcf2bin.network.model import RPDO, TPDO, MapConfig, Network, Node, PdoConfig, SdoConfig
-from dcf2bin.network.yamltree import YMap, YSeq
+from dcf2bin.network.yamltree import LongInt, YMap, YSeq
 
 PLACEHOLDER = "@BUS_CONFIG_PATH@/"
 MAX_FILE = 64 << 20
@@ -70,9 +70,11 @@ def as_int(value, what: str = "") -> int:
         raise _Bad(f"expected an integer, found a boolean ({value})")
     if isinstance(value, int):
         return value
+    if isinstance(value, LongInt):
+        raise _Bad(str(values.too_long(value.digits)))
     if isinstance(value, str):
         if values.uses_nodeid(value):
-            raise _Bad(f"$NODEID is not allowed in the network file: '{value}'")
+            raise _Bad(f"$NODEID is not allowed in the network file: '{shorten(value)}'")
         try:
             return values.parse_int(value)
         except values.ValueProblem as exc:
@@ -95,9 +97,13 @@ def kind_of(value) -> str:
         return "a list"
     if value is None:
         return "nothing"
+    if isinstance(value, LongInt):
+        return f"an integer of {value.digits} digits"
     if isinstance(value, str):
-        return f"'{value[:40]}'"
-    return f"{type(value).__name__} {value!r}"[:60]
+        return f"'{shorten(value)}'"
+    if isinstance(value, int):
+        return f"int {shorten(value)}"
+    return shorten(f"{type(value).__name__} {value!r}")
 
 
 
@@ -128,15 +134,17 @@ class _Values:
                      if difflib.SequenceMatcher(None, text, k).ratio() >= 0.8]
             if close:
                 best = max(close, key=lambda k: difflib.SequenceMatcher(None, text, k).ratio())
-                self.diags.warning(f"unknown key '{text}': did you mean '{best}'?",
+                self.diags.warning(f"unknown key '{shorten(text)}': did you mean '{best}'?",
                                    self.w(line), rule="NET006")
                 return
-        self.diags.info(f"key '{text}' is not used by dcf2bin; ignored", self.w(line),
+        self.diags.info(f"key '{shorten(text)}' is not used by dcf2bin; ignored", self.w(line),
                         rule="NET007")
 
     def scalar(self, key: str, kind: str, value, line: int):
         """The value of ``key`` as ``kind``, range-checked; None (reported) when bad."""
         try:
+            if isinstance(value, LongInt) and kind in ("int", "float", "any"):
+                raise _Bad(str(values.too_long(value.digits)))
             if kind == "int":
                 got = as_int(value)
                 lo, hi = RANGES.get(key, (0, 0xFFFFFFFF))
@@ -153,10 +161,10 @@ class _Values:
                 except ValueError:
                     raise _Bad(f"expected a number, found {kind_of(value)}") from None
                 if not 0 <= got <= 1000 or got != got:
-                    raise _Bad(f"{value} is outside 0..1000")
+                    raise _Bad(f"{shorten(value)} is outside 0..1000")
                 return got
             if kind == "str":
-                if not isinstance(value, str) or not value:
+                if not isinstance(value, str) or isinstance(value, LongInt) or not value:
                     raise _Bad(f"expected a text, found {kind_of(value)}")
                 return value
             if kind == "any":
@@ -199,7 +207,7 @@ class Items(_Values):
             except _Bad:
                 number = None
             if number is None or not 1 <= number <= 512:
-                self.err(f"{kind_key}: PDO number '{key}' is not an integer 1..512", kline)
+                self.err(f"{kind_key}: PDO number '{shorten(key)}' is not an integer 1..512", kline)
                 continue
             if (kind, number) in node.pdo_config:
                 first = node.pdo_config[(kind, number)].where.line

@@ -7,21 +7,40 @@ last silently). An alias shares the node of its anchor; the size it stands for i
 counted, so an alias bomb ("billion laughs") is stopped at :data:`MAX_NODES`; a recursive
 alias and nesting deeper than :data:`MAX_DEPTH` are errors too. Scalars become the
 Python values ``safe_load`` gives (YAML 1.1: ``0b1100`` is 12, ``010`` is 8, ``yes`` is
-True).
+True), but for an integer of more digits than any CANopen value has
+(``values.MAX_DIGITS``): that one stays its text, a :class:`LongInt`, which the reader of
+its key refuses with its own rule and line (it is never converted, so no message has to
+print it in decimal).
 """
 from __future__ import annotations
 
 import re
 
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin import values
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 
 MAX_NODES = 1_000_000      # expanded nodes: 126 slaves of 8 PDOs are ~50,000
 MAX_DEPTH = 64
 MERGE_TAG = "tag:yaml.org,2002:merge"
 STR_TAG = "tag:yaml.org,2002:str"
+INT_TAG = "tag:yaml.org,2002:int"
 # plain scalars that YAML 1.1 resolves to these integers (decimal without a leading 0,
 # hexadecimal): read directly, the resolver and constructor give the same
 _PLAIN_INT = re.compile(r"0|[1-9][0-9]*|0x[0-9a-fA-F]+")
+
+
+class LongInt(str):
+    """An integer scalar of more than ``values.MAX_DIGITS`` digits, kept as its text
+    (``0x`` and 4,000 ``F``, ``0b`` and 5,000 digits, a sexagesimal ``1:2:3:...``):
+    ``digits`` is how many it has. The key's reader refuses it (``values.too_long``)."""
+    __slots__ = ()
+
+    @property
+    def digits(self) -> int:
+        body = self.lstrip("+-")
+        if body[:2].lower() in ("0x", "0o", "0b"):
+            body = body[2:]
+        return len(body) - body.count("_") - body.count(":")
 
 
 class YMap(dict):
@@ -153,7 +172,8 @@ class _Builder:
                 raise _Stop("a recursive alias (the node contains itself)", line, "NET003")
             got = self.anchors.get(ev.anchor)
             if got is None:
-                raise _Stop(f"alias *{ev.anchor} names no anchor before it", line, "NET001")
+                raise _Stop(f"alias *{shorten(ev.anchor)} names no anchor before it", line,
+                            "NET001")
             self.add(got[0], line, got[1], None)
         elif kind is yaml.DocumentStartEvent:
             self.documents += 1
@@ -165,12 +185,17 @@ class _Builder:
         yaml = self.yaml
         tag = ev.tag
         value = ev.value
-        if tag is None and ev.implicit[0] and len(value) < 100 and _PLAIN_INT.fullmatch(value):
+        if tag is None and ev.implicit[0] and len(value) <= values.MAX_DIGITS \
+                and _PLAIN_INT.fullmatch(value):
             return int(value, 16) if value[1:2] == "x" else int(value)
         if tag is None or tag == "!":
             tag = self.resolver.resolve(yaml.ScalarNode, ev.value, ev.implicit)
         if tag == STR_TAG:
             return ev.value
+        if tag == INT_TAG and len(value) > values.MAX_DIGITS:
+            long = LongInt(value)
+            if long.digits > values.MAX_DIGITS:
+                return long
         if tag == MERGE_TAG:
             return _MERGE
         node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, ev.style)
@@ -180,7 +205,7 @@ class _Builder:
             raise _Stop(f"YAML: {getattr(exc, 'problem', None) or exc}", line,
                         "NET001") from None
         except (ValueError, OverflowError) as exc:
-            raise _Stop(f"YAML: value {ev.value!r} cannot be read ({exc})", line,
+            raise _Stop(f"YAML: value '{shorten(ev.value)}' cannot be read ({shorten(exc)})", line,
                         "NET001") from None
 
     def add(self, value, line: int, size: int, anchor) -> None:
@@ -219,7 +244,7 @@ class _Builder:
         out = frame.node
         for key, kline, value in frame.pairs:
             if key in out:
-                self.diags.error(f"key '{key}' repeated (first at line {out.lines[key]})",
+                self.diags.error(f"key '{shorten(key)}' repeated (first at line {out.lines[key]})",
                                  Where(self.path, kline), rule="NET002")
                 continue
             out[key] = value
