@@ -181,6 +181,67 @@ class Diagnostics:
         return len(self.items)
 
 
+class Summarised(Diagnostics):
+    """A collector for inputs that can repeat one mistake 100,000 times (a network file:
+    issue 26): each finding is kept once (the same finding from ``defaults:`` or a
+    template, reported for every node, is one), and of one rule and severity in one
+    file the first ``limit``; the others are counted in one finding of that rule, at the
+    line of the first one left out: ``... and 99,995 more NET007 findings like this``.
+    Every output format shows that finding, so each says the count; an omitted finding
+    costs a dict lookup instead of a Diagnostic, a line of text and a JSON object."""
+
+    def __init__(self, limit: int = 5):
+        self.limit = limit
+        self._items: list[Diagnostic] = []
+        self._seen: set = set()
+        self._kept: dict = {}          # (file, rule, severity) -> findings kept
+        self._more: dict = {}          # (file, rule, severity) -> [index, count, line]
+        self._stale: set = set()       # the groups whose count changed since ``items``
+
+    @property
+    def items(self) -> list[Diagnostic]:
+        for group in self._stale:
+            file, rule, severity = group
+            at, n, line = self._more[group]
+            self._items[at] = Diagnostic(
+                severity, f"... and {n:,} more {rule} finding{'' if n == 1 else 's'} like "
+                "this", file, line, rule=rule)
+        self._stale.clear()
+        return self._items
+
+    @items.setter
+    def items(self, value: list[Diagnostic]) -> None:
+        self._items = value
+
+    def add(self, severity: Severity, message: str, where: Where | None = None, *,
+            rule: str = "", column: int | None = None, offset: int | None = None,
+            hint: str = "") -> None:
+        file, line = (where.file, where.line) if where else ("", None)
+        key = (severity, message, file, line, column, offset, rule)
+        if key in self._seen:
+            return
+        self._seen.add(key)
+        group = (file, rule, severity)
+        kept = self._kept.get(group, 0)
+        if rule and kept >= self.limit:
+            more = self._more.get(group)
+            if more is None:
+                self._more[group] = [len(self._items), 1, line]
+                self._items.append(None)   # the summary's place: filled by ``items``
+            else:
+                more[1] += 1
+            self._stale.add(group)
+            return
+        self._kept[group] = kept + 1
+        self._items.append(Diagnostic(severity, message, file, line, column, offset, rule,
+                                      hint))
+
+    def extend(self, other) -> None:
+        for d in other:
+            self.add(d.severity, d.message, Where(d.file, d.line), rule=d.rule,
+                     column=d.column, offset=d.offset, hint=d.hint)
+
+
 class DiagnosticWarning(UserWarning):
     """A warning (or info) finding, delivered through ``warnings.warn`` by the Python API
     functions that return a single value (``compile_file``, ``read_container``, ...);
@@ -192,4 +253,4 @@ class DiagnosticWarning(UserWarning):
 
 
 __all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
-           "Where", "shorten"]
+           "Summarised", "Where", "shorten"]

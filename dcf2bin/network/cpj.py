@@ -17,7 +17,7 @@ import os
 import re
 
 from dcf2bin import ini, values
-from dcf2bin.diagnostics import Diagnostics, Severity, Where, shorten
+from dcf2bin.diagnostics import Diagnostics, Severity, Summarised, Where, shorten
 from dcf2bin.network.model import SLAVE, Network, Node
 from dcf2bin.network.rules import NetRule
 
@@ -82,7 +82,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     from dcf2bin.network.files import read_node_file
     if data is None:
         data = read_node_file(path)
-    network = Network(path, kind="cpj")
+    network = Network(path, kind="cpj", diagnostics=Summarised())   # issue 26: see there
     diags = network.diagnostics
     parsed = ini.parse_bytes(data, path)
     for d in parsed.diagnostics:

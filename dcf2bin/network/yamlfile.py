@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import os
 
-from dcf2bin.diagnostics import Where, shorten
+from dcf2bin.diagnostics import Summarised, Where, shorten
 from dcf2bin.network.model import MASTER, SLAVE, Network, Node
 from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
                                       kind_of)
-from dcf2bin.network.yamltree import YamlError, YMap, read_tree
+from dcf2bin.network.yamltree import MAX_NODES, YamlError, YMap, read_tree
 
 
 def load_network(path: str, data: bytes | None = None) -> Network:
@@ -23,7 +23,9 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     if data is None:
         with open(path, "rb") as f:
             data = f.read(MAX_FILE + 1)
-    net = Network(path=path, kind="yaml")
+    # a finding in defaults: or a template is reported once, not once per node, and one
+    # mistake repeated 100,000 times five times and then counted (issue 26)
+    net = Network(path=path, kind="yaml", diagnostics=Summarised())
     diags = net.diagnostics
     if len(data) > MAX_FILE:
         diags.error(f"the network file is larger than {MAX_FILE >> 20} MiB", Where(path, 1),
@@ -90,17 +92,15 @@ class _Reader(Items):
         if not slaves:
             self.err("no slave in the network file", line if nodes_layout else root.line,
                      "NET005")
+        if defaults and root.size + defaults.size * (len(slaves) - 1) > MAX_NODES:
+            # defaults: is read once per node: a bound on that work too (issue 26)
+            self.err(f"the network expands to more than {MAX_NODES:,} nodes: its defaults: "
+                     f"({defaults.size:,}) are merged into each of its {len(slaves):,} "
+                     "nodes", root.lines["defaults"], "NET003")
+            return
         for key, value in slaves.items():
             self.node(str(key), value, slaves.lines[key], SLAVE, defaults)
         self.net.nodes.sort(key=lambda n: (n.role != MASTER, n.node_id))
-        # a finding in defaults: or a template is reported once, not once per node
-        seen, items = set(), []
-        for d in self.diags.items:
-            key = (d.severity, d.message, d.file, d.line, d.rule)
-            if key not in seen:
-                seen.add(key)
-                items.append(d)
-        self.diags.items[:] = items
 
     # -- options ---------------------------------------------------------------------------
     def options(self, value, line: int) -> None:

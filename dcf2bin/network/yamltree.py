@@ -14,12 +14,16 @@ print it in decimal).
 """
 from __future__ import annotations
 
+import gc
 import re
 
 from dcf2bin import values
 from dcf2bin.diagnostics import Diagnostics, Where, shorten
 
-MAX_NODES = 1_000_000      # expanded nodes: 126 slaves of 8 PDOs are ~50,000
+# expanded nodes (aliases counted as what they stand for, ``defaults:`` once per node):
+# 126 slaves of 8 PDOs of 8 objects are ~50,000. A bound, so that the readers' work has
+# one: libyaml alone takes ~1.6 us an event (issue 26: a 3 MB file in under 2 s).
+MAX_NODES = 250_000
 MAX_DEPTH = 64
 MERGE_TAG = "tag:yaml.org,2002:merge"
 STR_TAG = "tag:yaml.org,2002:str"
@@ -44,23 +48,26 @@ class LongInt(str):
 
 
 class YMap(dict):
-    """A mapping; ``lines[key]`` is the line of each key, ``line`` the mapping's own."""
-    __slots__ = ("line", "lines")
+    """A mapping; ``lines[key]`` is the line of each key, ``line`` the mapping's own,
+    ``size`` how many nodes it stands for (itself, its keys and its values, expanded)."""
+    __slots__ = ("line", "lines", "size")
 
     def __init__(self, line: int):
         super().__init__()
         self.line = line
         self.lines: dict = {}
+        self.size = 1
 
 
 class YSeq(list):
-    """A sequence; ``lines[i]`` is the line of item i."""
-    __slots__ = ("line", "lines")
+    """A sequence; ``lines[i]`` is the line of item i; ``size`` as for YMap."""
+    __slots__ = ("line", "lines", "size")
 
     def __init__(self, line: int):
         super().__init__()
         self.line = line
         self.lines: list[int] = []
+        self.size = 1
 
 
 class YamlError(Exception):
@@ -90,9 +97,12 @@ def read_tree(text: str, path: str, diags: Diagnostics):
     import yaml
     loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     builder = _Builder(path, diags, yaml)
+    # the tree is many small objects without reference cycles: the cyclic GC would only
+    # rescan them, more often the larger the tree (as check and build do; restored)
+    was_enabled = gc.isenabled()
+    gc.disable()
     try:
-        for event in yaml.parse(text, Loader=loader):
-            builder.event(event)
+        builder.run(yaml.parse(text, Loader=loader))
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
@@ -114,6 +124,9 @@ def read_tree(text: str, path: str, diags: Diagnostics):
     except _Stop as stop:
         diags.error(str(stop), Where(path, stop.line), rule=stop.rule)
         raise YamlError() from None
+    finally:
+        if was_enabled:
+            gc.enable()
     return builder.root
 
 
@@ -147,6 +160,39 @@ class _Builder:
         self.root = None
         self.documents = 0
 
+    def run(self, events) -> None:
+        """Every event; a plain scalar (most of a file) is read here without a call: its
+        value from a cache by its text (a file repeats ``1``, ``true``, ``index``), and
+        put into a list or mapping as ``add`` would."""
+        scalar_event, seq = self.yaml.ScalarEvent, YSeq
+        cache: dict[str, object] = {}
+        stack = self.stack
+        for ev in events:
+            if type(ev) is not scalar_event or ev.anchor is not None or not stack:
+                self.event(ev)
+                continue
+            line = ev.start_mark.line + 1
+            value = ev.value
+            if ev.tag is None and ev.implicit[0]:          # plain, no tag: by its text
+                got = cache.get(value, _NO_KEY)
+                if got is _NO_KEY:
+                    got = self.scalar(ev, line)
+                    if len(cache) < 65536 and len(value) <= 256:
+                        cache[value] = got
+                value = got
+            elif ev.tag is not None or not ev.implicit[1]:
+                value = self.scalar(ev, line)
+            frame = stack[-1]
+            frame.size += 1
+            if frame.size > MAX_NODES:
+                self.add(value, line, 0, None)             # (says so)
+            node = frame.node
+            if type(node) is seq:
+                node.append(value)
+                node.lines.append(line)
+            else:
+                self.add(value, line, 0, None)
+
     def event(self, ev) -> None:
         yaml = self.yaml
         kind = type(ev)
@@ -166,6 +212,7 @@ class _Builder:
                 self.finish_mapping(frame)
             if frame.anchor is not None:
                 self.open.discard(frame.anchor)
+            frame.node.size = frame.size
             self.add(frame.node, frame.node.line, frame.size, frame.anchor)
         elif kind is yaml.AliasEvent:
             if ev.anchor in self.open:
@@ -205,8 +252,8 @@ class _Builder:
             raise _Stop(f"YAML: {getattr(exc, 'problem', None) or exc}", line,
                         "NET001") from None
         except (ValueError, OverflowError) as exc:
-            raise _Stop(f"YAML: value '{shorten(ev.value)}' cannot be read ({shorten(exc)})", line,
-                        "NET001") from None
+            raise _Stop(f"YAML: value '{shorten(ev.value)}' cannot be read "
+                        f"({shorten(exc)})", line, "NET001") from None
 
     def add(self, value, line: int, size: int, anchor) -> None:
         if anchor is not None:
@@ -217,8 +264,8 @@ class _Builder:
         frame = self.stack[-1]
         frame.size += size
         if frame.size > MAX_NODES:
-            raise _Stop(f"the YAML expands to more than {MAX_NODES} nodes (aliases "
-                        "repeating aliases)", line, "NET003")
+            raise _Stop(f"the YAML expands to more than {MAX_NODES:,} nodes (a network "
+                        "has tens of thousands; aliases repeating aliases?)", line, "NET003")
         node = frame.node
         if type(node) is YSeq:
             node.append(value)
@@ -244,8 +291,8 @@ class _Builder:
         out = frame.node
         for key, kline, value in frame.pairs:
             if key in out:
-                self.diags.error(f"key '{shorten(key)}' repeated (first at line {out.lines[key]})",
-                                 Where(self.path, kline), rule="NET002")
+                self.diags.error(f"key '{shorten(key)}' repeated (first at line "
+                                 f"{out.lines[key]})", Where(self.path, kline), rule="NET002")
                 continue
             out[key] = value
             out.lines[key] = kline
