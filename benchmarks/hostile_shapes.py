@@ -9,11 +9,12 @@
 Network files (YAML, ``--network-mib``, 3 MiB by default), one per shape: many unknown
 keys (under ``options:``, in a slave, in a PDO, at the top of a ``nodes:`` layout), near
 misses of known keys, many slaves, long lists (a PDO mapping, ``sdo:``, a 990,000-element
-list), deep nesting, a long text and a long key, many anchors and aliases, an alias bomb.
+list), deep nesting, a long text and a long key, many anchors and aliases, an alias bomb;
+and ``.cpj`` projects of as many unknown keys, repeated keys or ``[TopologyN]`` sections.
 Each goes through ``dcf2bin network check`` and ``network show`` (verdict: under 2 s).
 
 EDS files (``--eds-mib``, 60 MiB by default, under the 64 MiB input cap): a valid EDS with
-60,000 comment lines of 1 KiB (at its end, and inside a section), one huge DOMAIN value,
+60,000 comment lines of 1 KiB (at its start, inside a section, at its end), one huge DOMAIN value,
 many sections, long lines of unknown keys. Each goes through ``dcf2bin validate`` and
 ``compile`` (verdict: peak resident memory within 4x the file's size plus 60 MiB).
 
@@ -117,13 +118,34 @@ def network_shapes(size: int) -> dict[str, str]:
     }
 
 
+def cpj_shapes(size: int) -> dict[str, str]:
+    """name -> .cpj text of about ``size`` bytes (the node file: node.eds)."""
+    head = "[Topology]\nNetName=n\nNodes=1\nNode2Present=1\nNode2DCFName=node.eds\n"
+    return {
+        "cpj-unknown-keys": _fill(size, head, lambda i: f"Key{i:07d}=1\n"),
+        "cpj-repeats": _fill(size, head, lambda i: f"Node{'0' * (i % 50 + 1)}2Name=n{i}\n"),
+        "cpj-topologies": _fill(size, head, lambda i: f"[Topology{i + 2}]\nNetName=n\n"),
+    }
+
+
+def _with_objects(base: bytes, indexes: list[int]) -> bytes:
+    """``base`` with ``indexes`` added to its [ManufacturerObjects] list."""
+    start = base.index(b"[ManufacturerObjects]")
+    end = base.index(b"\n[", start) + 1
+    listed = [int(line.split(b"=")[1], 16) for line in base[start:end].splitlines()[2:]
+              if b"=" in line] + indexes
+    section = (b"[ManufacturerObjects]\nSupportedObjects=%d\n" % len(listed)
+               + b"".join(b"%d=0x%04X\n" % (k + 1, x) for k, x in enumerate(listed)) + b"\n")
+    return base[:start] + section + base[end:]
+
+
 def eds_shapes(size: int) -> dict[str, bytes]:
     """name -> EDS bytes of about ``size`` bytes, each a valid EDS plus the bulk."""
     base = BASE_EDS.read_bytes()
-    first = base.index(b"\n[", 1) + 1              # the second section's header
+    first = base.index(b"\n", base.index(b"[DeviceInfo]")) + 1     # a section's first line
     comment = b"; " + b"x" * 1021 + b"\n"            # 1 KiB lines
     comments = comment * (size // len(comment))
-    line = b"Unknown_" + b"k" * 40 + b"=" + b"v" * (64 * 1024 - 50) + b"\n"   # 64 KiB
+    line = b"Unknown_%07d=" + b"v" * (64 * 1024 - 17) + b"\n"       # 64 KiB, each its key
     n_subs = 254
 
     def array(index: int) -> bytes:
@@ -136,23 +158,23 @@ def eds_shapes(size: int) -> dict[str, bytes]:
                 for s in range(1, n_subs + 1)]
         return b"".join(out)
 
-    sections, index = [], 0x2000
+    sections, index = [], 0x3000
     total = len(base)
     while total < size and index < 0x6000:
         sections.append(array(index))
         total += len(sections[-1])
         index += 1
-    listed = b"[ManufacturerObjects]\nSupportedObjects=%d\n" % (index - 0x2000) + b"".join(
-        b"%d=0x%04X\n" % (k + 1, 0x2000 + k) for k in range(index - 0x2000)) + b"\n"
-    domain = (b"[2000]\nParameterName=Blob\nObjectType=0x7\nDataType=0x000F\nAccessType=rw\n"
-              b"DefaultValue=" + b"AB" * (size // 2) + b"\n\n"
-              b"[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000\n")
+    domain = (b"[3000]\nParameterName=Blob\nObjectType=0x7\nDataType=0x000F\nAccessType=rw\n"
+              b"DefaultValue=" + b"AB" * (size // 2) + b"\n\n")
     return {
+        "comments-at-start": comments + base,
         "comments-at-end": base + comments,
         "comments-in-section": base[:first] + comments + base[first:],
-        "huge-value": base + b"\n" + domain,
-        "many-sections": base + b"\n" + listed + b"".join(sections),
-        "long-lines": base[:first] + line * (size // len(line)) + base[first:],
+        "huge-value": _with_objects(base, [0x3000]) + b"\n" + domain,
+        "many-sections": _with_objects(base, list(range(0x3000, index))) + b"\n"
+        + b"".join(sections),
+        "long-lines": base[:first] + b"".join(line % k for k in range(size // len(line)))
+        + base[first:],
     }
 
 
@@ -164,6 +186,11 @@ def write(folder: Path, network_size: int, eds_size: int, only=None) -> list[tup
     for name, text in network_shapes(network_size).items():
         if only is None or name in only:
             p = folder / f"{name}.yml"
+            p.write_text(text)
+            out.append(("network", name, p))
+    for name, text in cpj_shapes(network_size).items():
+        if only is None or name in only:
+            p = folder / f"{name}.cpj"
             p.write_text(text)
             out.append(("network", name, p))
     for name, data in eds_shapes(eds_size).items():
@@ -201,12 +228,21 @@ def main() -> int:
     ap.add_argument("--write", metavar="DIR", help="only write the files to DIR")
     args = ap.parse_args()
     only = set(args.only.split(",")) if args.only else None
-    folder = Path(args.write) if args.write else OUT
-    files = write(folder, int(args.network_mib * MIB), int(args.eds_mib * MIB), only)
     if args.write:
+        files = write(Path(args.write), int(args.network_mib * MIB), int(args.eds_mib * MIB),
+                      only)
         for kind, name, p in files:
             print(f"{kind:8} {name:20} {p.stat().st_size:>10} {p}")
         return 0
+    # The files are made by a process of their own: a child's peak RSS (ru_maxrss) starts
+    # at its parent's when it is forked, so this process must never hold them.
+    folder = OUT
+    listing = subprocess.run([sys.executable, __file__, "--write", str(folder),
+                              "--network-mib", str(args.network_mib), "--eds-mib",
+                              str(args.eds_mib)] + (["--only", args.only] if args.only else []),
+                             check=True, capture_output=True, text=True).stdout
+    files = [(kind, name, Path(path)) for kind, name, _, path in
+             (line.split(None, 3) for line in listing.splitlines())]
     env = dict(os.environ, PYTHONPATH=str(REPO), NO_COLOR="1")
     env.pop("DCF2BIN_DEBUG", None)
     py = [sys.executable, "-m", "dcf2bin"]
