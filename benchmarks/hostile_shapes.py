@@ -11,12 +11,15 @@ keys (under ``options:``, in a slave, in a PDO, at the top of a ``nodes:`` layou
 misses of known keys, many slaves, long lists (a PDO mapping, ``sdo:``, a 990,000-element
 list), deep nesting, a long text and a long key, many anchors and aliases, an alias bomb;
 and ``.cpj`` projects of as many unknown keys, repeated keys or ``[TopologyN]`` sections.
-Each goes through ``dcf2bin network check`` and ``network show`` (verdict: under 2 s).
+Each goes through ``dcf2bin network check`` and ``network show`` (verdict: under 2 s of CPU
+time, and the memory bound below; ``--network-mib 60`` shows the memory of the largest).
 
 EDS files (``--eds-mib``, 60 MiB by default, under the 64 MiB input cap): a valid EDS with
-60,000 comment lines of 1 KiB (at its start, inside a section, at its end), one huge DOMAIN value,
+60,000 comment lines of 1 KiB (at its start, inside a section, at its end; after a repeated
+section, which the exact line-by-line reader reads), one huge DOMAIN value,
 many sections, long lines of unknown keys. Each goes through ``dcf2bin validate`` and
-``compile`` (verdict: peak resident memory within 4x the file's size plus 60 MiB).
+``compile`` (verdict: peak resident memory within 4x the file's size plus 60 MiB, the bound
+of every input).
 
 Every row is a fresh process (``python -m dcf2bin`` of this checkout), timed from start to
 exit; the figures are the medians of ``--repeat`` runs of its wall time and of its CPU time
@@ -173,6 +176,7 @@ def eds_shapes(size: int) -> dict[str, bytes]:
         "huge-value": _with_objects(base, [0x3000]) + b"\n" + domain,
         "many-sections": _with_objects(base, list(range(0x3000, index))) + b"\n"
         + b"".join(sections),
+        "comments-exact": base + b"\n[FileInfo]\nFileName=again.eds\n" + comments,
         "long-lines": base[:first] + b"".join(line % k for k in range(size // len(line)))
         + base[first:],
     }
@@ -258,14 +262,16 @@ def main() -> int:
             cpu = statistics.median(r[1] for r in runs)
             rss = max(r[2] for r in runs)
             codes = sorted({r[3] for r in runs})
+            bound = MEMORY_FACTOR * size / MIB + MEMORY_EXTRA
+            ok_rss = rss <= bound
+            verdict = f"{'met' if ok_rss else 'NOT met'} (<= {bound:.0f} MiB)"
+            ok = ok_rss and 70 not in codes
             if kind == "network":
                 # CPU time: on a machine shared with other jobs, wall time measures them
-                ok = cpu < TIME_LIMIT and 70 not in codes
-                verdict = f"{'met' if ok else 'NOT met'} (CPU < {TIME_LIMIT:g} s)"
-            else:
-                bound = MEMORY_FACTOR * size / MIB + MEMORY_EXTRA
-                ok = rss <= bound and 70 not in codes
-                verdict = f"{'met' if ok else 'NOT met'} (<= {bound:.0f} MiB)"
+                ok_cpu = cpu < TIME_LIMIT
+                ok = ok and ok_cpu
+                verdict = f"{'met' if ok_cpu else 'NOT met'} (CPU < {TIME_LIMIT:g} s), " \
+                          + verdict
             failed += not ok
             print(f"| {name} | {size / MIB:.1f} MiB | `{label}` | "
                   f"{','.join(map(str, codes))} | {secs:.2f} | {cpu:.2f} | {rss:.0f} | "

@@ -193,7 +193,8 @@ class Summarised(Diagnostics):
     def __init__(self, limit: int = 5):
         self.limit = limit
         self._items: list[Diagnostic] = []
-        self._seen: set = set()
+        self._seen: set = set()            # the findings kept
+        self._counted: set[int] = set()    # the hashes of those only counted
         self._kept: dict = {}          # (file, rule, severity) -> findings kept
         self._more: dict = {}          # (file, rule, severity) -> [index, count, line]
         self._stale: set = set()       # the groups whose count changed since ``items``
@@ -220,10 +221,16 @@ class Summarised(Diagnostics):
         key = (severity, message, file, line, column, offset, rule)
         if key in self._seen:
             return
-        self._seen.add(key)
         group = (file, rule, severity)
         kept = self._kept.get(group, 0)
         if rule and kept >= self.limit:
+            # only counted: the finding is remembered by its hash (64 bits: 100,000 of
+            # them would hold 50 MB of messages and tuples otherwise); two distinct ones
+            # of one hash would count as one, once in 2^40 files of a million findings
+            digest = hash(key)
+            if digest in self._counted:
+                return
+            self._counted.add(digest)
             more = self._more.get(group)
             if more is None:
                 self._more[group] = [len(self._items), 1, line]
@@ -232,6 +239,7 @@ class Summarised(Diagnostics):
                 more[1] += 1
             self._stale.add(group)
             return
+        self._seen.add(key)
         self._kept[group] = kept + 1
         self._items.append(Diagnostic(severity, message, file, line, column, offset, rule,
                                       hint))

@@ -32,13 +32,13 @@ def load_network(path: str, data: bytes | None = None) -> Network:
                     rule="NET001")
         return net
     try:
-        text = data.decode("utf-8-sig")
+        data.decode("utf-8-sig")      # (libyaml reads the bytes: no copy of the text kept)
     except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
+        line = data.count(b"\n", 0, exc.start) + 1
         diags.error("the network file is not UTF-8 text", Where(path, line), rule="NET001")
         return net
     try:
-        root = read_tree(text, path, diags)
+        root = read_tree(data, path, diags)
     except YamlError:
         return net
     _Reader(net, os.path.dirname(path)).run(root)

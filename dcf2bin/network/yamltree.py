@@ -80,16 +80,20 @@ class _Stop(Exception):  # noqa: N818 - an internal signal, not an error type
         self.line, self.rule = line, rule
 
 
-def _at_tab(text: str, index: int) -> bool:
+def _at_tab(text: str | bytes, index: int) -> bool:
     """Whether the problem mark points at a tab (libyaml says only that the character
-    cannot start a token)."""
+    cannot start a token; its index counts characters)."""
+    if isinstance(text, bytes):
+        text = text.decode("utf-8-sig", "replace")
     return 0 <= index < len(text) and text[index] == "\t"
 
 
-def read_tree(text: str, path: str, diags: Diagnostics):
+def read_tree(text: str | bytes, path: str, diags: Diagnostics):
     """The document's root as YMap/YSeq/scalars, or None for an empty document. Fatal
     problems (syntax, an alias bomb) raise YamlError after adding their diagnostic; a
-    repeated key is reported and the document read on.
+    repeated key is reported and the document read on. ``text`` may be the file's UTF-8
+    bytes (libyaml reads them as they are; the caller checked that they are UTF-8): a
+    text would be encoded again, a third copy of a 60 MB file.
 
     The tree is built from libyaml's events with an explicit stack (its parser does not
     recurse, PyYAML's composer does, and a C stack overflow cannot be caught); an alias
