@@ -16,8 +16,9 @@ time, and the memory bound below; ``--network-mib 60`` shows the memory of the l
 
 EDS files (``--eds-mib``, 60 MiB by default, under the 64 MiB input cap): a valid EDS with
 60,000 comment lines of 1 KiB (at its start, inside a section, at its end; after a repeated
-section, which the exact line-by-line reader reads), one huge DOMAIN value,
-many sections, long lines of unknown keys. Each goes through ``dcf2bin validate`` and
+section, which the exact line-by-line reader reads), one huge DOMAIN value, many sections
+(arrays of 254 sub-objects), 5 million short unknown keys (``Key0000001=1``), long lines of
+unknown keys. Each goes through ``dcf2bin validate`` and
 ``compile`` (verdict: peak resident memory within 4x the file's size plus 60 MiB, the bound
 of every input).
 
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -177,6 +179,8 @@ def eds_shapes(size: int) -> dict[str, bytes]:
         "many-sections": _with_objects(base, list(range(0x3000, index))) + b"\n"
         + b"".join(sections),
         "comments-exact": base + b"\n[FileInfo]\nFileName=again.eds\n" + comments,
+        "many-keys": base[:first] + b"".join(b"Key%07d=1\n" % k for k in range(size // 13))
+        + base[first:],
         "long-lines": base[:first] + b"".join(line % k for k in range(size // len(line)))
         + base[first:],
     }
@@ -205,11 +209,17 @@ def write(folder: Path, network_size: int, eds_size: int, only=None) -> list[tup
     return out
 
 
+def _limit():
+    # a shape that is not met must not take the machine with it: 4 GiB of address space
+    # (a MemoryError is exit 70, which the table shows)
+    resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+
+
 def run_once(cmd: list[str], env: dict, cwd: Path) -> tuple[float, float, float, int]:
     """(wall seconds, CPU seconds, peak RSS in MiB, exit code) of one process."""
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            env=env, cwd=cwd)
+                            env=env, cwd=cwd, preexec_fn=_limit)
     _, status, usage = os.wait4(proc.pid, 0)
     return (time.perf_counter() - t0, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024,
             os.waitstatus_to_exitcode(status))

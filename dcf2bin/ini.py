@@ -160,6 +160,17 @@ class _SharedSection(Section):
     def key_names(self):
         return (self.rest if self._values is None else self._values).keys()
 
+    def line_of(self, key: str) -> int:
+        """As ``Section.line_of``; a section read by ``_Templates.big`` finds the key in
+        the file rather than making a Key of each of its lines (it can have millions)."""
+        if not self.has(key):
+            return self.line
+        source = self.rest.source
+        if self.rest.text is None and self.line not in source.keys:
+            for _, line in source.keys_at(self.line, key):
+                return line
+        return self.keys[key].line
+
 
 class _DenotedSection(_SharedSection):
     """A shared section with the value of its Denotation= line (see ``Section``)."""
@@ -200,10 +211,11 @@ class _Source:
             return src[at:src.find(b"]", at)].decode("latin-1").strip(" \t")
         return src[at:src.find("]", at)].strip(" \t")
 
-    def keys_at(self, line: int) -> list[tuple[str, int]]:
+    def keys_at(self, line: int, only: str | None = None) -> list[tuple[str, int]]:
         """(name as written, line) of each key line of the section whose header is at
         ``line``, found in the file (``_Templates.big`` keeps no text of its own), as
-        ``_SharedSection.keys`` reads a template's text; no value is copied."""
+        ``_SharedSection.keys`` reads a template's text; no value is copied. ``only``: the
+        first key of that lower-case name alone (a section can have millions)."""
         if self._lines is None:
             self._index()
         src, k = self.src, bisect_left(self._lines, line)
@@ -224,8 +236,10 @@ class _Source:
             if eq > pos:
                 name = src[pos:eq]
                 name = (name.decode("latin-1") if binary else name).strip(" \t\r")
-                if name and name[0] not in ";#":
+                if name and name[0] not in ";#" and (only is None or name.lower() == only):
                     out.append((name, line))
+                    if only is not None:
+                        break
             if j < 0:
                 break
             pos = j + n_nl

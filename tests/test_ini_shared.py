@@ -277,3 +277,13 @@ def test_a_long_value_and_long_keys_are_read_once():
 ])
 def test_a_long_section_the_exact_reader_has_to_see(text, why):
     assert ini._parse_fast(text, "t.dcf", "utf-8") is None, why
+
+
+def test_line_of_in_a_long_section_makes_no_key_of_each_line():
+    text = "[1000]\nParameterName=a\n[3000]\n" + "".join(f"Key{k}=1\n" for k in range(20_000))
+    f = _fast_equals_exact(text)
+    f = ini._parse_fast(text, "t.dcf", "utf-8")          # again: nothing asked yet
+    sec = f.section("3000")
+    assert sec.line_of("key19999") == 20_003 and sec.line_of("nosuchkey") == 3
+    assert sec.rest.source.keys == {}                    # no Key made for 20,000 lines
+    assert sec.keys["key19999"].line == 20_003

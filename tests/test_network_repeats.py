@@ -148,3 +148,13 @@ def test_defaults_merged_into_every_node_count_towards_the_bound(tmp_path):
         f"bus.yml:3: error: the network expands to more than 250,000 nodes: its defaults: "
         f"({size:,}) are merged into each of its 126 nodes [NET003]"]
     assert net.slaves == []
+
+
+def test_a_cpj_of_more_than_100_000_lines_is_not_read(tmp_path):
+    from dcf2bin.network.cpj import MAX_LINES, read
+    p = tmp_path / "net.cpj"
+    p.write_text("[Topology]\nNetName=n\n" + "".join(f"Key{k}=1\n" for k in range(MAX_LINES)))
+    net = read(str(p))
+    assert found(net, tmp_path) == [
+        "net.cpj:100001: error: the project has 100,003 lines, more than 100,000 (a network "
+        "of 127 nodes takes about 520): not read [NET050]"]

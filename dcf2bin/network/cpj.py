@@ -30,7 +30,8 @@ def _r(id, name, severity, description, hint=""):
 
 RULES: dict[str, NetRule] = {r.id: r for r in (
     _r("NET050", "cpj-syntax", ERROR,
-       "The .cpj project is not readable INI text (a bad line, a repeated section or key).",
+       "The .cpj project is not readable INI text (a bad line, a repeated section or key, "
+       "more than 100,000 lines).",
        "a .cpj is INI text: [Topology] and Key=Value lines"),
     _r("NET051", "cpj-no-topology", ERROR,
        "The .cpj project has no [Topology] section (or not the one --net asks for).",
@@ -60,6 +61,9 @@ RULES: dict[str, NetRule] = {r.id: r for r in (
 )}
 
 _NODE_KEY = re.compile(r"node([0-9]+)(present|name|dcfname|refd)")
+# a .cpj longer than this is not read (issue 26): a [TopologyN] section of 127 nodes has
+# 511 keys, so this is about 190 networks of every node-ID
+MAX_LINES = 100_000
 _NET_KEYS = ("netname", "nodes", "edsbasename")
 
 
@@ -84,6 +88,12 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         data = read_node_file(path)
     network = Network(path, kind="cpj", diagnostics=Summarised())   # issue 26: see there
     diags = network.diagnostics
+    lines = data.count(b"\n") + 1
+    if lines > MAX_LINES:
+        # every key of INI text is an object or two: 5 million short lines would take GBs
+        _add(diags, "NET050", f"the project has {lines:,} lines, more than {MAX_LINES:,} "
+             "(a network of 127 nodes takes about 520): not read", Where(path, MAX_LINES + 1))
+        return network
     parsed = ini.parse_bytes(data, path)
     for d in parsed.diagnostics:
         if d.severity is Severity.ERROR:
