@@ -158,3 +158,14 @@ def test_a_cpj_of_more_than_100_000_lines_is_not_read(tmp_path):
     assert found(net, tmp_path) == [
         "net.cpj:100001: error: the project has 100,003 lines, more than 100,000 (a network "
         "of 127 nodes takes about 520): not read [NET050]"]
+
+
+def test_slaves_after_the_first_1024_are_not_read(tmp_path):
+    p = tmp_path / "bus.yml"
+    p.write_text("master:\n  node_id: 1\n" + "".join(
+        f"s{k}:\n  node_id: {k % 126 + 2}\n  dcf: io.eds\n" for k in range(1100)))
+    net = load_network(str(p))
+    assert len(net.slaves) == 1024
+    assert [m for m in found(net, tmp_path) if "NET004" in m] == [
+        "bus.yml:3075: error: 1,100 slaves, but a CANopen network has 127 node-IDs: those "
+        "after the first 1,024 are not read [NET004]"]

@@ -17,6 +17,9 @@ from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_
 from dcf2bin.network.yamltree import MAX_NODES, YamlError, YMap, read_tree
 
 
+MAX_SLAVES = 1024      # read of a network file (issue 26): 8 times the node-IDs
+
+
 def load_network(path: str, data: bytes | None = None) -> Network:
     """Read a YAML network file. Problems are collected in ``network.diagnostics``; a
     file that cannot be read raises OSError."""
@@ -98,7 +101,13 @@ class _Reader(Items):
                      f"({defaults.size:,}) are merged into each of its {len(slaves):,} "
                      "nodes", root.lines["defaults"], "NET003")
             return
-        for key, value in slaves.items():
+        for n, (key, value) in enumerate(slaves.items()):
+            if n == MAX_SLAVES:
+                # a node costs a kilobyte or two; 127 node-IDs make these repeats anyway
+                self.err(f"{len(slaves):,} slaves, but a CANopen network has 127 node-IDs: "
+                         f"those after the first {MAX_SLAVES:,} are not read",
+                         slaves.lines[key], "NET004")
+                break
             self.node(str(key), value, slaves.lines[key], SLAVE, defaults)
         self.net.nodes.sort(key=lambda n: (n.role != MASTER, n.node_id))
 
