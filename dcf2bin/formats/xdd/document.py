@@ -25,7 +25,9 @@ class XddFile(ini_mod.IniFile):
     specifics: dict = field(default_factory=dict)
     disabled: dict = field(default_factory=dict)
     problems: list = field(default_factory=list)
-    untyped: set = field(default_factory=set)    # (index, sub) whose type XDD011 reported
+    # (index, sub) -> the builder's rules that would only repeat a finding of the reader:
+    # DCF031 (no DataType) after XDD011/XDD010, DCF033 (no AccessType) after XDD010
+    consequences: dict = field(default_factory=dict)
 
     def problem(self, severity: Severity, message: str, line: int | None,
                 index: int | None = None, sub: int | None = None, *, rule: str,
@@ -34,15 +36,22 @@ class XddFile(ini_mod.IniFile):
 
     def finish(self, dev) -> None:
         """Give the Device what the sections could not: the findings (tagged with their
-        object, so that compile weighs them as it weighs its own) and the specifics. An
-        entry whose type XDD011 reported is not reported again as having none (DCF031)."""
-        if self.untyped:
-            dev.problems[:] = [p for p in dev.problems if not (
-                p.diagnostic.rule == "DCF031" and (p.index, p.sub or 0) in self.untyped)]
+        object, so that compile weighs them as it weighs its own), first, and the
+        specifics. What the builder says only because of a finding of the reader (no
+        DataType after an unknown type) is left out: one cause, one line."""
+        if self.consequences:
+            dev.problems[:] = [p for p in dev.problems if p.diagnostic.rule not in
+                               self.consequences.get((p.index, p.sub or 0), ())]
+        mine = len(dev.problems)
         for severity, message, line, index, sub, rule, hint in self.problems:
             dev.problem(severity, message, Where(self.path, line), index, sub, rule=rule,
                         hint=hint)
+        dev.problems[:] = dev.problems[mine:] + dev.problems[:mine]
         dev.specifics = self.specifics
+
+    def follows(self, index: int, sub: int | None, *rules: str) -> None:
+        """The builder's ``rules`` for this entry would repeat a finding of the reader."""
+        self.consequences.setdefault((index, sub or 0), set()).update(rules)
 
 
 def section(name: str, line: int) -> ini_mod.Section:

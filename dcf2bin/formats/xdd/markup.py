@@ -12,8 +12,9 @@ Why lxml (a dependency since issue 28) and not the standard library:
   by ``fileio.read_file`` (64 MiB), so time and memory are too.
 
 A CiA 311 description is defined by XML Schema and has no DOCTYPE: a file with one is
-refused in one line (``XDD002``) before anything in it is read -- an entity bomb, an
-external entity or a DTD to fetch are never looked at, even unexpanded.
+refused in one line (``XDD002``) before the XML parser sees the file (``doctype`` looks at
+its prolog as text) -- an entity bomb, an external entity or a DTD to fetch are never
+parsed, let alone expanded or fetched.
 """
 from __future__ import annotations
 
@@ -33,6 +34,9 @@ class MarkupError(Exception):
 def parse(data: bytes):
     """The root element of ``data``; ``MarkupError`` for XML that is not well-formed
     (XDD001) or has a DOCTYPE (XDD002)."""
+    refused = doctype(data)
+    if refused is not None:
+        raise MarkupError(*refused, "XDD002")
     from lxml import etree
     parser = etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True,
                              huge_tree=False, remove_comments=True, remove_pis=True,
@@ -44,29 +48,44 @@ def parse(data: bytes):
         if message.startswith("Excessive depth in document"):
             message = "elements are nested more than 256 deep"
         raise MarkupError(f"not well-formed XML: {message}", exc.lineno, "XDD001") from None
-    doctype = root.getroottree().docinfo
-    if doctype.doctype or doctype.internalDTD is not None:
-        raise MarkupError(_doctype_sentence(doctype), _doctype_line(data), "XDD002")
+    info = root.getroottree().docinfo
+    if info.doctype or info.internalDTD is not None:      # (doctype() has refused it)
+        raise MarkupError(_sentence("has a DOCTYPE"), None, "XDD002")
     return root
 
 
-def _doctype_sentence(info) -> str:
-    dtd = info.internalDTD
-    if dtd is not None and any(True for _ in dtd.iterentities()):
-        what = "declares XML entities"
-    elif info.system_url or info.public_id:
-        what = f"names a DTD ({info.system_url or info.public_id})"
+_PROLOG = re.compile(r"\s*(?:<\?.*?\?>|<!--.*?-->)", re.S)
+_DTD_ID = re.compile(r"\s*\S+\s+(?:SYSTEM\s+|PUBLIC\s+(['\"]).*?\1\s*)(['\"])(.*?)\2", re.S)
+
+
+def doctype(data: bytes) -> tuple[str, int] | None:
+    """(sentence, line) when the prolog of ``data`` -- what stands before the root element,
+    the only place a DOCTYPE may stand -- holds one; looked at as text, before any XML
+    parser sees the file."""
+    head = data[:1 << 16]
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        text = head.decode("utf-16", "replace")
     else:
-        what = "has a DOCTYPE"
+        text = head.decode("utf-8", "replace").lstrip("\ufeff")
+    at = 0
+    while (m := _PROLOG.match(text, at)) is not None:
+        at = m.end()
+    while at < len(text) and text[at].isspace():
+        at += 1
+    if not text.startswith("<!DOCTYPE", at):
+        return None
+    line = text.count("\n", 0, at) + 1
+    rest = text[at + 9:]
+    if "<!ENTITY" in rest:
+        return _sentence("declares XML entities"), line
+    if (m := _DTD_ID.match(rest)) is not None:
+        return _sentence(f"names a DTD ({m.group(3)})"), line
+    return _sentence("has a DOCTYPE"), line
+
+
+def _sentence(what: str) -> str:
     return (f"the file {what}; a CiA 311 description has no DOCTYPE, and dcf2bin expands "
             "no entity and fetches no DTD")
-
-
-def _doctype_line(data: bytes) -> int | None:
-    at = data.find(b"<!DOCTYPE")
-    if at < 0:
-        at = data.find(b"<\x00!\x00D\x00")       # UTF-16
-    return data.count(b"\n", 0, at) + 1 if at >= 0 else None
 
 
 def local(tag) -> str:

@@ -96,6 +96,7 @@ class Objects:
             self.error(f"{label}: uniqueIDRef=\"{ref}\" names no parameter of the "
                        "parameterList", el.sourceline, idx, sub, rule="XDD010",
                        hint="add the parameter, or correct the reference")
+            self.doc.follows(idx, sub, "DCF031", "DCF033")
             return None
         spec = {}
         for child in param:
@@ -196,7 +197,7 @@ class Objects:
         self.error(f"{label}: {said}", line, idx, sub, rule="XDD011",
                    hint="give one of CiA 301's data types (dataType) or IEC 61131's (UDINT, "
                         "...)")
-        self.doc.untyped.add((idx, sub or 0))
+        self.doc.follows(idx, sub, "DCF031")
 
     def from_parameter(self, param, label, idx, sub, var: bool, own: dict) -> dict:
         """CiA 306 key -> (value, line, how to show it) from a parameter."""
@@ -257,7 +258,7 @@ class Objects:
             self.error(f"{label}: dataTypeIDRef uniqueIDRef=\"{uid}\" names no type of the "
                        "dataTypeList", ref.sourceline, idx, sub, rule="XDD010",
                        hint="add the type to the dataTypeList, or correct the reference")
-            self.doc.untyped.add((idx, sub or 0))
+            self.doc.follows(idx, sub, "DCF031")
             return None
         if local(target.tag) in ("array", "struct"):
             return False
