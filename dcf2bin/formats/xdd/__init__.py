@@ -85,11 +85,10 @@ _WANTED = frozenset({
 
 
 def _collect(root, local) -> dict:
+    """name -> the elements of that name, in document order (lxml's iter picks them, in C)."""
     found: dict[str, list] = {}
-    for el in root.iter():
-        name = local(el.tag)
-        if name in _WANTED:
-            found.setdefault(name, []).append(el)
+    for el in root.iter(*("{*}" + name for name in _WANTED)):
+        found.setdefault(local(el.tag), []).append(el)
     return found
 
 

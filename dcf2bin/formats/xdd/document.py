@@ -54,10 +54,42 @@ class XddFile(ini_mod.IniFile):
         self.consequences.setdefault((index, sub or 0), set()).update(rules)
 
 
-def section(name: str, line: int) -> ini_mod.Section:
-    """An empty section as the exact INI reader makes them."""
-    return ini_mod._WrittenSection(name, line)
+class XmlSection(ini_mod.Section):
+    """A section read from XML: its values by lower-case key, each key's name and line;
+    ``keys`` (Key records) made when first asked for (a diagnostic), not for every key."""
+    __slots__ = ("name", "line", "values", "_lines", "_keys")
+
+    def __init__(self, name: str, line: int):
+        self.name, self.line = name, line
+        self.values: dict[str, str] = {}
+        self._lines: dict[str, tuple[str, int]] = {}
+        self._keys = None
+
+    @property
+    def keys(self) -> dict[str, ini_mod.Key]:
+        if self._keys is None:
+            self._keys = {low: ini_mod.Key(name, self.values[low], line)
+                          for low, (name, line) in self._lines.items()}
+        return self._keys
+
+    def line_of(self, key: str) -> int:
+        got = self._lines.get(key)
+        return got[1] if got is not None else self.line
 
 
-def add(sec: ini_mod.Section, name: str, value: str, line: int | None) -> None:
-    sec.add(ini_mod.Key(name, value, line if line is not None else sec.line))
+def section(name: str, line: int) -> XmlSection:
+    return XmlSection(name, line)
+
+
+_LOW: dict[str, str] = {}
+
+
+def add(sec: XmlSection, name: str, value: str, line: int | None) -> None:
+    low = _LOW.get(name)
+    if low is None:
+        low = name.lower()
+        if len(_LOW) < 1024:
+            _LOW[name] = low
+    sec.values[low] = value
+    sec._lines[low] = (name, line if line is not None else sec.line)
+    sec._keys = None

@@ -88,6 +88,14 @@ def _sentence(what: str) -> str:
             "no entity and fetches no DTD")
 
 
+_LOCAL: dict = {}
+
+
 def local(tag) -> str:
     """An element's name without its namespace ('' for anything but an element)."""
-    return tag.rpartition("}")[2] if tag.__class__ is str else ""
+    name = _LOCAL.get(tag)
+    if name is None:
+        name = tag.rpartition("}")[2] if tag.__class__ is str else ""
+        if len(_LOCAL) < 4096:
+            _LOCAL[tag] = name
+    return name
