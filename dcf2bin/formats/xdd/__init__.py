@@ -21,13 +21,19 @@ from dcf2bin.diagnostics import Diagnostics, Severity, Where
 
 
 def sniff(data: bytes) -> bool:
-    """XML: the first character after a byte order mark and blanks is ``<``."""
+    """XML text: after a byte order mark and blanks, ``<?``, ``<!`` or ``<`` and a name's
+    first letter, and no control character in the first 256 bytes but tab, CR and LF (a
+    binary file that happens to start with ``<`` is not XML)."""
     head = data[:256]
     if head[:3] == b"\xef\xbb\xbf":
         head = head[3:]
     elif head[:2] in (b"\xff\xfe", b"\xfe\xff"):
         head = head[2:].replace(b"\x00", b"")          # UTF-16: its ASCII characters
-    return head.lstrip(b" \t\r\n")[:1] == b"<"
+    if head.translate(None, b"\t\r\n").translate(None, bytes(range(32, 256))):
+        return False                                  # control characters: binary
+    body = head.lstrip(b" \t\r\n")
+    return body[:1] == b"<" and (body[1:2] in (b"?", b"!", b"_", b":")
+                                 or body[1:2].isalpha())
 
 
 def read(data: bytes, path: str):
