@@ -1,11 +1,13 @@
-"""What kind of file an input is: DCF/EDS text, a binary container, or the lossless JSON form.
+"""What kind of file an input is: a device description (DCF/EDS text, CiA 311 XML), a binary
+container, or the lossless JSON form.
 
 One rule for every command (issue 19): the content decides where it is clear -- the JSON
-form starts with ``{`` and names its format, a container's first DWORD is its own size,
-CiA 306 text has ``[section]`` lines and passes the DCF reader's text test
-(``ini.not_text``) -- and the file name only where the content is not (an empty file, a
-damaged container, binary junk): such a file is then read as its name says, and the reader
-of that kind reports what is wrong.
+form starts with ``{`` and names its format, a container's first DWORD is its own size, a
+description format passes its own content test (the registry of formats,
+``dcf2bin.formats.registry``: XML starts with ``<``, CiA 306 text has ``[section]`` lines
+and passes the DCF reader's text test ``ini.not_text``) -- and the file name only where the
+content is not (an empty file, a damaged container, binary junk): such a file is then read
+as its name says, and the reader of that kind reports what is wrong.
 
 No click here: ``dcf2bin.cli`` and the lint runner both use it, and they word a mismatch
 with ``mismatch``.
@@ -13,17 +15,20 @@ with ``mismatch``.
 from __future__ import annotations
 
 import os
-import re
+
+from dcf2bin.formats import registry
 
 DCF = "dcf"
+XDD = "xdd"
 CONTAINER = "bin"
 JSON = "json"
 
 #: what each kind is called in a sentence
-NAMES = {DCF: "DCF/EDS text", CONTAINER: "a binary container",
+NAMES = {DCF: "DCF/EDS text", XDD: "CiA 311 XML (XDD/XDC)", CONTAINER: "a binary container",
          JSON: "the JSON form of a container"}
 
-_BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, ".dcf": DCF, ".eds": DCF, ".ini": DCF}
+# the description formats' suffixes come from their registry (dcf2bin.formats.registry)
+_BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, **registry.kinds_by_suffix()}
 
 
 def by_name(path: str) -> str | None:
@@ -61,18 +66,13 @@ def _body(data: bytes) -> bytes:
     return body
 
 
-_SECTION = re.compile(rb"(?m)^[ \t]*\[[^\]\r\n]+\]")
-
-
 def _clear(data: bytes) -> str | None:
     if _body(data)[:1] == b"{" and b'"dcf2bin-container"' in data[:65536]:
         return JSON
     if len(data) >= 40 and int.from_bytes(data[:4], "little") == len(data):
         return CONTAINER
-    from dcf2bin.ini import not_text
-    if _SECTION.search(data[:65536]) and not_text(data) is None:
-        return DCF
-    return None
+    fmt = registry.sniff(data)          # a description format's own content test
+    return fmt.kind if fmt is not None else None
 
 
 def contradicts_name(kind: str, path: str) -> bool:
@@ -89,6 +89,7 @@ def what_it_is(path: str, kind: str) -> str:
 # The command that takes each kind, for the sentence that names it.
 _USE = {
     DCF: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
+    XDD: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
     CONTAINER: "use dcf2bin dump to read it (dcf2bin bin2dcf turns it into a DCF)",
     JSON: "use dcf2bin compile to turn it back into the container",
 }
@@ -109,8 +110,9 @@ def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
     wanted = (wanted,) if isinstance(wanted, str) else tuple(wanted)
     if kind in wanted:
         return None
+    # a command that takes DCF/EDS text takes CiA 311 XML too: "DCF/EDS text" names both
     want = " or ".join(NAMES[w].replace("the JSON form of a container", "its JSON form")
-                       for w in wanted)
+                       for w in wanted if not (w == XDD and DCF in wanted))
     if isinstance(use, dict):
         use = use.get(kind)
     return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"

@@ -379,9 +379,9 @@ def bench_node(node_id: int, od, image: ProcessImage | None = None) -> BenchNode
 def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
     """A node from an EDS/DCF: canopen's object dictionary built from the dcf2bin model
     (values exactly as compile encodes them). Returns (node, model errors)."""
-    from dcf2bin import model
+    from dcf2bin import formats
     from dcf2bin.diagnostics import Severity
-    dev = model.load(path, node_id=node_id, data=data)
+    dev = formats.load(path, node_id=node_id, data=data)
     nid = node_id if node_id is not None else dev.node_id
     if nid is None:
         raise NodeError("no node-ID: give --node-id N or set NodeID in [DeviceComissioning]")

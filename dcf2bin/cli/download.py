@@ -107,8 +107,8 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
     from dcf2bin.bus import download as dl
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    fmt = input_kind(input, data, ("dcf", "json", "bin"), from_, quiet=quiet)
-    if fmt == "dcf":
+    fmt = input_kind(input, data, ("dcf", "xdd", "json", "bin"), from_, quiet=quiet)
+    if fmt in ("dcf", "xdd"):
         from dcf2bin.compiler import CompileOptions, compile_path
         res = compile_path(name, CompileOptions(node_id=node_id), data=data)
         emit(res.diagnostics, quiet)

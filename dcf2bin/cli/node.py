@@ -104,7 +104,7 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
     run_it = f"run it with dcf2bin node --container {name} --node-id N"
-    input_kind(path, data, ("dcf",), quiet=quiet, use={"bin": run_it, "json": run_it})
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet, use={"bin": run_it, "json": run_it})
     try:
         node, errors = nodemod.from_file(name, node_id, data=data)
     except nodemod.NodeError as exc:
