@@ -60,6 +60,11 @@ class Misbehaving:
         self.requests: list[bytes] = []
         self.net.unsubscribe(node.sdo.rx_cobid, node.sdo.on_request)
         self.net.subscribe(node.sdo.rx_cobid, self._on)
+        node.misbehaving = self        # Bench.close gives the node its own server back
+
+    def undo(self) -> None:
+        self.net.unsubscribe(self.node.sdo.rx_cobid, self._on)
+        self.net.subscribe(self.node.sdo.rx_cobid, self.node.sdo.on_request)
 
     def _on(self, can_id, data, timestamp) -> None:
         frame = bytes(data)
@@ -161,3 +166,13 @@ class RestartsAfter(Misbehaving):
             if self.downloads == self.writes:
                 from dcf2bin.bus.node import RESET_NODE
                 self.node._reset(RESET_NODE)
+
+
+@pytest.fixture
+def faulty():
+    """The misbehaving nodes above, by name (a fixture, so that test modules need not
+    import this plugin module themselves)."""
+    import types
+    return types.SimpleNamespace(Misbehaving=Misbehaving, TogglesForever=TogglesForever,
+                                 ShortAnswer=ShortAnswer, WrongEntry=WrongEntry,
+                                 AnswersTwice=AnswersTwice, RestartsAfter=RestartsAfter)

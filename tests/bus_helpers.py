@@ -75,6 +75,8 @@ class Bench:
         from dcf2bin.bus import link
         try:
             for node in self.nodes:
+                if getattr(node, "misbehaving", None) is not None:
+                    node.misbehaving.undo()
                 node.detach()
         finally:
             for net in self.nets:
@@ -111,3 +113,18 @@ def beside_target(scenario, plc_bin: str, node_id: int, channel: str, duration: 
     if failure:
         raise failure[0]
     return r
+
+
+def run_within(seconds: float, *args):
+    """Run the command in a thread of its own and fail unless it ends within ``seconds``:
+    the time bound of a command against a misbehaving node, asserted without sleeping
+    (the thread is a daemon, so a command that hangs fails its test, not the run)."""
+    box: dict = {}
+    t = threading.Thread(target=lambda: box.setdefault("result", run(*args)), daemon=True)
+    start = time.monotonic()
+    t.start()
+    t.join(seconds)
+    took = time.monotonic() - start
+    assert not t.is_alive(), f"dcf2bin {' '.join(args)} still runs after {seconds:.2f} s"
+    assert "result" in box, f"dcf2bin {' '.join(args)} raised (see the thread's traceback)"
+    return box["result"], took

@@ -359,7 +359,7 @@ class Channel:
                 end = start + bound(m.expected, self.timeout, self.retries)
                 if deadline is not None:
                     end = min(end, deadline)
-                frame = self._exchange(request, m, end, end - start)
+                frame = self._exchange(request, m, end, max(end - start, 0.0))
                 try:
                     request = m.take(frame)
                 except Aborted:

@@ -96,6 +96,8 @@ def _cell(found, key) -> str:
         return "(none)"
     if a.code is not None:
         return f"abort {a.code:08X}"
+    if a.problem is not None:
+        return "bad answer"
     return f"0x{a.value:08X}" if a.value is not None else "no answer"
 
 
