@@ -387,3 +387,26 @@ def test_a_node_on_a_virtual_bus_of_another_process_is_said_to_be_unreachable(ch
                          *bus(channel))
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 3 did not answer (no SDO response "
                         f"within 0.2 s, 1 try{VIRTUAL}); 0 of 15 entries written before it\n")
+
+
+def test_a_node_aborts_a_download_that_never_ends(bench):
+    """`node`'s own bound: canopen's server would collect an endless segmented download
+    for as long as the node runs; past max_download bytes (1 MiB) the node aborts it."""
+    import queue
+    node = bench.device(3)
+    node.max_download = 64
+    net = bench.network()
+    answers: queue.SimpleQueue = queue.SimpleQueue()
+    net.subscribe(0x583, lambda can_id, data, ts: answers.put(bytes(data)))
+    net.send_message(0x603, bytes.fromhex("2100200000000000"))       # 0x2000, size not given
+    assert answers.get(timeout=2) == bytes.fromhex("6000200000000000")
+    toggle, sent = 0, 0
+    while True:
+        net.send_message(0x603, bytes([toggle]) + b"ENDLESS")
+        sent += 1
+        answer = answers.get(timeout=2)
+        if answer[0] == 0x80:
+            break
+        assert answer == bytes([0x20 | toggle]) + bytes(7)
+        toggle ^= 0x10
+    assert (sent, answer) == (10, bytes.fromhex("8000200005000405"))

@@ -36,6 +36,8 @@ SYNC_COB_ID = 0x080
 NMT_COB_ID = 0x000
 OPERATIONAL, PRE_OPERATIONAL, INITIALISING = 5, 127, 0
 RESET_NODE, RESET_COMM = 0x81, 0x82
+MAX_DOWNLOAD = 1 << 20          # the most one segmented download may bring (1 MiB)
+OUT_OF_MEMORY = 0x05040005      # CiA 301 abort: out of memory
 _TPDO_COMM, _RPDO_COMM = 0x1800, 0x1400
 # CiA 301 dummy entries (mappable data-type objects): index -> canopen data type code
 _DUMMIES = {1: 0x1, 2: 0x2, 3: 0x3, 4: 0x4, 5: 0x5, 6: 0x6, 7: 0x7}
@@ -96,8 +98,21 @@ class BenchNode(canopen.LocalNode):
         self.nmt_state = INITIALISING
         self.pdos = Pdos(self)
         self.warnings: list[str] = []     # what from_file had to make up or cannot answer
+        self.max_download = MAX_DOWNLOAD
+        self.sdo.segmented_download = self._bounded(self.sdo.segmented_download)
         self._saved: dict[int, dict[int, bytes]] = {}
         self._saved_image = bytes(image.data) if image is not None else b""
+
+    def _bounded(self, segmented_download):
+        """canopen's server collects a segmented download without a limit: a client that
+        never sends the last segment would grow the node's memory for as long as it runs.
+        Past ``max_download`` bytes the transfer is aborted (out of memory)."""
+        def bounded(command, request):
+            if len(self.sdo._buffer or b"") + 7 > self.max_download:
+                self.sdo._buffer = bytearray()
+                raise SdoAbortedError(OUT_OF_MEMORY)
+            segmented_download(command, request)
+        return bounded
 
     # -- data -------------------------------------------------------------------------------
     def get_data(self, index: int, subindex: int, check_readable: bool = False) -> bytes:
