@@ -410,3 +410,15 @@ def test_a_node_aborts_a_download_that_never_ends(bench):
         assert answer == bytes([0x20 | toggle]) + bytes(7)
         toggle ^= 0x10
     assert (sent, answer) == (10, bytes.fromhex("8000200005000405"))
+
+
+def test_scan_on_a_virtual_bus_says_what_it_reaches(bench, network_file):
+    bench.device(3)                                  # dev2 (node 2) is missing
+    r, took = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+                         network_file, "--listen", "0", *bus(bench.channel))
+    assert r.exit_code == 1
+    assert r.stdout.splitlines()[-1] == ("(missing: python-can's virtual bus reaches only this "
+                                         "process: a node run by another process cannot "
+                                         "answer)")
+    assert r.stderr.splitlines()[0] == (f"{network_file}:5: error: node 2 (dev2) is in the "
+                                        "network but does not answer")

@@ -30,7 +30,7 @@ import time
 from dataclasses import dataclass, field
 
 from dcf2bin.bus import sdo
-from dcf2bin.bus.link import VIRTUAL_NOTE, abort_text, is_virtual
+from dcf2bin.bus.link import abort_text, is_virtual
 
 LISTEN, TIMEOUT, RETRIES = 0.5, 0.3, 0
 NODE_IDS = range(1, 128)
@@ -127,7 +127,7 @@ class Finding:
 class Scan:
     found: dict[int, Found]
     seconds: float
-    virtual: bool = False        # on python-can's virtual bus: a missing node says why
+    virtual: bool = False        # on python-can's virtual bus (the table says what it reaches)
 
 
 class _Round:
@@ -277,9 +277,8 @@ def compare(scan_: Scan, expected: list[Expected]) -> list[Finding]:
             continue
         label = f"node {node_id} ({e.name})"
         if f is None:
-            note = f" ({VIRTUAL_NOTE})" if scan_.virtual else ""
             out.append(Finding("missing", node_id, e.name,
-                               f"{label} is in the network but does not answer{note}"))
+                               f"{label} is in the network but does not answer"))
             continue
         if not f.answered:
             out.append(Finding("silent", node_id, e.name,
