@@ -72,7 +72,7 @@ def net_download_bound(n_writes: int = 8) -> float:
 def test_scan_ends_in_its_bound_when_a_node_toggles_for_ever(bench, network_file, faulty):
     bench.device(3)
     liar = faulty.TogglesForever(bench.device(2), 0x1000, 0)
-    (r, took) = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+    r = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
                            network_file, "--listen", "0", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (
@@ -88,7 +88,7 @@ def test_scan_ends_in_its_bound_when_a_node_toggles_for_ever(bench, network_file
 def test_network_download_ends_when_a_node_toggles_for_ever(bench, network_file, faulty):
     bench.device(3)
     faulty.TogglesForever(bench.device(2), 0x1000, 0, size=4)       # announces 4, sends on
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          "--keep-going", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (
@@ -108,7 +108,7 @@ def test_network_download_ends_when_a_node_toggles_for_ever(bench, network_file,
 def test_download_verify_reads_no_more_than_max_upload(bench, faulty):
     # 0x2000 is a VISIBLE_STRING (15 bytes written): read back, the node never ends it
     liar = faulty.TogglesForever(bench.device(3), 0x2000, 0)
-    r, took = run_within(transfers(*[4] * 15, 15, 64) + SLACK, "download", DCF, "-n", "3",
+    r = run_within(transfers(*[4] * 15, 15, 64) + SLACK, "download", DCF, "-n", "3",
                          "--verify", "--max-upload", "64", *bus(bench.channel))
     assert (r.exit_code, r.stdout) == (1, "")
     assert r.stderr == (f"{DCF}:178: error: node 3 sent more than 64 bytes for an SDO upload "
@@ -119,9 +119,9 @@ def test_download_verify_reads_no_more_than_max_upload(bench, faulty):
 def test_an_upload_ends_at_its_deadline_whatever_the_node_sends(bench, faulty):
     from dcf2bin.bus import sdo
     faulty.TogglesForever(bench.device(3), 0x2000, 0)
+    import time
     with sdo.Channel(bench.network(), 3, timeout=TIMEOUT, retries=RETRIES) as ch:
         with pytest.raises(sdo.SdoError) as e:
-            import time
             ch.upload(0x2000, 0, deadline=time.monotonic())
     assert str(e.value) == "node 3 did not end an SDO upload of 0x2000 sub 0 within 0 s"
 
@@ -141,7 +141,7 @@ SHORT = ("node 2 answered a 3-byte frame to an SDO upload of 0x1018 sub 1")
 def test_scan_names_a_3_byte_answer(bench, network_file, faulty):
     bench.device(3)
     faulty.ShortAnswer(bench.device(2), 0x1018, 1)
-    r, took = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+    r = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
                          network_file, "--listen", "0", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (f"{network_file}:5: error: node 2 (dev2) answered a 3-byte frame to an "
@@ -151,7 +151,7 @@ def test_scan_names_a_3_byte_answer(bench, network_file, faulty):
 def test_network_download_fails_that_node_and_names_every_node(bench, network_file, faulty):
     bench.device(3)
     faulty.ShortAnswer(bench.device(2), 0x1018, 1)
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          *bus(bench.channel))
     assert r.exit_code == 1                  # not 70: the node failed, dcf2bin did not
     problem = (f"0x1018 sub 1 (vendor-ID) cannot be read: {SHORT}; the master expects "
@@ -168,7 +168,7 @@ def test_network_download_fails_that_node_and_names_every_node(bench, network_fi
 def test_network_download_keep_going_configures_the_next_node(bench, network_file, faulty):
     bench.device(3)
     faulty.ShortAnswer(bench.device(2), 0x1018, 1)
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          "--keep-going", "--verify", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stdout.splitlines()[1:3] == ["node 3 (dev3): identity checked, 1 entry written, "
@@ -179,7 +179,7 @@ def test_network_download_keep_going_configures_the_next_node(bench, network_fil
 def test_an_answer_for_another_entry_is_named(bench, network_file, faulty):
     bench.device(3)
     faulty.WrongEntry(bench.device(2), 0x1018, 1, instead=(0x1018, 0))
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          "--keep-going", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (
@@ -192,7 +192,7 @@ def test_an_answer_for_another_entry_is_named(bench, network_file, faulty):
 def test_scan_names_an_answer_for_another_entry(bench, network_file, faulty):
     bench.device(3)
     faulty.WrongEntry(bench.device(2), 0x1018, 1, instead=(0x1018, 0))
-    r, took = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+    r = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
                          network_file, "--listen", "0", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (
@@ -202,7 +202,7 @@ def test_scan_names_an_answer_for_another_entry(bench, network_file, faulty):
 
 def test_download_names_an_answer_given_twice(bench, faulty):
     faulty.AnswersTwice(bench.device(3))
-    r, took = run_within(transfers(*[4] * 15) + SLACK, "download", DCF, "-n", "3",
+    r = run_within(transfers(*[4] * 15) + SLACK, "download", DCF, "-n", "3",
                          *bus(bench.channel))
     assert (r.exit_code, r.stdout) == (1, "")
     assert r.stderr == (f"{DCF}:85: error: node 3 answered an SDO download of 0x1016 sub 1 "
@@ -212,7 +212,7 @@ def test_download_names_an_answer_given_twice(bench, faulty):
 def test_network_download_names_an_answer_given_twice(bench, network_file, faulty):
     bench.device(3)
     faulty.AnswersTwice(bench.device(2))
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          "--keep-going", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (
@@ -246,7 +246,7 @@ def test_late_answers_to_a_request_sent_again_are_no_fault(bench, faulty):
 
 def test_download_fails_a_node_that_restarts(bench, faulty):
     faulty.RestartsAfter(bench.device(3), 13)
-    r, took = run_within(transfers(*[4] * 15) + SLACK, "download", DCF, "-n", "3",
+    r = run_within(transfers(*[4] * 15) + SLACK, "download", DCF, "-n", "3",
                          *bus(bench.channel))
     assert (r.exit_code, r.stdout) == (1, "")
     assert r.stderr == (f"{DCF}:154: error: node 3 restarted during the download (after entry "
@@ -256,7 +256,7 @@ def test_download_fails_a_node_that_restarts(bench, faulty):
 def test_network_download_fails_a_node_that_restarts(bench, network_file, faulty):
     bench.device(3)
     faulty.RestartsAfter(bench.device(2), 5)
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          "--keep-going", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stderr == (f"{network_file}:11: error: node 2 (dev2): node 2 restarted during the "
@@ -275,7 +275,7 @@ def test_a_boot_up_before_the_writes_is_no_restart(bench, network_file, faulty):
                 node.boot()              # boot-up message, before the first answer
             serve()
     BootsFirst(node)
-    r, took = run_within(net_download_bound(), "network", "download", network_file,
+    r = run_within(net_download_bound(), "network", "download", network_file,
                          *bus(bench.channel))
     assert (r.exit_code, r.stderr) == (0, "")
 
@@ -374,7 +374,7 @@ def test_a_network_naming_such_an_eds_passes_its_identity_check(bench, epos, tmp
                     f"network/plc.dcf\ndrive:\n  dcf: {epos}\n  node_id: 5\n")
     from dcf2bin.bus.node import from_file
     bench.add(from_file(epos, 5)[0])
-    r, took = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+    r = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
                          str(path), "--listen", "0", *bus(bench.channel))
     assert (r.exit_code, r.stderr) == (0, "")
     assert r.stdout.splitlines()[3].split() == [
@@ -383,7 +383,7 @@ def test_a_network_naming_such_an_eds_passes_its_identity_check(bench, epos, tmp
 
 
 def test_a_node_on_a_virtual_bus_of_another_process_is_said_to_be_unreachable(channel):
-    r, took = run_within(transfers(4) + SLACK, "download", DCF, "-n", "3",
+    r = run_within(transfers(4) + SLACK, "download", DCF, "-n", "3",
                          *bus(channel))
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 3 did not answer (no SDO response "
                         f"within 0.2 s, 1 try{VIRTUAL}); 0 of 15 entries written before it\n")
@@ -414,7 +414,7 @@ def test_a_node_aborts_a_download_that_never_ends(bench):
 
 def test_scan_on_a_virtual_bus_says_what_it_reaches(bench, network_file):
     bench.device(3)                                  # dev2 (node 2) is missing
-    r, took = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
+    r = run_within(worst_case(0, TIMEOUT, RETRIES) + SLACK, "network", "scan",
                          network_file, "--listen", "0", *bus(bench.channel))
     assert r.exit_code == 1
     assert r.stdout.splitlines()[-1] == ("(missing: python-can's virtual bus reaches only this "
