@@ -70,6 +70,7 @@ def _header(dev, name: str) -> dict:
 
 
 def _same(key: str, a, b) -> bool:
+    a, b = a or None, b or None         # an empty value says nothing
     if key in FLAGS:
         a, b = a or "0", b or "0"
     if a == b:

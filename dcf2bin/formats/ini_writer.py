@@ -25,6 +25,7 @@ from dcf2bin.formats.written import Losses, Written
 KNOWN = frozenset({"parametername", "objecttype", "datatype", "accesstype", "defaultvalue",
                    "parametervalue", "lowlimit", "highlimit", "pdomapping", "objflags",
                    "denotation", "downloadfile", "subnumber", "compactsubobj"})
+OBJECT_SECTION = re.compile(r"[0-9a-f]{4}(?:sub[0-9a-f]+)?")     # an object or sub-object
 _OBJECT = re.compile(r"[0-9a-f]{4}(?:sub[0-9a-f]+|name|value|denotation)?")
 _LISTS = ("mandatoryobjects", "optionalobjects", "manufacturerobjects")
 _HEADERS = ("fileinfo", "deviceinfo", "dummyusage", "devicecomissioning",

@@ -94,9 +94,13 @@ def _label(index: int | None) -> str:
     return f"0x{index:04X}: " if index is not None else ""
 
 
-def _listed(items: list[str]) -> str:
+def _listed(items: list[str], most: int = 4) -> str:
+    """'a', 'a and b', 'a, b and c'; past ``most`` items the first three and how many
+    more (an array of 254 network variables is one short line)."""
     if len(items) == 1:
         return items[0]
+    if len(items) > most:
+        return ", ".join(items[:3]) + f" and {len(items) - 3} more"
     return ", ".join(items[:-1]) + " and " + items[-1]
 
 
@@ -109,6 +113,11 @@ _MESSAGES = {
     "CNV005": lambda i, what, target: (
         f"{_label(i)}{_listed(what)} left out: CiA 311 has no place for "
         f"{'it' if len(what) == 1 else 'them'}"),
+    "CNV006": lambda i, what, target: (
+        f"{_label(i)}{_listed(what)} written as the access of "
+        f"{'its parameter' if len(what) == 1 else 'their parameters'} (rwr as "
+        "readWriteInput, rww as readWriteOutput): the accessType attribute says only const, "
+        "ro, wo, rw"),
     "CNV007": lambda i, what, target: (
         f"{_label(i)}{_listed(what)} left out: XML cannot hold its control characters"),
 }
@@ -140,6 +149,8 @@ def disabled_objects(dev) -> dict:
 def entries(obj) -> list:
     """The entries a writer writes: those of a section of the file (an implied sub 0, or
     the objects CompactPDO implies, the reader makes again)."""
+    if obj.implicit:                # CompactPDO's: every entry, for a format without it
+        return list(obj.entries.values())
     return [e for e in obj.entries.values() if not e.implicit]
 
 
