@@ -19,6 +19,7 @@ COMMANDS = {
     "compile": "dcf2bin.cli.compile:compile_cmd",
     "dump": "dcf2bin.cli.dump:dump_cmd",
     "bin2dcf": "dcf2bin.cli.bin2dcf:bin2dcf_cmd",
+    "convert": "dcf2bin.cli.convert:convert_cmd",
     "validate": "dcf2bin.cli.validate:validate_cmd",
     "export": "dcf2bin.cli.export:export_cmd",
     "tunnel": "dcf2bin.cli.tunnel:tunnel_cmd",

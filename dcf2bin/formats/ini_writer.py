@@ -110,8 +110,9 @@ class _Writer:
                                                                    "devicecommissioning")
         if not self.dcf:
             if sec is not None and sec.keys:
-                shown = ", ".join(f"{k.name}={k.value}" for k in sec.keys.values())
-                self.losses.add("CNV002", None, f"[DeviceComissioning] {shown}", sec.line)
+                for k in sec.keys.values():
+                    self.losses.add("CNV002", None, f"{k.name}={k.value}", sec.line,
+                                    group="[DeviceComissioning]")
             return
         keys = [(k.name, k.value) for k in sec.keys.values()] if sec is not None else []
         if node_id is not None:

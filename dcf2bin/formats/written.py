@@ -26,7 +26,7 @@ from dcf2bin.diagnostics import Diagnostic, Severity
 HINTS = {
     "CNV001": "nothing is lost: the sub-objects say what CompactSubObj said",
     "CNV002": "convert to a DCF or an XDC to keep the configured values",
-    "CNV003": "convert to an XDD to keep them; an EDS has no key for them",
+    "CNV003": "convert to an XDD to keep them",
     "CNV004": "remove the CO_disabled property to write an object",
     "CNV005": "CiA 311 has no element for these; keep the DCF/EDS beside the XDD if they "
               "matter",
@@ -51,12 +51,15 @@ class Losses:
 
     def __init__(self, dev):
         self.dev = dev
-        self.found: dict[tuple[str, int | None], list[str]] = {}
-        self.lines: dict[tuple[str, int | None], int | None] = {}
-        self.texts: dict[tuple[str, int | None], str] = {}
+        self.found: dict[tuple, list[str]] = {}
+        self.lines: dict[tuple, int | None] = {}
+        self.texts: dict[tuple, str] = {}
 
-    def add(self, rule: str, index: int | None, what: str, line: int | None = None) -> None:
-        key = (rule, index)
+    def add(self, rule: str, index: int | None, what: str, line: int | None = None,
+            group: str = "") -> None:
+        """``what`` cannot be said of object ``index`` (None: of the file; ``group``, as
+        "[FileInfo]", then heads the list)."""
+        key = (rule, index, group)
         if key not in self.found:
             self.found[key] = []
             self.lines[key] = line if line is not None else self._line(index)
@@ -65,7 +68,7 @@ class Losses:
 
     def say(self, rule: str, index: int | None, message: str, line: int | None = None) -> None:
         """One whole message (not a list of things) for ``index``."""
-        key = (rule, index)
+        key = (rule, index, "")
         self.texts[key] = message
         self.lines[key] = line if line is not None else self._line(index)
 
@@ -79,12 +82,14 @@ class Losses:
         out = []
         for key in sorted(set(self.found) | set(self.texts),
                           key=lambda k: (self.lines[k] or 0, k[1] if k[1] is not None else -1,
-                                         k[0])):
-            rule, index = key
+                                         k[0], k[2])):
+            rule, index, group = key
             if key in self.texts:
                 message = self.texts[key]
             else:
                 message = _MESSAGES[rule](index, self.found[key], target)
+                if group:
+                    message = f"{group} {message}"
             out.append(Diagnostic(Severity.WARNING, message, self.dev.path, self.lines[key],
                                   rule=rule, hint=HINTS[rule]))
         return out

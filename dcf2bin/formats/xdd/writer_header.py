@@ -123,11 +123,10 @@ class Header:
 
     def left_out(self, sec, known) -> None:
         """CNV005 for the keys of ``sec`` with a value that CiA 311 has no place for."""
-        rest = [f"{k.name}={k.value}" for low, k in sec.keys.items()
-                if low not in known and k.value]
-        if rest:
-            self.losses.add("CNV005", None, f"[{sec.name.strip()}] " + ", ".join(rest),
-                            sec.line)
+        for low, k in sec.keys.items():
+            if low not in known and k.value:
+                self.losses.add("CNV005", None, f"{k.name}={k.value}", sec.line,
+                                group=f"[{sec.name.strip()}]")
 
     def identity(self) -> list[str]:
         lines = ["\t\t\t<DeviceIdentity>"]
@@ -173,8 +172,9 @@ class Header:
         sec = w.header(dev, "devicecomissioning") or w.header(dev, "devicecommissioning")
         if not self.xdc:
             if sec is not None and sec.keys:
-                shown = ", ".join(f"{k.name}={k.value}" for k in sec.keys.values())
-                self.losses.add("CNV002", None, f"[DeviceComissioning] {shown}", sec.line)
+                for k in sec.keys.values():
+                    self.losses.add("CNV002", None, f"{k.name}={k.value}", sec.line,
+                                    group="[DeviceComissioning]")
             return []
         pairs = []
         for key, name, kind in COMMISSIONING:
@@ -206,11 +206,10 @@ class Header:
                          "manufacturerobjects"):
                 continue
             if OBJECT_SECTION.fullmatch(canon):
-                unknown = [f"{k.name}={k.value}" for low, k in sec.keys.items()
-                           if low not in KNOWN]
-                if unknown:
-                    self.losses.add("CNV005", int(canon[:4], 16),
-                                    f"[{sec.name.strip()}] " + ", ".join(unknown))
+                for low, k in sec.keys.items():
+                    if low not in KNOWN:
+                        self.losses.add("CNV005", int(canon[:4], 16),
+                                        f"[{sec.name.strip()}] {k.name}={k.value}")
                 continue
             if canon.endswith(("name", "value", "denotation")) and canon[:4].isalnum():
                 continue                    # CompactSubObj's: in the sub-objects
