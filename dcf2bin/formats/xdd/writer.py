@@ -84,11 +84,14 @@ class _Objects:
                             f"form; its {n} sub-object{'s are' if n != 1 else ' is'} "
                             "written one by one")
         subs = []
-        for e in w.entries(obj):
+        kept = w.entries(obj)
+        if obj.compact and 0 in obj.entries and obj.entries[0].implicit:
+            kept.insert(0, obj.entries[0])  # CompactSubObj's implied sub 0, said in CiA 311
+        for e in kept:
             sattrs = [("subIndex", f"{e.sub:02X}"), ("name", e.name), ("objectType", "7")]
             sattrs += self.entry_attrs(e, obj, own=False)
             sattrs += self.parameter(e, obj, var=True)
-            subs.append(f"\t\t\t\t\t\t<CANopenSubObject{_attrs(sattrs, self, idx)}/>")
+            subs.append(f"\t\t\t\t\t\t<CANopenSubObject{_attrs(sattrs, self, idx, e.sub)}/>")
         if subs:
             self.objects.append(f"\t\t\t\t\t<CANopenObject{_attrs(attrs, self, idx)}>")
             self.objects.extend(subs)
@@ -168,13 +171,13 @@ class _Objects:
         return [("uniqueIDRef", uid)]
 
 
-def _attrs(pairs, objects: _Objects, index: int) -> str:
+def _attrs(pairs, objects: _Objects, index: int, sub: int | None = None) -> str:
     """ name="value" ... with XML's escapes; a value XML cannot hold is left out (CNV007)."""
     out = []
     for name, value in pairs:
         escaped = attr(value)
         if escaped is None:
-            objects.losses.add("CNV007", index, f"{name}")
+            objects.losses.add("CNV007", index, name if sub is None else f"sub{sub:X} {name}")
             continue
         out.append(f' {name}="{escaped}"')
     return "".join(out)
