@@ -4,6 +4,8 @@ format specifics both sides can hold. Returns the differences as readable lines,
 failing test says what differs and where."""
 from __future__ import annotations
 
+import re
+
 from dcf2bin import values
 
 OBJECT_FIELDS = ("name", "object_type", "sub_number", "compact", "complex")
@@ -77,14 +79,34 @@ def _same(key: str, a, b) -> bool:
         return True
     if a is None or b is None:
         return False
-    if key.endswith("time"):        # 2:07AM and 02:07AM
-        return a.strip().rjust(7, "0").upper() == b.strip().rjust(7, "0").upper()
+    if key.endswith("time"):        # 2:07AM, 02:07PM, 14:07, 14:07:00: times of day
+        return _minutes(a) is not None and _minutes(a) == _minutes(b)
+    if key.endswith("date"):        # 03-11-2024 and 2024-03-11
+        return _date(a) is not None and _date(a) == _date(b)
     if key in NUMBERS or key in FLAGS or key.startswith("dummy"):
         try:
             return values.parse_int(a.strip()) == values.parse_int(b.strip())
         except values.ValueProblem:
             return False
     return False
+
+
+def _minutes(text: str):
+    m = re.fullmatch(r"\s*(\d{1,2}):(\d{2})(?::\d{2}(?:\.\d+)?)?\s*(?:([AaPp])[Mm])?\s*", text)
+    if m is None:
+        return None
+    hour = int(m.group(1))
+    if m.group(3):
+        hour = hour % 12 + (12 if m.group(3) in "Pp" else 0)
+    return hour * 60 + int(m.group(2))
+
+
+def _date(text: str):
+    m = re.fullmatch(r"\s*(\d{2})-(\d{2})-(\d{4})\s*", text)
+    if m is not None:
+        return m.group(3), m.group(1), m.group(2)
+    m = re.fullmatch(r"\s*(\d{4})-(\d{2})-(\d{2})\s*", text)
+    return m.groups() if m is not None else None
 
 
 def _specifics(dev) -> dict:
