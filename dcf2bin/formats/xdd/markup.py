@@ -40,6 +40,7 @@ def parse(data: bytes):
     from lxml import etree
     parser = etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True,
                              huge_tree=False, remove_comments=True, remove_pis=True,
+                             remove_blank_text=True,
                              dtd_validation=False, attribute_defaults=False, collect_ids=False)
     try:
         root = etree.fromstring(data, parser)

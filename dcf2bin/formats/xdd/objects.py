@@ -36,6 +36,34 @@ _VALUES = {"defaultValue": "DefaultValue", "actualValue": "ParameterValue",
 # the attributes that need a look of their own (all but index, name, uniqueIDRef, ...)
 _CHECKED = frozenset({"objectType", "subNumber", "dataType", "accessType", "PDOmapping",
                       "objFlags", *_VALUES})
+# the attributes whose key a parameter says too (DataType, AccessType, the values)
+_SAID = frozenset({"dataType", "accessType", *_VALUES})
+# the attributes of a CANopenEditor object besides its name and references
+_PLAIN = frozenset({"objectType", "subNumber", "PDOmapping"})
+# (attribute, its text) -> (CiA 306 key, value, the raw PDOmapping kept in the specifics)
+_PLAIN_VALUES = {("objectType", str(n)): ("ObjectType", "objecttype", f"0x{n:X}", None)
+                 for n in range(10)}
+_PLAIN_VALUES.update({("subNumber", str(n)): ("SubNumber", "subnumber", str(n), None)
+                      for n in range(256)})
+_PLAIN_VALUES.update({("PDOmapping", k): ("PDOMapping", "pdomapping", v, None if k == "no"
+                                          else k) for k, v in voc.PDO_MAPPING.items()})
+# what ``editor`` takes: the attributes of a CANopenEditor object
+_EDITOR = frozenset({"index", "subIndex", "name", "objectType", "subNumber", "PDOmapping",
+                     "uniqueIDRef"})
+# an IEC 61131 type element's tag (in CiA 311's namespaces or none) and whether the entry
+# has a default value -> its CiA 301 code as DataType says it
+_CODES = {(f"{ns}{name}", has): f"0x{voc.type_code(name, 'x' if has else ''):04X}"
+          for name in voc.IEC_TYPES for has in (False, True)
+          for ns in ("", "{http://www.canopen.org/xml/1.0}", "{http://www.canopen.org/xml/1.1}")}
+# parameter@access exactly as CANopenEditor writes it (absent: XML Schema's "read")
+_PARAM_ACCESS = {**voc.PARAM_ACCESS, None: voc.PARAM_ACCESS[voc.DEFAULT_PARAM_ACCESS]}
+_PARAM_VALUES = (("DefaultValue", "defaultvalue"), ("ParameterValue", "parametervalue"),
+                 ("LowLimit", "lowlimit"), ("HighLimit", "highlimit"))
+# a parameter's own elements (any other is its type) -> what _Param does with it
+_CHILD_KINDS = {name: 6 for name in voc.NOT_TYPES}
+_CHILD_KINDS.update({"label": 0, "description": 0, "defaultValue": 1, "actualValue": 1,
+                     "property": 2, "allowedValues": 3, "denotation": 4, "dataTypeIDRef": 5})
+_ORDERS: dict = {}       # the keys of an entry as found -> the same in CiA 306's order
 _TWICE = "remove one of them; dcf2bin does not guess which is meant"
 
 
@@ -72,7 +100,7 @@ class Objects:
                        "first is read", line, idx, rule="XDD014", hint=_TWICE)
             return
         self.seen[idx] = line
-        subs = [c for c in el if (_LOCAL.get(c.tag) or local(c.tag)) == "CANopenSubObject"]
+        subs = list(el.iterchildren("{*}CANopenSubObject"))
         param = self.parameter(attrs, line, f"0x{idx:04X}", idx, None)
         props = self.doc.specifics.get((idx, None), {})
         target = self.doc.disabled if props.get("CO_disabled") == "true" else self.doc.sections
@@ -131,6 +159,12 @@ class Objects:
     def entry(self, el, attrs: dict, line, param, idx: int, sub: int | None, *, var: bool):
         """The section of one object or sub-object: its attributes, then what its parameter
         adds (the attribute wins, XDD012 when they differ)."""
+        if param is None or not attrs.keys() & _SAID:
+            if param is not None and attrs.keys() <= _EDITOR:
+                sec = self.editor(attrs, line, param, idx, sub, var)
+                if sec is not None:
+                    return sec
+            return self.quick(attrs, line, param, idx, sub, var)
         label = f"0x{idx:04X}" if sub is None else f"0x{idx:04X}sub{sub:X}"
         own = self.attributes(attrs, line, label, idx, sub, param)
         if param is not None:
@@ -152,6 +186,112 @@ class Objects:
         sec.line, sec._keys = line, None
         sec.values = {low: own[key][0] for key, low in _ORDER if key in own}
         sec._lines = {low: (key, own[key][1] or line) for key, low in _ORDER if key in own}
+        return sec
+
+    def editor(self, attrs: dict, line, param, idx: int, sub: int | None, var: bool):
+        """``entry`` of the common CANopenEditor object (a name, objectType, subNumber,
+        PDOmapping and a parameter with an IEC 61131 type), when nothing in it is wrong:
+        the section made straight in CiA 306's key order. None -- having changed nothing
+        -- for anything else, which ``quick`` reads with its findings."""
+        get = attrs.get
+        plain = []
+        for attr in ("objectType", "subNumber", "PDOmapping"):
+            text = get(attr)
+            if text is not None:
+                got = _PLAIN_VALUES.get((attr, text))
+                if got is None:
+                    return None
+                plain.append(got)
+        said = param.said
+        type_el = param.type_el
+        code = None
+        if type_el is not None:
+            default = said.get("DefaultValue")
+            code = _CODES.get((type_el.tag, bool(default and default[0])))
+            if code is None:
+                return None
+        elif param.ref is not None:
+            return None
+        mapped = None
+        if var:
+            el = param.el
+            mapped = _PARAM_ACCESS.get(el.get("access"))
+            if mapped is None:
+                return None
+        values: dict = {}
+        lines: dict = {}
+        name = get("name")
+        if name is None:
+            name = param.label()
+        if name is not None:
+            values["parametername"], lines["parametername"] = name, ("ParameterName", line)
+        pdo = None
+        for key, low, value, kept in plain:
+            if key == "PDOMapping":
+                pdo = (value, kept)
+                continue
+            values[low], lines[low] = value, (key, line)
+        if code is not None:
+            values["datatype"] = code
+            lines["datatype"] = ("DataType", type_el.sourceline or line)
+        if mapped is not None:
+            values["accesstype"], lines["accesstype"] = mapped, ("AccessType",
+                                                                 el.sourceline or line)
+        if said:
+            for key, low in _PARAM_VALUES:
+                got = said.get(key)
+                if got is not None:
+                    values[low], lines[low] = got[0], (key, got[1] or line)
+        if pdo is not None:
+            values["pdomapping"], lines["pdomapping"] = pdo[0], ("PDOMapping", line)
+            if pdo[1]:
+                self.doc.specifics.setdefault((idx, sub), {})["PDOmapping"] = pdo[1]
+        got = said.get("Denotation") if said else None
+        if got is not None:
+            values["denotation"], lines["denotation"] = got[0], ("Denotation", got[1] or line)
+        sec = XmlSection.__new__(XmlSection)
+        sec.name = f"{idx:04X}" if sub is None else f"{idx:04X}sub{sub:X}"
+        sec.line, sec._keys, sec.values, sec._lines = line, None, values, lines
+        return sec
+
+    def quick(self, attrs: dict, line, param, idx: int, sub: int | None, var: bool):
+        """``entry`` where the attributes and the parameter cannot disagree (no parameter,
+        or none of the attributes a parameter also says): the same section, built
+        straight in CiA 306's key order, the words of a finding made only for one."""
+        label = f"0x{idx:04X}" if sub is None else f"0x{idx:04X}sub{sub:X}"
+        checked = attrs.keys() & _CHECKED
+        if checked - _PLAIN or (param is None and "name" not in attrs):
+            own = self.attributes(attrs, line, label, idx, sub, param)
+        else:                           # name, objectType, subNumber, PDOmapping: common
+            own = {}
+            name = attrs.get("name")
+            if name is None:
+                name = param.label()
+            if name is not None:
+                own["ParameterName"] = (name, line, None)
+            if checked:
+                for attr in ("objectType", "subNumber", "PDOmapping"):
+                    text = attrs.get(attr)
+                    if text is None:
+                        continue
+                    got = _PLAIN_VALUES.get((attr, text))
+                    if got is None:
+                        own = self.attributes(attrs, line, label, idx, sub, param)
+                        break
+                    own[got[0]] = (got[2], line, (0, attr, text))
+                    if attr == "PDOmapping" and got[3]:
+                        self.doc.specifics.setdefault((idx, sub), {})["PDOmapping"] = got[3]
+        if param is not None:
+            own.update(self.from_parameter(param, label, idx, sub, var, own))
+        sec = XmlSection.__new__(XmlSection)
+        sec.name = label[2:6] if sub is None else label[2:]
+        sec.line, sec._keys = line, None
+        keys = own.keys()
+        order = _ORDERS.get(tuple(keys))
+        if order is None:
+            order = _ORDERS[tuple(keys)] = tuple((k, low) for k, low in _ORDER if k in keys)
+        sec.values = {low: own[key][0] for key, low in order}
+        sec._lines = {low: (key, own[key][1] or line) for key, low in order}
         return sec
 
     def attributes(self, attrs: dict, line, label: str, idx: int, sub: int | None,
@@ -285,39 +425,41 @@ class _Param:
         self.el, self.type_el, self.ref, self.first_label = el, None, None, None
         spec: dict = {}
         said: dict = {}
-        not_types = voc.NOT_TYPES
+        kinds = _CHILD_KINDS
         for child in el:
             tag = child.tag
             name = _LOCAL.get(tag) or local(tag)
-            if name == "property":
-                if child.get("name"):
-                    spec[child.get("name")] = child.get("value", "")
-            elif name == "label" or name == "description":
+            kind = kinds.get(name)
+            if kind is None:            # not one of a parameter's own elements: its type
+                if name and self.type_el is None:
+                    self.type_el = child
+            elif kind == 0:             # label, description
                 if name == "label" and self.first_label is None:
                     self.first_label = child
                 text = (child.text or "").strip()
                 if text and (name == "description" or "description" not in spec):
                     spec["description"] = text
-            elif name == "defaultValue" or name == "actualValue":
+            elif kind == 1:             # defaultValue, actualValue
                 v = child.get("value")
                 if v is not None:
                     key = "DefaultValue" if name == "defaultValue" else "ParameterValue"
                     said[key] = (v, child.sourceline, (1, name, v))
-            elif name == "allowedValues":
+            elif kind == 2:             # property
+                if child.get("name"):
+                    spec[child.get("name")] = child.get("value", "")
+            elif kind == 3:             # allowedValues
                 for r in child.iter():
                     rname = local(r.tag)
                     if rname in ("minValue", "maxValue") and r.get("value") is not None:
                         key = "LowLimit" if rname == "minValue" else "HighLimit"
                         said.setdefault(key, (r.get("value"), r.sourceline,
                                               (1, rname, r.get("value"))))
-            elif name == "denotation":
+            elif kind == 4:             # denotation
                 text = " ".join("".join(child.itertext()).split())
                 if text:
                     said["Denotation"] = (text, child.sourceline, (1, "denotation", text))
-            elif name == "dataTypeIDRef":
+            elif kind == 5:             # dataTypeIDRef
                 self.ref = child
-            elif name and name not in not_types and self.type_el is None:
-                self.type_el = child
         self.spec, self.said = spec, said
 
     def label(self) -> str | None:
