@@ -67,6 +67,14 @@ TABLE = {
         3: [["-f", "lenze-st", "{T}/missing.eds"], ["-f", "lenze-st", "{T}/adir"],
             ["-f", "lenze-st", "-n", "3", "{S}/device.eds", "-o", "{T}/adir"]],
     },
+    "convert": {
+        0: [["{S}/device.eds", "-o", "{T}/out.xdd"]],
+        # (bad.dcf's value out of range is carried as written: validate says it of both)
+        1: [["{T}/vars.csv", "-o", "{T}/out.xdd"], ["{S}/plc.bin", "-o", "{T}/out.xdd"]],
+        2: [["{S}/device.eds"], ["{S}/device.eds", "-o", "{T}/out.txt"]],
+        3: [["{T}/missing.eds", "-o", "{T}/out.xdd"], ["{T}/adir", "-o", "{T}/out.xdd"],
+            ["{S}/device.eds", "-o", "{T}/adir", "-f", "xdd"]],
+    },
     "tunnel": {
         0: [["1=2"]],
         2: [["1"], []],
