@@ -256,3 +256,17 @@ def test_the_input_is_never_overwritten(tmp_path):
     r = run("convert", src, "-o", src, "-f", "eds")
     assert r.exit_code == 2 and "is the input file" in r.stderr
     assert src.read_bytes() == SMALL.read_bytes()
+
+
+def test_a_value_out_of_range_is_carried_as_written_and_validate_says_it_of_both(tmp_path):
+    src = tmp_path / "bad.dcf"
+    src.write_text("[2000]\nParameterName=x\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n"
+                   "ParameterValue=300\n")
+    out = tmp_path / "bad.xdc"
+    assert run("convert", src, "-o", out, "-q").exit_code == 0   # never truncated or guessed
+    assert 'actualValue="300"' in out.read_text()
+    for path in (src, out):
+        r = run("validate", path, "--select", "DCF200")
+        assert r.stdout.splitlines()[0].endswith(
+            "error: 0x2000sub0: value 300 out of range for UNSIGNED8 (0..255) [DCF200]"), \
+            r.stdout
