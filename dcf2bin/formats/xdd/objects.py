@@ -28,6 +28,7 @@ from dcf2bin.formats.xdd.markup import _LOCAL, local
 ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 _HEX = {2: re.compile(r"[0-9A-Fa-f]{2}"), 4: re.compile(r"[0-9A-Fa-f]{4}")}
 _FLAGS = re.compile(r"[0-9A-Fa-f]{1,4}")
+_NUMBERS: dict[str, int] = {}       # an index's or subindex's text, as read before
 _TWICE = "remove one of them; dcf2bin does not guess which is meant"
 
 
@@ -65,7 +66,7 @@ class Objects(_Direct):
             return
         self.seen[idx] = line
         subs = list(el.iterchildren("{*}CANopenSubObject"))
-        param = self.parameter(attrs, line, f"0x{idx:04X}", idx, None)
+        param = self.parameter(attrs, line, idx, None)
         props = self.doc.specifics.get((idx, None), {})
         target = self.doc.disabled if props.get("CO_disabled") == "true" else self.doc.sections
         ot = attrs.get("objectType", "").strip()
@@ -86,21 +87,26 @@ class Objects(_Direct):
                            rule="XDD014", hint=_TWICE)
                 continue
             seen_subs[sub] = cline
-            sparam = self.parameter(cattrs, cline, f"0x{idx:04X}sub{sub:X}", idx, sub)
+            sparam = self.parameter(cattrs, cline, idx, sub)
             target[f"{idx:04x}sub{sub:x}"] = self.entry(child, cattrs, cline, sparam, idx, sub,
                                                         var=True)
 
     def number(self, text, line, attr: str, digits: int, what: str,
                idx: int | None) -> int | None:
         """An index (4 hex digits) or subindex (2), or None after XDD013."""
+        known = _NUMBERS.get(text)
+        if known is not None and len(text) == digits:
+            return known
         if text is not None and _HEX[digits].fullmatch(text.strip()):
+            if len(_NUMBERS) < 4096:
+                _NUMBERS[text] = int(text, 16)
             return int(text, 16)
         said = "has no " + attr if text is None else f"{attr}=\"{text}\" is not {digits} hex digits"
         self.error(f"{what} {said}; it is not read", line, idx, rule="XDD013",
                    hint=f"{attr} is {digits} hex digits, as in {'1018' if digits == 4 else '01'}")
         return None
 
-    def parameter(self, attrs: dict, line, label: str, idx: int, sub: int | None):
+    def parameter(self, attrs: dict, line, idx: int, sub: int | None):
         """The parameter ``uniqueIDRef`` names, read in one walk over its children
         (``_Param``); None: none named, or XDD010. Its description and properties go into
         the specifics."""
@@ -109,6 +115,7 @@ class Objects(_Direct):
             return None
         el = self.params.get(ref)
         if el is None:
+            label = f"0x{idx:04X}" if sub is None else f"0x{idx:04X}sub{sub:X}"
             self.error(f"{label}: uniqueIDRef=\"{ref}\" names no parameter of the "
                        "parameterList", line, idx, sub, rule="XDD010",
                        hint="add the parameter, or correct the reference")
