@@ -7,9 +7,11 @@
 
 The EDS is what ``dcf2bin convert FILE.xdd -o FILE.eds`` writes (``formats.dump(dev,
 "eds")``: the same objects, the same values, the CO_disabled objects left out as CNV004
-says), so both readers build the same model. Both are timed in one run, alternating, best
-of ``--repeat`` each (the machine is shared: the best is the least disturbed), with the
-cyclic garbage collector off as every command runs (``cli.common.without_cyclic_gc``).
+says), so both readers build the same model. Every step is timed in one run, the steps
+interleaved, each the best of 3 x ``--repeat`` runs in CPU time (the machine is shared:
+the best is the least disturbed, and CPU time leaves out the time another process has the
+core), with the cyclic garbage collector off as every command runs
+(``cli.common.without_cyclic_gc``).
 The XDD's time is then cut into its steps, to show where it goes and why the design is
 what it is:
 
@@ -35,15 +37,6 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 DEFAULT = ROOT.parent / "shared" / "corpus" / "xdd" / "canopennode_example" / "DS301_profile.xpd"
-
-
-def best(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def expat_tree(data: bytes):
@@ -95,16 +88,20 @@ def main(argv=None) -> int:
     assert sorted(a.objects) == sorted(b.objects), "the EDS does not hold the XDD's objects"
     n = sum(len(o.entries) for o in a.objects.values())
 
-    t_xdd = t_eds = float("inf")
-    for _ in range(3):                                    # alternating: the same conditions
-        t_xdd = min(t_xdd, best(lambda: formats.load("x.xdd", data=xdd), args.repeat))
-        t_eds = min(t_eds, best(lambda: formats.load("x.eds", data=eds), args.repeat))
-    t_lxml = best(lambda: markup.parse(xdd), args.repeat)
-    t_expat = best(lambda: expat_tree(xdd), args.repeat)
-    t_sections = best(lambda: read_xdd(xdd, "x.xdd"), args.repeat)
     parsed = read_xdd(xdd, "x.xdd")
-    t_build = best(lambda: model.build(parsed), args.repeat)
-    t_floor = best(lambda: floor(xdd, markup), args.repeat)
+    steps = {"xdd": lambda: formats.load("x.xdd", data=xdd),
+             "eds": lambda: formats.load("x.eds", data=eds),
+             "lxml": lambda: markup.parse(xdd), "expat": lambda: expat_tree(xdd),
+             "sections": lambda: read_xdd(xdd, "x.xdd"), "build": lambda: model.build(parsed),
+             "floor": lambda: floor(xdd, markup)}
+    t = dict.fromkeys(steps, float("inf"))
+    for _ in range(3 * args.repeat):    # the steps interleaved: the same conditions for all
+        for name, fn in steps.items():
+            start = time.process_time()
+            fn()
+            t[name] = min(t[name], time.process_time() - start)
+    t_xdd, t_eds, t_lxml, t_expat = t["xdd"], t["eds"], t["lxml"], t["expat"]
+    t_sections, t_build, t_floor = t["sections"], t["build"], t["floor"]
 
     ms = lambda t: f"{t * 1000:8.2f} ms"                  # noqa: E731
     print(f"{path.name}: {len(xdd) / 1000:.0f} KB XML, {len(a.objects)} objects, {n} entries; "
