@@ -76,8 +76,11 @@ class _Direct:
             code = _CODES.get((type_el.tag, bool(default and default[0])))
             if code is None:
                 return None
-        elif param.ref is not None:
-            return None
+        elif param.ref is not None:     # an array or a struct: its sub-objects are typed
+            target = self.types.get(param.ref.get("uniqueIDRef"))
+            if target is None or target.tag.rpartition("}")[2] not in ("array", "struct"):
+                return None
+            var = False                 # (as from_parameter: no access of its own)
         mapped = None
         if var:
             el = param.el
