@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -75,11 +76,22 @@ def read_bin(data: bytes) -> list[tuple[int, int, bytes]]:
     return read_concise(data)
 
 
+_OBJECT = re.compile(r"([0-9A-Fa-f]{4})(?:sub[0-9A-Fa-f]+|Value|Name)?")
+
+
+def object_of(section: str) -> str:
+    """``0xIIII`` for the sections of one object ([1600], [1600Value], [1600sub1]), else
+    the section's name in brackets."""
+    m = _OBJECT.fullmatch(section)
+    return f"0x{m.group(1).upper()}" if m else f"[{section}]"
+
+
 def ini_differences(mine: str, theirs: str) -> set[str]:
-    """``[section]`` for each section that differs (keys, values, their order, present
-    in one file only), ``section order`` when the common sections come in another order."""
+    """``0xIIII`` (or ``[Section]``) for each object whose sections differ (keys, values,
+    their order, present in one file only), ``section order`` when the common sections
+    come in another order."""
     a, b = dict(read_ini(mine)), dict(read_ini(theirs))
-    out = {f"[{name}]" for name in set(a) | set(b) if a.get(name) != b.get(name)}
+    out = {object_of(name) for name in set(a) | set(b) if a.get(name) != b.get(name)}
     order_a = [n for n, _ in read_ini(mine) if n in b]
     order_b = [n for n, _ in read_ini(theirs) if n in a]
     if order_a != order_b:
