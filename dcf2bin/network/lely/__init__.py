@@ -23,8 +23,8 @@ from dcf2bin.network.model import Network
 
 def make_outputs(net: Network, names: dict[str, str], diags: Diagnostics) -> dict[str, bytes]:
     """``<master>.dcf``, ``<master>.bin`` when the master has writes of its own, and one
-    concise DCF ``<slave>.bin`` per slave (D-18), in that order. ``names``: node name ->
-    output base name."""
+    concise DCF ``<slave>.bin`` per slave (D-18) in dcfgen's order. ``names``: node name
+    -> output base name."""
     from dcf2bin.network.concise import concise_dcf
     from dcf2bin.network.lely.identity import master_writes
     from dcf2bin.network.lely.masterdcf import master_dcf
@@ -37,6 +37,7 @@ def make_outputs(net: Network, names: dict[str, str], diags: Diagnostics) -> dic
         from dcf2bin.network.model import Node
         outputs[base + ".bin"] = concise_dcf(Node(master.name, master.node_id, master.role,
                                                   writes=own))
-    for s in net.slaves:
+    from dcf2bin.network.lely.order import dcfgen_order
+    for s in dcfgen_order(net):
         outputs[names[s.name] + ".bin"] = concise_dcf(s)
     return outputs
