@@ -125,7 +125,7 @@ def test_master_lely_on_a_plc_file(tmp_path):
     lines = r.stderr.splitlines()
     assert (f"{LELY}/plc.yml:6: info: the master's dcf: is not read: a lely master is "
             "built [NET007]") in lines
-    assert lines[-1] == (f"network build: 3 files in {tmp_path}: master.dcf, master.bin and "
+    assert lines[-1] == (f"network build: 4 files in {tmp_path}: master.dcf, master.bin and "
                          "2 slaves for a lely master, 7 links")
     assert not (tmp_path / "drive.dcf").exists()
 
