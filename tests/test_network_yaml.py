@@ -151,7 +151,8 @@ nodes:
     assert found(net, tmp_path) == [
         "bus.yml:6: info: key 'driver' is not used by dcf2bin; ignored [NET007]",
         "bus.yml:12: warning: 'heartbeat_producer' of d2 is also in defaults: (line 5); the "
-        "node's value is taken [NET009]"]
+        "node's value is taken (ros2_canopen's generator takes the one of defaults:) "
+        "[NET009]"]
     d1, d2 = net.slaves
     assert net.layout == "nodes"
     assert (d1.config["heartbeat_producer"], d2.config["heartbeat_producer"]) == (100, 50)

@@ -73,7 +73,6 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
     get copies of its Device that differ in the node-ID ($NODEID values) only."""
     import copy
 
-    from dcf2bin import ini as ini_mod
     from dcf2bin import model
     parsed: dict[str, object] = {}
     built: dict[str, object] = {}
@@ -83,15 +82,7 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         where = node.config_where.get("dcf", node.where)
         path = node.file
         if path not in parsed:
-            try:
-                from dcf2bin.network.files import read_node_file  # not a FIFO, not /dev/zero
-                data = read_node_file(path)
-                parsed[path] = ini_mod.parse_bytes(data, path)
-                net.files[path] = data
-            except OSError as exc:
-                parsed[path] = None
-                diags.error(f"cannot read {path}: {exc.strerror or exc}", where,
-                            rule="NET010")
+            parsed[path] = _parse(net, path, where, diags)
         if parsed[path] is None:
             continue
         base = built.get(path)
@@ -104,6 +95,27 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         dev.encoded, dev._warned, dev._verdicts = {}, set(), {}
         dev.problems = list(base.problems)
         node.device = dev
+
+
+def _parse(net: Network, path: str, where, diags: Diagnostics):
+    """A node's file read as every network command reads it (issue 26): through the one
+    bounded reader (never a FIFO or /dev/zero), then its kind by content as every command
+    tells it (a container or its JSON form is refused: NET011), then the INI reader. The
+    syntax and model findings are the node file's findings (``check.node_files``); None
+    when the file cannot be read or is of another kind."""
+    from dcf2bin import ini as ini_mod
+    from dcf2bin.network.files import read_node_file, wrong_kind
+    try:
+        data = read_node_file(path)
+    except OSError as exc:
+        diags.error(f"cannot read {path}: {exc.strerror or exc}", where, rule="NET010")
+        return None
+    wrong = wrong_kind(path, data)
+    if wrong is not None:
+        diags.error(wrong, where, rule="NET011")
+        return None
+    net.files[path] = data
+    return ini_mod.parse_bytes(data, path)
 
 
 def _plc_pdos(mirrors, plc: nmt.PlcWriter) -> None:
