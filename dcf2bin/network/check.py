@@ -173,7 +173,8 @@ def examine(path: str, *, select=None, ignore=None, max_load: float = 80.0,
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        res = _check(path, active, max_load, net, data, lint)
+        res = _check(path, active | (_reading_rules() if binding else set()), max_load,
+                     net, data, lint)
     finally:
         if was_enabled:
             gc.enable()
@@ -209,6 +210,13 @@ def is_binding(d: Diagnostic) -> bool:
     from dcf2bin.lint.registry import RULES
     r = RULES.get(d.rule)
     return r is not None and r.source == "core" and d.rule.startswith("DCF")
+
+
+def _reading_rules() -> set[str]:
+    """validate's core rules of reading a file (syntax, structure, values): ``binding``
+    reports their errors whatever ``select``/``ignore`` say (see :func:`is_binding`)."""
+    from dcf2bin.lint.registry import RULES
+    return {c for c, r in RULES.items() if r.source == "core" and c.startswith("DCF")}
 
 
 def _lint_rules(active: set[str], lint: str) -> set[str]:
@@ -272,16 +280,26 @@ def _validate_files(network: Network, out: Diagnostics, res: CheckResult,
     configures or maps its entry, else it becomes a warning. Not ``full``: only what is
     an error before that (validate's warnings and infos are check's)."""
     from dcf2bin.lint.context import Options
-    from dcf2bin.lint.runner import lint_model
+    from dcf2bin.lint.runner import lint_bytes, lint_model
     linted: dict[str, tuple] = {}
     found: dict = {}
     for node in network.nodes:
-        if node.file is None or node.device is None:
+        if node.file is None:
             continue
         if node.file not in linted:
             data = network.files.get(node.file)
             if data is None:
                 continue             # the reader reported it
+            if node.device is None:
+                # read but not modelled (not text, no section): what validate says of it
+                result = lint_bytes(node.file, data, Options(node_id=node.node_id,
+                                                             active=active))
+                linted[node.file] = (result, lambda line: None)
+                res.files.append((node.file, result.kind))
+                for d in result.diagnostics:
+                    if full or d.severity is Severity.ERROR:
+                        found.setdefault((d.file, d.line, d.column, d.rule, d.message), d)
+                continue
             # the Device configure built from these bytes, with this node-ID (the first
             # node of a shared file owns the original, the others copies): linted as it
             # is, not read a second time; only the rules that will be reported run
@@ -290,6 +308,8 @@ def _validate_files(network: Network, out: Diagnostics, res: CheckResult,
                 active=active))
             linted[node.file] = (result, _line_owner(node))
             res.files.append((node.file, result.kind))
+        elif node.device is None:
+            continue
         result, lines = linted[node.file]
         touched = _touched(node)
         for d in result.diagnostics:

@@ -83,8 +83,9 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         path = node.file
         if path not in parsed:
             parsed[path] = _parse(net, path, where, diags)
-        if parsed[path] is None:
-            continue
+        if parsed[path] is None or parsed[path].rejected or not parsed[path].sections:
+            continue     # (not EDS/DCF text, no section: its findings say so, and nothing
+            #              is configured from it -- the node has no device)
         base = built.get(path)
         if base is None:
             base = built[path] = model.build(parsed[path], node_id=node.node_id)
