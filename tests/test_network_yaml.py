@@ -311,6 +311,14 @@ def test_docs_list_every_code():
     assert rows == [f"| {c} | {s} | {t} |" for c, s, t in CODES]
 
 
+def test_man_page_lists_every_code():
+    """man/dcf2bin-network.1's CODES section is the code table of network/codes.py."""
+    text = (ROOT / "man" / "dcf2bin-network.1").read_text().replace("\\-", "-")
+    section = text.split(".SH CODES\n")[1].split(".SH ")[0]
+    rows = section.split(".TP\n")[1:]
+    assert rows == [f".B {c}\n({s}) {t}\n" for c, s, t in CODES]
+
+
 @pytest.mark.parametrize("value,message", [
     ("0x1FFFFFFFF", "cob_id: 8589934591 is outside 0..0xFFFFFFFF (auto or an integer)"),
     ("0x800", "cob_id: 0x800 has bits 11-28 set but not bit 29 (an 11-bit CAN-ID is at "
