@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where
 from dcf2bin.network.model import Network
 
-PLC, LELY = "plc", "lely"
+from dcf2bin.network.configuration import LELY, PLC, master_kind  # noqa: F401 (re-exported)
 _BAD_NAME = re.compile(r"[/\\\x00-\x1f:*?\"<>|]")
 
 
@@ -35,14 +35,18 @@ class BuildResult:
         return not any(d.severity is Severity.ERROR for d in self.diagnostics)
 
 
-def build_network(path: str, outdir: str | None = None, *,
-                  data: bytes | None = None, master: str | None = None) -> BuildResult:
+def build_network(path: str, outdir: str | None = None, *, data: bytes | None = None,
+                  master: str | None = None, select=None, ignore=None) -> BuildResult:
     """Read, configure, check and build the network file ``path`` (or ``data`` named
     ``path``). ``master``: PLC or LELY forces the kind of master; by default a master
     with ``dcf:`` is a PLC, one without a lely master (D-21). With ``outdir``, the
     outputs are written there when there is no error: each file is written to a
     temporary file first, then all are renamed. A network file that cannot be read
-    raises OSError."""
+    raises OSError.
+
+    The findings are ``network check``'s (``select``/``ignore`` as there), validate's
+    warnings about each node's file left out; an error of the network file, of the
+    configuration or of reading a node's file stops the build whatever they say."""
     # As compile does: a build makes many small objects and no reference cycles worth
     # collecting; the cyclic GC would only rescan them (a fifth of the time at 126
     # slaves, and the cost would grow faster than the network). The caller's setting
@@ -50,31 +54,36 @@ def build_network(path: str, outdir: str | None = None, *,
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        return _build(path, outdir, data, master)
+        return _build(path, outdir, data, master, select, ignore)
     finally:
         if was_enabled:
             gc.enable()
 
 
-def _build(path: str, outdir: str | None, data: bytes | None,
-           kind: str | None) -> BuildResult:
-    from dcf2bin.network.configuration import configure
-    from dcf2bin.network.yamlfile import load_network
-    net = load_network(path, data)
-    mode = master_kind(net, kind)
-    net = configure(net)
-    res = BuildResult(net, mode=mode)
-    diags = net.diagnostics
+def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None = None,
+           select=None, ignore=None) -> BuildResult:
+    from dcf2bin.network.check import ERRORS, examine, is_cpj
+    if is_cpj(path):
+        res = BuildResult(Network(path, kind="cpj"))
+        res.diagnostics.append(Diagnostic(
+            Severity.ERROR, "build reads a YAML network file (lely's dcfgen, ros2_canopen's "
+            "bus.yml): a .cpj project has no master and nothing to build (network check, "
+            "show, download and scan read it)", path, rule="NET012"))
+        return res
+    if data is None:
+        from dcf2bin.network.files import read_node_file
+        data = read_node_file(path)          # the one bounded reader; OSError as promised
+    checked = examine(path, select=select, ignore=ignore, data=data, lint=ERRORS,
+                      binding=True, master=kind)
+    net = checked.network
     master = net.master
-    if (mode == PLC and master is not None and master.device is None
-            and not diags.has_errors):
-        diags.error("build needs the PLC's EDS or DCF: give it as 'dcf:' under 'master:'",
-                    master.where, rule="NET119")
-    res.diagnostics = list(diags.items)
-    seen = {(d.rule, d.file, d.line, d.message) for d in res.diagnostics}
-    res.diagnostics += [d for d in network_rules(net)
-                        if (d.rule, d.file, d.line, d.message) not in seen]
-    if not res.ok or master is None:
+    mode = kind or (PLC if master is not None and master.file is not None else LELY)
+    res = BuildResult(net, list(checked.diagnostics), mode=mode)
+    if mode == PLC and master is not None and master.file is None and res.ok:
+        res.diagnostics.append(Diagnostic(
+            Severity.ERROR, "build needs the PLC's EDS or DCF: give it as 'dcf:' under "
+            "'master:'", master.where.file, master.where.line, rule="NET119"))
+    if not res.ok or master is None or not net.configured:
         return res
     out = Diagnostics()
     outputs = make_outputs(net, out, outdir or ".")
@@ -85,19 +94,6 @@ def _build(path: str, outdir: str | None, data: bytes | None,
     if outdir is not None:
         write_all(outdir, outputs)
     return res
-
-
-def master_kind(net: Network, kind: str | None) -> str:
-    """PLC or LELY: ``kind`` when given, else PLC for a master with ``dcf:``. A lely
-    master built from a file whose master has ``dcf:`` does not read it (an info)."""
-    master = net.master
-    if kind is None:
-        return PLC if master is not None and master.file is not None else LELY
-    if kind == LELY and master is not None and master.file is not None:
-        net.diagnostics.info("the master's dcf: is not read: a lely master is built",
-                             master.config_where.get("dcf", master.where), rule="NET007")
-        master.file = None
-    return kind
 
 
 def network_rules(net: Network):

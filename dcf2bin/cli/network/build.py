@@ -7,7 +7,7 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, fail, guarded, quiet_option,
-                                read_input, register_input, say, stop_on_errors,
+                                read_input, register_input, rule_options, say,
                                 verbose_option, write_output)
 from dcf2bin.diagnostics import ExitCode, Severity
 
@@ -21,11 +21,12 @@ from dcf2bin.diagnostics import ExitCode, Severity
               help="The kind of master to build: plc (the master's dcf: is the PLC's file) "
                    "or lely (master.dcf as lely's dcfgen -r writes it). Default: plc when "
                    "the master has dcf:, else lely.")
+@rule_options
 @verbose_option("every link and every PLC variable, on standard error.")
 @quiet_option()
 @debug_option
 @guarded
-def build_cmd(network, output, master_kind, verbose, quiet, debug):
+def build_cmd(network, output, master_kind, select_, ignore, strict, verbose, quiet, debug):
     """Configure the network of NETWORK.yml and write, in DIR, the master's DCF
     (<master>.dcf) and per slave its concise DCF (<slave>.bin).
 
@@ -33,19 +34,35 @@ def build_cmd(network, output, master_kind, verbose, quiet, debug):
     variables are placed as 'allocate --into' places them, it gets its NMT master
     entries, and each slave also gets its DCF (<slave>.dcf). A lely master (one without
     dcf:) gets the master.dcf, and master.bin, that lely's 'dcfgen -r' writes. COB-IDs
-    marked auto are assigned. Nothing is written when there is an error.
+    marked auto are assigned. The findings are those of 'network check' (validate's
+    warnings about the node files left out): nothing is written when there is an error.
+    --ignore cannot leave out an error of the network file, of the configuration or of
+    reading a node's file (NET0xx, NET1xx, DCF0xx-DCF3xx). NETWORK is YAML (a .cpj
+    project has nothing to build).
+
     """
     from dcf2bin.network import build_network
+    from dcf2bin.network.check import SelectorError, resolve
+    try:
+        resolve(select_, ignore)
+    except SelectorError as exc:
+        raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
     data = read_input(network)
     if os.path.exists(output) and not os.path.isdir(output):
         fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
-    res = build_network(network, data=data, master=master_kind)
+    res = build_network(network, data=data, master=master_kind, select=select_,
+                        ignore=ignore)
     emit(res.diagnostics, quiet)
-    try:
-        stop_on_errors(res, "network build", "nothing written")
-    except Failure:
+    errors = [d for d in res.diagnostics if d.severity is Severity.ERROR]
+    warnings = [d for d in res.diagnostics if strict and d.severity is Severity.WARNING]
+    if errors or warnings:
         from dcf2bin.cli.network.show import exit_code
-        raise Failure(exit_code(d for d in res.diagnostics if d.severity is Severity.ERROR))
+        counts = [f"{len(errors)} error{'s' if len(errors) != 1 else ''}"]
+        if warnings:
+            counts.append(f"{len(warnings)} warning{'s' if len(warnings) != 1 else ''} "
+                          "(--strict)")
+        click.echo(f"network build: {', '.join(counts)}, nothing written", err=True)
+        raise Failure(exit_code(errors or warnings))
     net = res.network
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file
