@@ -5,18 +5,20 @@ Two small files in the output folder, both named ``.dcf2bin-build.*``:
 
 * ``.dcf2bin-build.lock`` -- always there once a set was written into the folder. Its
   ``flock`` is the lock every writer of the folder holds (:class:`FolderLock`); its text
-  is the manifest: which files the last complete set wrote (name and inode), so that the
+  is the manifest: which files the last complete set wrote (name, and inode, size and
+  modification time: an inode number alone is soon given to another file), so that the
   next one can name those it does not write again, and never mistake a user's file for
   one of its own.
 * ``.dcf2bin-build.journal`` -- only while a set is written (or after a run was killed):
   the state (``writing``: temporary files being filled; ``renaming``: every temporary
   file complete and synced, the old files linked aside, renames under way; ``done``: the
   set is complete, only the files kept aside are left to remove) and per file its target,
-  its temporary file, the name the old file is kept under and the temporary file's inode.
+  its temporary file, the name the old file is kept under and the temporary file's
+  identity (:func:`file_id`).
 
 :func:`recover` reads a journal left behind and rolls the set back (``writing``,
 ``renaming``) or finishes its clean-up (``done``), touching only the files the journal
-names and, for a target, only when it is still the inode the journal says.
+names and, for a target, only when it is still the file the journal says.
 """
 from __future__ import annotations
 
@@ -40,7 +42,7 @@ class Entry:
     target: str                    # the real path the file is renamed to
     temp: str                      # its temporary file, beside the target
     backup: str | None = None      # the old file is kept under this name (None: no old file)
-    temp_ino: int | None = None    # the temporary file's inode, once made
+    temp_id: list[int] | None = None   # the temporary file's identity (file_id), once written
     moved: bool = False            # the old file is renamed aside (no hard links here)
 
 
@@ -62,7 +64,25 @@ def _unlink(path: str) -> None:
 
 # -- the journal --------------------------------------------------------------------------
 
-def write(folder: str, state: str, entries: list[Entry], manifest: dict[str, int]) -> None:
+def file_id(st) -> list[int]:
+    """What tells a file dcf2bin wrote from another one later at its name: inode, size and
+    modification time (the inode number alone is reused as soon as a file is removed)."""
+    return [st.st_ino, st.st_size, st.st_mtime_ns]
+
+
+def _ids(value) -> dict[str, list[int]]:
+    """A manifest read back: name -> file_id; anything else raises ValueError."""
+    out = {}
+    for name, ident in dict(value or {}).items():
+        ident = [int(x) for x in ident]
+        if len(ident) != 3:
+            raise ValueError(name)
+        out[str(name)] = ident
+    return out
+
+
+def write(folder: str, state: str, entries: list[Entry],
+          manifest: dict[str, list[int]]) -> None:
     """Replace the journal atomically (a temporary file, fsync, rename, fsync of the
     folder), so that it is the old state or the new one, never half of either."""
     text = json.dumps({"format": _FORMAT, "state": state, "pid": os.getpid(),
@@ -102,7 +122,7 @@ def read(folder: str) -> dict | None:
                                                                     "done"):
             raise ValueError(doc.get("format"))
         doc["files"] = [Entry(**e) for e in doc["files"]]
-        doc["manifest"] = {str(k): int(v) for k, v in dict(doc.get("manifest") or {}).items()}
+        doc["manifest"] = _ids(doc.get("manifest"))
     except (ValueError, TypeError, KeyError, AttributeError):
         raise OSError(errno.EINVAL, f"cannot understand {JOURNAL} (left by another "
                       "program or version?); remove it after checking the folder's files",
@@ -119,7 +139,7 @@ def rollback(entries: list[Entry]) -> tuple[int, int]:
     restored = removed = 0
     for e in reversed(entries):
         now, old = _lstat(e.target), _lstat(e.backup)
-        ours = now is not None and e.temp_ino is not None and now.st_ino == e.temp_ino
+        ours = now is not None and e.temp_id is not None and file_id(now) == e.temp_id
         if old is not None:
             if now is not None and (now.st_dev, now.st_ino) == (old.st_dev, old.st_ino):
                 _unlink(e.backup)                       # still in place: drop the link
@@ -218,17 +238,17 @@ class FolderLock:
             os.close(self.fd)               # closing releases the flock
             self.fd = None
 
-    def manifest(self) -> dict[str, int]:
-        """name -> inode of each file the last complete set wrote ({} when unknown)."""
+    def manifest(self) -> dict[str, list[int]]:
+        """name -> file_id of each file the last complete set wrote ({} when unknown)."""
         try:
             os.lseek(self.fd, 0, os.SEEK_SET)
             data = os.read(self.fd, 1 << 20)
             doc = json.loads(data) if data.strip() else {}
-            return {str(k): int(v) for k, v in dict(doc.get("files") or {}).items()}
+            return _ids(doc.get("files"))
         except (OSError, ValueError, TypeError, AttributeError):
             return {}                       # torn or foreign: forget, never guess
 
-    def set_manifest(self, files: dict[str, int]) -> None:
+    def set_manifest(self, files: dict[str, list[int]]) -> None:
         text = json.dumps({"format": _FORMAT, "files": files}, indent=1, sort_keys=True)
         os.ftruncate(self.fd, 0)
         os.lseek(self.fd, 0, os.SEEK_SET)

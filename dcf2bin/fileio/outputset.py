@@ -185,7 +185,7 @@ class OutputSet:
                     signals.check()
                     self._rename(e, self.path(name))
                 self._sync(entries)
-                files = {name: e.temp_ino for e, (name, _) in zip(entries, self.files)}
+                files = {name: e.temp_id for e, (name, _) in zip(entries, self.files)}
                 stale = self._stale(previous, files)
                 files.update({name: previous[name] for name in stale})
                 signals.check()
@@ -208,8 +208,8 @@ class OutputSet:
         except OSError as exc:
             raise OSError(exc.errno, exc.strerror, shown) from None
         try:
-            e.temp_ino = os.fstat(fd).st_ino
             fill(fd, data, st)
+            e.temp_id = journal.file_id(os.fstat(fd))
         except OSError as exc:
             raise OSError(exc.errno, exc.strerror, shown) from None
         finally:
@@ -252,15 +252,15 @@ class OutputSet:
         except OSError:
             pass
 
-    def _stale(self, previous: dict[str, int], files: dict[str, int]) -> list[str]:
+    def _stale(self, previous: dict, files: dict) -> list[str]:
         """The earlier set's files this one does not write that are still the files it
-        wrote (same inode): kept, and named."""
+        wrote (the same file_id): kept, and named."""
         stale = []
-        for name, ino in sorted(previous.items()):
+        for name, ident in sorted(previous.items()):
             if name in files:
                 continue
             st = stat_or_none(self.path(name))
-            if st is not None and stat.S_ISREG(st.st_mode) and st.st_ino == ino:
+            if st is not None and stat.S_ISREG(st.st_mode) and journal.file_id(st) == ident:
                 stale.append(name)
         return stale
 
