@@ -38,6 +38,7 @@ from dcf2bin.compiler import Result as CompileResult
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter import Result as DcfResult
 from dcf2bin.diagnostics import Diagnostic, DiagnosticWarning, Severity
+from dcf2bin.fileio import read_file
 from dcf2bin.model import Device, load
 from dcf2bin.network import configure as _configure
 from dcf2bin.network import load_network as _load_network
@@ -261,8 +262,7 @@ def _read(source: Container, name: str | None) -> tuple[BinContainer, str, list[
         data, shown = bytes(source), name or "<bytes>"
     else:
         shown = name or os.fspath(source)
-        with open(source, "rb") as f:
-            data = f.read()
+        data = read_file(os.fsdecode(source))
     c, diags = _dump.read_bytes(data, shown)
     if c is None:
         raise ReadError(diags)
@@ -273,9 +273,8 @@ def _eds(path):
     """(EdsInfo, Device, warnings) of ``--eds``, or Nones."""
     if path is None:
         return None, None, []
-    path = os.fspath(path)
-    with open(path, "rb") as f:
-        data = f.read()
+    path = os.fsdecode(path)
+    data = read_file(path)
     info, dev, errors = _dump.load_eds(path, data)
     return info, dev, _dump.eds_warnings(path, errors)
 

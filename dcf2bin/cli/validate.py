@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
-                                guarded, lint_report, load_static_od, node_id_option, output_option,
-                                quiet_option, read_input, rule_options, static_od_option,
-                                target_stack_options, write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, check_output, debug_option,
+                                format_option, guarded, lint_report, load_static_od,
+                                node_id_option, output_option, quiet_option, read_input,
+                                rule_options, static_od_option, target_stack_options,
+                                write_output)
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -77,6 +78,7 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         return
     if not paths:
         raise click.UsageError("give at least one PATH (file, directory or '-')")
+    check_output(output, [p for p in paths if p != "-"])    # before a folder's worth of work
     try:
         active = resolve(select_, ignore)
     except SelectorError as exc:

@@ -131,9 +131,9 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
 def lint_path(path: str, shown: str, opts: Options) -> FileResult:
     """Read and lint the file ``path`` (named ``shown`` in the diagnostics); an unreadable
     file is one IO001 finding."""
+    from dcf2bin.fileio.reading import read_file   # bounded, never a FIFO or a device
     try:
-        with open(path, "rb") as f:
-            data = f.read()
+        data = read_file(path)
     except OSError as exc:
         return _unreadable(shown, exc.strerror or str(exc))
     return lint_bytes(shown, data, opts)

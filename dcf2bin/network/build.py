@@ -10,7 +10,6 @@ when there is an error, there or here.
 from __future__ import annotations
 
 import gc
-import os
 import re
 from dataclasses import dataclass, field
 
@@ -40,9 +39,9 @@ def build_network(path: str, outdir: str | None = None, *, data: bytes | None = 
     """Read, configure, check and build the network file ``path`` (or ``data`` named
     ``path``). ``master``: PLC or LELY forces the kind of master; by default a master
     with ``dcf:`` is a PLC, one without a lely master (D-21). With ``outdir``, the
-    outputs are written there when there is no error: each file is written to a
-    temporary file first, then all are renamed. A network file that cannot be read
-    raises OSError.
+    outputs are written there when there is no error, all or none (:func:`write_all`). A
+    network file that cannot be read, or an output that cannot be written, raises OSError;
+    an output over an input, ``OutputIsInput``.
 
     The findings are ``network check``'s (``select``/``ignore`` as there), validate's
     warnings about each node's file left out; an error of the network file, of the
@@ -92,7 +91,8 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
         return res
     res.outputs = outputs
     if outdir is not None:
-        write_all(outdir, outputs)
+        report = write_all(outdir, outputs, [path, *net.files])
+        res.diagnostics += write_warnings(report, outdir)
     return res
 
 
@@ -159,25 +159,22 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     return outputs
 
 
-def write_all(outdir: str, outputs: dict[str, bytes]) -> None:
-    """Write every output to a temporary file in ``outdir``, then rename them all: an
-    error while writing leaves no output changed (OSError is raised)."""
-    os.makedirs(outdir, exist_ok=True)
-    temps: list[tuple[str, str]] = []
-    try:
-        for name, data in outputs.items():
-            tmp = os.path.join(outdir, f".{name}.{os.getpid()}.tmp")
-            with open(tmp, "wb") as f:
-                temps.append((tmp, os.path.join(outdir, name)))
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
-        for tmp, final in temps:
-            os.replace(tmp, final)
-        temps = []
-    finally:
-        for tmp, _ in temps:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+def write_all(outdir: str, outputs: dict[str, bytes], inputs=(), on_wait=None):
+    """Write every output into ``outdir`` all or none (``fileio.OutputSet``: each file
+    checked first, never over one of ``inputs``, written as a temporary file and renamed
+    only when all are complete, rolled back on any error or signal). Returns the
+    ``SetReport``; raises ``OSError`` or ``OutputIsInput`` (a ``ValueError``)."""
+    from dcf2bin.fileio import OutputSet
+    return OutputSet(outdir, outputs.items(), inputs=inputs, on_wait=on_wait).write()
+
+
+def write_warnings(report, outdir: str) -> list[Diagnostic]:
+    """What writing the set found in the folder: a build stopped there before that was
+    undone first, and a warning per file an earlier build wrote that this one does not (a
+    slave removed from the network): kept, never deleted."""
+    out = []
+    if report.recovered:
+        out.append(Diagnostic(Severity.WARNING, report.recovered, outdir))
+    return out + [Diagnostic(Severity.WARNING, "written by an earlier build, not an output of "
+                             "this network: kept (remove it if it is no longer needed)", path)
+                  for path in report.stale]

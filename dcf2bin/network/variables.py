@@ -183,8 +183,8 @@ def place(net: Network, diags: Diagnostics) -> None:
     yaml_path = net.path
     base = net.files.get(dev.path)
     if base is None:
-        with open(dev.path, "rb") as f:
-            base = f.read()
+        from dcf2bin.fileio.reading import read_file
+        base = read_file(dev.path)
     order = ([v for v in net.variables if v.direction == "input"]
              + [v for v in net.variables if v.direction == "output"])
     fallback = net.node(order[0].node_id).where.line if order else None

@@ -22,8 +22,8 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     """Read a YAML network file. Problems are collected in ``network.diagnostics``; a
     file that cannot be read raises OSError."""
     if data is None:
-        with open(path, "rb") as f:
-            data = f.read(MAX_FILE + 1)
+        from dcf2bin.fileio.reading import read_file    # never a FIFO or /dev/zero
+        data = read_file(path, limit=MAX_FILE)
     net = Network(path=path, kind="yaml")
     diags = net.diagnostics
     if len(data) > MAX_FILE:

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, format_option,
-                                guarded, lint_report, output_option, quiet_option, rule_options,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, check_output, debug_option,
+                                format_option, guarded, lint_report, output_option,
+                                quiet_option, rule_options, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -57,6 +57,7 @@ def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list
         return
     if network is None:
         raise click.UsageError("give the NETWORK file (a bus.yml or a .cpj project)")
+    check_output(output, [network])     # before every node's file is read and checked
     if net is not None and not network.lower().endswith(".cpj"):
         raise click.BadParameter("only a .cpj project has several networks",
                                  param_hint="'--net'")
