@@ -43,7 +43,9 @@ class Range:
         if (self.min is not None and value < self.min) or \
                 (self.max is not None and value > self.max):
             stop = "." if self.kind is float else ""
-            return f"{value if shown is None else shown} is not in the range {self.text()}{stop}"
+            if shown is None:
+                shown = str(float(value) if self.kind is float else value)
+            return f"{shown} is not in the range {self.text()}{stop}"
         return None
 
     def type_problem(self, value) -> str | None:
@@ -116,6 +118,14 @@ class Text:
         return None if isinstance(value, str) else "a str"
 
 
+@dataclass(frozen=True)
+class Bytes:
+    """A file's content: ``bytes``, ``bytearray`` or ``memoryview``."""
+
+    def type_problem(self, value) -> str | None:
+        return None if isinstance(value, (bytes, bytearray, memoryview)) else "bytes"
+
+
 def _show(value) -> str:
     return repr(value) if isinstance(value, str) else str(value)
 
@@ -135,7 +145,7 @@ ADDRESS_BASE = Choice(("image", "area"))         # --address-base
 GRANULARITY = Choice((8, 64))                    # --granularity
 TARGET_CHECK = Choice(("error", "warning", "off"))   # --no-target-check, API target_check
 LIMIT_CHECK = Choice(("error", "warning"))       # --limit-check
-FLAG, PATH, PATHS, TEXT = Flag(), Path(), Paths(), Text()
+FLAG, PATH, PATHS, TEXT, BYTES = Flag(), Path(), Paths(), Text(), Bytes()
 
 
 def check(name: str, value, spec, *, optional: bool = False) -> None:
@@ -162,7 +172,6 @@ def check_all(args: dict, table: dict) -> None:
         check(name, value, spec, optional=optional)
 
 
-__all__ = ["ADDRESS_BASE", "CONTAINER_VERSION", "COUNT", "Choice", "ENTRIES", "FLAG",
-           "Flag", "GRANULARITY", "LIMIT_CHECK", "MAX_LOAD", "NET", "NODE_ID", "PATH", "PATHS",
-           "PDO_SEQUENCE", "PI_ALIGN", "PROFILE", "Path", "Paths", "Range", "TARGET_CHECK",
-           "TEXT", "Text", "check", "check_all"]
+__all__ = ["ADDRESS_BASE", "BYTES", "Bytes", "CONTAINER_VERSION", "COUNT", "Choice", "ENTRIES",
+           "FLAG", "Flag", "GRANULARITY", "LIMIT_CHECK", "MAX_LOAD", "NET", "NODE_ID", "PATH", "PATHS", "PDO_SEQUENCE", "PI_ALIGN", "PROFILE", "Path", "Paths",
+           "Range", "TARGET_CHECK", "TEXT", "Text", "check", "check_all"]

@@ -344,12 +344,21 @@ def compile_path(path: str, opts: CompileOptions | None = None, data: bytes | No
 
     Options: a ``CompileOptions``, keyword arguments with its field names, or both
     (the keywords win). Errors and warnings are in the result's ``diagnostics``;
-    ``data`` is None when errors stop the build. An unreadable file raises OSError.
+    ``data`` is None when errors stop the build. An unreadable file raises OSError; an
+    argument the command line would refuse raises ValueError in its words, one of the
+    wrong type TypeError.
     """
+    spec.check("path", path, spec.PATH)
+    spec.check("data", data, spec.BYTES, optional=True)
     if opts is None:
         opts = CompileOptions()
+    elif not isinstance(opts, CompileOptions):
+        raise TypeError(f"opts must be a CompileOptions or None, not {type(opts).__name__}")
     if options:
         opts = dataclasses.replace(opts, **options)
+    path = os.fspath(path)
+    if data is not None and not isinstance(data, bytes):
+        data = bytes(data)
     # A compile builds hundreds of thousands of small objects and no reference cycles
     # worth collecting: the cyclic GC would only rescan them (about a third of the time
     # on a 60,000-variable file). Restore the caller's setting afterwards.
