@@ -89,10 +89,14 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
 
 def _kind_of(path: str, data: bytes) -> str:
     """The file's kind by content, as every command reads it (dcf2bin.filekind); the name
-    decides only for an empty or blank file."""
+    decides only for an empty or blank file. A kind validate does not check (a CSV list,
+    a network file, an output of dcf2bin: filekind.KINDS) is returned as filekind names
+    it."""
     from dcf2bin import filekind
     kind = filekind.detect(data, "" if path.startswith("<") else path)
-    return {filekind.CONTAINER: KIND_BIN, filekind.JSON: KIND_JSON}.get(kind, KIND_DCF)
+    if kind == filekind.DCF:
+        return KIND_DCF
+    return {filekind.CONTAINER: KIND_BIN, filekind.JSON: KIND_JSON}.get(kind, kind)
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
@@ -148,6 +152,10 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     if kind == KIND_JSON:
         res.diagnostics.append(_not_lintable(name))
         return res
+    if kind not in (KIND_DCF, KIND_BIN):      # another kind: one sentence, not its lines
+        res.kind = KIND_DCF
+        res.diagnostics.append(_other_kind(name, kind))
+        return res
     note = _misnamed(name, kind)
     # As in a compile: a large file makes hundreds of thousands of small objects and no
     # reference cycles worth collecting; the cyclic GC would only rescan them, more often
@@ -192,6 +200,15 @@ def _misnamed(name: str, kind: str) -> Diagnostic | None:
         return None
     return Diagnostic(Severity.WARNING, text.replace("; read as", "; checked as"), name,
                       rule="IO002", hint=RULES["IO002"].hint)
+
+
+def _other_kind(name: str, kind: str) -> Diagnostic:
+    """A file of another kind (filekind.KINDS): what it looks like and who reads it, once
+    (DCF008: not EDS/DCF text), instead of a DCF002 for each of its lines."""
+    from dcf2bin import filekind
+    return Diagnostic(Severity.ERROR, filekind.mismatch(
+        name, kind, (filekind.DCF, filekind.CONTAINER)), name, rule="DCF008",
+        hint=RULES["DCF008"].hint)
 
 
 def _not_lintable(name: str) -> Diagnostic:
