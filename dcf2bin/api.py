@@ -37,7 +37,7 @@ from collections.abc import Iterable
 from dcf2bin import argspec as spec
 from dcf2bin import dcfwriter
 from dcf2bin import dump as _dump
-from dcf2bin import model as _model
+from dcf2bin import formats as _formats
 from dcf2bin.compiler import CompileError, CompileOptions, compile_file, compile_path
 from dcf2bin.compiler import Result as CompileResult
 from dcf2bin.container import BinContainer
@@ -205,8 +205,8 @@ _VALIDATE_ARGS = {"profile": (spec.PROFILE, False), "node_id": (spec.NODE_ID, Tr
 
 def load(path: str | os.PathLike, *, node_id: int | None = None,
          allow_external_files: bool = False, data: bytes | None = None) -> Device:
-    """Read a DCF/EDS file into the model compile works from (``Device``): problems are
-    collected in its ``problems``, never raised; a file that cannot be read raises
+    """Read a device description (DCF/EDS, CiA 311 XDD/XDC) into the model compile works
+    from (``Device``): problems are collected in its ``problems``, never raised; a file that cannot be read raises
     ``OSError``. ``node_id`` (1..127) resolves ``$NODEID``, as ``--node-id`` does.
 
         >>> dev = load("samples/plc.dcf")
@@ -217,9 +217,9 @@ def load(path: str | os.PathLike, *, node_id: int | None = None,
     spec.check("node_id", node_id, spec.NODE_ID, optional=True)
     spec.check("allow_external_files", allow_external_files, spec.FLAG)
     spec.check("data", data, spec.BYTES, optional=True)
-    return _model.load(os.fspath(path), node_id=node_id,
-                       allow_external_files=allow_external_files,
-                       data=None if data is None else bytes(data))
+    return _formats.load(os.fspath(path), node_id=node_id,
+                         allow_external_files=allow_external_files,
+                         data=None if data is None else bytes(data))
 
 
 # -- networks --------------------------------------------------------------------------------

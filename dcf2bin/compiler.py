@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import argspec as spec
 from dcf2bin import layout as layout_mod
-from dcf2bin import model
+from dcf2bin import formats, model
 from dcf2bin import select as select_mod
 from dcf2bin import values
 from dcf2bin.container import BinContainer
@@ -115,13 +115,14 @@ def static_od_indexes(path: str) -> tuple[set[int], list[Diagnostic]]:
     """The object indexes of the target's static OD, and the errors that make that set
     unreliable (an unreadable file, broken INI syntax, repeated sections)."""
     try:
-        dev = model.load(path)
+        dev = formats.load(path)
     except OSError as exc:
         return set(), [Diagnostic(Severity.ERROR, f"cannot read the static OD: {exc.strerror}",
                                   path)]
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR
               and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010",
-                                         "DCF008", "DCF056")
+                                         "DCF008", "DCF056", "XDD001", "XDD002",
+                                         "XDD003", "XDD004")
               and (p.diagnostic.rule != "DCF010" or p.sub is None)]
     return set(dev.objects), [
         Diagnostic(d.severity, f"static OD: {d.message}", d.file, d.line, d.column, d.offset,
@@ -365,8 +366,8 @@ def compile_path(path: str, opts: CompileOptions | None = None, data: bytes | No
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        dev = model.load(path, node_id=opts.node_id,
-                         allow_external_files=opts.allow_external_files, data=data)
+        dev = formats.load(path, node_id=opts.node_id,
+                           allow_external_files=opts.allow_external_files, data=data)
         return compile_device(dev, opts)
     finally:
         if was_enabled:

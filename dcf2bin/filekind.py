@@ -1,20 +1,22 @@
-"""What kind of file an input is: DCF/EDS text, a binary container, the lossless JSON form --
-or one of the other files dcf2bin reads or writes, given where it does not belong.
+"""What kind of file an input is: a device description (DCF/EDS text, CiA 311 XML), a binary
+container, the lossless JSON form -- or one of the other files dcf2bin reads or writes,
+given where it does not belong.
 
 One rule for every command (issue 19): the content decides where it is clear -- the JSON
-form starts with ``{`` and names its format, a container's first DWORD is its own size,
-CiA 306 text has ``[section]`` lines and passes the DCF reader's text test
-(``ini.not_text``) -- and the file name only where the content is not (an empty file, a
-damaged container, binary junk): such a file is then read as its name says, and the reader
-of that kind reports what is wrong.
+form starts with ``{`` and names its format, a container's first DWORD is its own size, a
+description format passes its own content test (the registry of formats,
+``dcf2bin.formats.registry``: XML starts with ``<``, CiA 306 text has ``[section]`` lines
+and passes the DCF reader's text test ``ini.not_text``) -- and the file name only where the
+content is not (an empty file, a damaged container, binary junk): such a file is then read
+as its name says, and the reader of that kind reports what is wrong.
 
 The other kinds (issue 26 item 15) are a table, ``KINDS``: each one's name, what it is
 called in a sentence, the command that reads it (or that dcf2bin writes it and reads it
 nowhere), a test of the content and the name suffixes that promise it. A CSV list given to
 ``simulate`` is then one sentence -- "vars.csv is not DCF/EDS text (it looks like CSV:
-dcf2bin allocate reads it)" -- instead of one DCF002 per line. ``register`` adds a kind
-(the description formats of ``dcf2bin.formats`` do), so the table is the one place to
-extend.
+dcf2bin allocate reads it)" -- instead of one DCF002 per line. Their tests run before the
+description formats' (an SVG or HTML file starts with ``<`` too, a ``.cpj`` has
+``[section]`` lines); ``register`` adds a kind.
 
 No click here: ``dcf2bin.cli`` and the lint runner both use it, and they word a mismatch
 with ``mismatch``.
@@ -26,15 +28,19 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from dcf2bin.formats import registry
+
 DCF = "dcf"
+XDD = "xdd"
 CONTAINER = "bin"
 JSON = "json"
 
-#: what each of the three kinds dcf2bin compiles or reads as a container is called
-NAMES = {DCF: "DCF/EDS text", CONTAINER: "a binary container",
+#: what each kind dcf2bin compiles, or reads as a container, is called in a sentence
+NAMES = {DCF: "DCF/EDS text", XDD: "CiA 311 XML (XDD/XDC)", CONTAINER: "a binary container",
          JSON: "the JSON form of a container"}
 
-_BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, ".dcf": DCF, ".eds": DCF, ".ini": DCF}
+# the description formats' suffixes come from their registry (dcf2bin.formats.registry)
+_BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, **registry.kinds_by_suffix()}
 
 
 @dataclass(frozen=True)
@@ -178,9 +184,9 @@ def _is_concise(data: bytes) -> bool:
     return at == n
 
 
-#: The other kinds, tested in this order after the three clear ones (the JSON form, a
-#: container) and before DCF text, so that a .cpj's [Topology] sections or a YAML flow
-#: list are not taken for a DCF.
+#: The other kinds, tested in this order after the two clear ones (the JSON form, a
+#: container) and before the description formats, so that a .cpj's [Topology] sections, a
+#: YAML flow list or an SVG picture are not taken for a DCF or an XDD.
 KINDS: list[Kind] = [
     Kind("json-output", "a JSON report of dcf2bin", _OUTPUT, _is_json_output),
     Kind("cpj", "a CiA 306-3 network project",
@@ -241,8 +247,8 @@ def detect(data: bytes, path: str = "") -> str:
 
     Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete
     container header (its first DWORD is the file's size, 40 bytes or more); a kind of
-    ``KINDS`` whose test the content passes; CiA 306 text (the DCF reader's own text test)
-    with at least one ``[section]`` line. Anything else -- an empty file, a truncated or
+    ``KINDS`` whose test the content passes; a description format's own content test (CiA
+    306 text: the DCF reader's text test and a ``[section]`` line). Anything else -- an empty file, a truncated or
     damaged container, a text without sections, UTF-16 -- is decided by the name, and
     without a known suffix a binary file is a container and text is DCF."""
     kind = _clear(data)
@@ -265,9 +271,6 @@ def _body(data: bytes) -> bytes:
     return body
 
 
-_SECTION = re.compile(rb"(?m)^[ \t]*\[[^\]\r\n]+\]")
-
-
 def _clear(data: bytes) -> str | None:
     if _body(data)[:1] == b"{" and b'"dcf2bin-container"' in data[:65536]:
         return JSON
@@ -277,10 +280,8 @@ def _clear(data: bytes) -> str | None:
     for k in KINDS:
         if k.detect(head):
             return k.name
-    from dcf2bin.ini import not_text
-    if _SECTION.search(head) and not_text(data) is None:
-        return DCF
-    return None
+    fmt = registry.sniff(data)          # a description format's own content test
+    return fmt.kind if fmt is not None else None
 
 
 def contradicts_name(kind: str, path: str) -> bool:
@@ -297,6 +298,7 @@ def what_it_is(path: str, kind: str) -> str:
 # The command that takes each kind, for the sentence that names it.
 _USE = {
     DCF: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
+    XDD: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
     CONTAINER: "use dcf2bin dump to read it (dcf2bin bin2dcf turns it into a DCF)",
     JSON: "use dcf2bin compile to turn it back into the container",
 }
@@ -326,11 +328,12 @@ def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
         use = use.get(kind)
     if kind not in NAMES:
         # what the file was most likely meant to be: DCF/EDS text where that is read
-        first = next((k for k in (DCF, CONTAINER, JSON) if k in wanted), wanted[0])
+        first = next((k for k in (DCF, XDD, CONTAINER, JSON) if k in wanted), wanted[0])
         return f"{path} is not {called(first)} (it looks like {called(kind)}: " \
             f"{advice(kind)})" + (f"; {use}" if use else "")
+    # a command that takes DCF/EDS text takes CiA 311 XML too: "DCF/EDS text" names both
     want = " or ".join(called(w).replace("the JSON form of a container", "its JSON form")
-                       for w in wanted)
+                       for w in wanted if not (w == XDD and DCF in wanted))
     return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"
 
 
@@ -344,6 +347,6 @@ def misnamed(path: str, kind: str) -> str | None:
     return f"{what_it_is(path, kind)}, not {named} as its name says; read as {called(kind)}"
 
 
-__all__ = ["CONTAINER", "DCF", "JSON", "KINDS", "Kind", "NAMES", "advice", "by_name", "called",
+__all__ = ["CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES", "advice", "by_name", "called",
            "contradicts_name", "detect", "kind_of", "misnamed", "mismatch", "register",
            "what_it_is"]

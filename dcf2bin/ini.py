@@ -231,6 +231,9 @@ class IniFile:
     # canonical names of sections whose name is written otherwise ("[1018sub001]", "[1018SUB01]"),
     # so that the model words DCF061 without reading every lazily kept name
     respelled: list[str] = field(default_factory=list)
+    # the registry name of the format the sections were read from (dcf2bin.formats): "ini"
+    # for CiA 306 text; another format's sections have no CiA 306 lines to look at
+    format: str = "ini"
 
     def section(self, name: str) -> Section | None:
         return self.sections.get(name)

@@ -157,7 +157,8 @@ def test_a_directory_is_exit_3_with_one_line(folder):
 def test_validate_an_empty_directory_counts_no_file(folder):
     r = CliRunner().invoke(main, ["validate", str(folder / "adir")])
     assert (r.exit_code, r.stdout) == (3, (
-        f"{folder / 'adir'}: error: no *.dcf, *.eds or *.bin file in this directory [IO001]\n"
+        f"{folder / 'adir'}: error: no *.dcf, *.eds, *.xdd, *.xdc, *.xpd or *.bin file in "
+        "this directory [IO001]\n"
         "1 error, 0 warnings, 0 infos in 0 files\n"))
 
 

@@ -348,19 +348,18 @@ def test_no_dcf_or_eds_of_the_corpus_is_taken_for_another_kind():
 
 
 def test_a_registry_extends_the_table(monkeypatch):
-    """Another module (dcf2bin.formats) adds a kind: detected by its content, worded with
-    its reader, its suffix known."""
+    """Another module adds a kind: detected by its content before the description formats,
+    worded with its reader, its suffix known; a kind of the same name is replaced."""
     monkeypatch.setattr(filekind, "KINDS", list(filekind.KINDS))
-    xdd = filekind.Kind("xdd", "a CiA 311 device description (XDD)",
-                        "dcf2bin compile reads it", lambda d: b"<ISO15745ProfileContainer" in d,
-                        (".xdd",))
-    filekind.register(xdd, first=True)
-    data = b'<?xml version="1.0"?>\n<ISO15745ProfileContainer>\n'
-    assert filekind.detect(data, "x") == "xdd" and filekind.by_name("d.XDD") == "xdd"
-    assert filekind.mismatch("d.xdd", "xdd", ("bin",)) == (
-        "d.xdd is not a binary container (it looks like a CiA 311 device description (XDD): "
-        "dcf2bin compile reads it)")
-    assert filekind.mismatch("d.xdd", "xdd", ("dcf", "xdd")) is None
-    filekind.register(filekind.Kind("xdd", "XDD", "", lambda d: False))
-    assert [k.name for k in filekind.KINDS].count("xdd") == 1
-    assert filekind.detect(data, "x") != "xdd"
+    dbc = filekind.Kind("dbc", "a CAN database (DBC)", "cantools reads it, dcf2bin does not",
+                        lambda d: d.startswith(b'VERSION "'), (".dbc",))
+    filekind.register(dbc, first=True)
+    data = b'VERSION ""\n\n[not a section]\nBO_ 100 Msg: 8 Node\n'
+    assert filekind.detect(data, "x.dcf") == "dbc" and filekind.by_name("d.DBC") == "dbc"
+    assert filekind.mismatch("d.dbc", "dbc", ("bin",)) == (
+        "d.dbc is not a binary container (it looks like a CAN database (DBC): cantools reads "
+        "it, dcf2bin does not)")
+    assert filekind.mismatch("d.dbc", "dbc", ("dcf", "dbc")) is None
+    filekind.register(filekind.Kind("dbc", "DBC", "", lambda d: False))
+    assert [k.name for k in filekind.KINDS].count("dbc") == 1
+    assert filekind.detect(data, "x.dcf") == filekind.DCF

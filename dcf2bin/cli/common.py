@@ -486,7 +486,8 @@ def read_eds(path: str | None, quiet: bool):
         return None, None
     from dcf2bin.dump import eds_warnings, load_eds
     data = read_input(path)
-    input_kind(path, data, ("dcf",), quiet=quiet, use="--eds takes the device's EDS or DCF")
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet,
+               use="--eds takes the device's EDS or DCF")
     info, dev, errors = load_eds(path, data)
     emit(eds_warnings(path, errors), quiet)
     return info, dev
@@ -717,7 +718,7 @@ def load_static_od(path: str | None, quiet: bool, outcome: str):
     if path is None:
         return None
     data = read_input(path)
-    input_kind(path, data, ("dcf",), quiet=quiet,
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet,
                use="--static-od takes the EDS of the target's firmware")
     from dcf2bin.compiler import static_od_indexes
     _, errors = static_od_indexes(path)

@@ -56,9 +56,9 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_a
         fail(f"--prefix: {problem}", code=ExitCode.USAGE)
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    kind = input_kind(input, data, ("dcf", "bin", "json"), from_, quiet=quiet)
+    kind = input_kind(input, data, ("dcf", "xdd", "bin", "json"), from_, quiet=quiet)
     inputs = [input] + ([eds] if eds else [])
-    if kind == "dcf":
+    if kind in ("dcf", "xdd"):
         if eds:
             fail("--eds is for a container input; a DCF names its own variables",
                  code=ExitCode.USAGE)

@@ -81,9 +81,11 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
     try:
         node.attach(net, operational=operational)
         if not quiet:
-            click.echo(f"{name}: node {node.id} on the bus "
-                       f"({link.BusConfig(interface, channel, bitrate).describe()}); "
-                       "Ctrl-C stops it", err=True)
+            where = link.BusConfig(interface, channel, bitrate).describe()
+            if link.is_virtual(net):
+                where += ": python-can's virtual bus reaches only this process"
+            click.echo(f"{name}: node {node.id} on the bus ({where}); Ctrl-C stops it",
+                       err=True)
         _wait(duration)
     except KeyboardInterrupt:
         pass          # Ctrl-C is how a node is meant to stop: exit 0
@@ -105,7 +107,7 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
     run_it = f"run it with dcf2bin node --container {name} --node-id N"
-    input_kind(path, data, ("dcf",), quiet=quiet, use={"bin": run_it, "json": run_it})
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet, use={"bin": run_it, "json": run_it})
     try:
         node, errors = nodemod.from_file(name, node_id, data=data)
     except nodemod.NodeError as exc:
@@ -114,6 +116,7 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
         emit([Diagnostic(Severity.WARNING, f"the file has {len(errors)} error"
                          f"{'s' if len(errors) != 1 else ''} (see 'dcf2bin validate'); the "
                          "node has the objects that could be read", name)], quiet)
+    emit([Diagnostic(Severity.WARNING, w, name) for w in node.warnings], quiet)
     return node, name
 
 

@@ -66,13 +66,13 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
     from dcf2bin.dynod import StaticOD, TargetOptions, emulate, emulate_bytes, report
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    kind = input_kind(input, data, ("bin", "dcf", "json"), from_, quiet=quiet)
+    kind = input_kind(input, data, ("bin", "dcf", "xdd", "json"), from_, quiet=quiet)
     static_raw = load_static_od(static_od, quiet, "nothing simulated")
     topts = TargetOptions(pi_size=pi_size, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                           granularity=int(granularity), bit_mapping=not no_bit_mapping,
                           address_base=address_base)
     names = None
-    if kind == "dcf":
+    if kind in ("dcf", "xdd"):
         from dcf2bin.compiler import CompileOptions, compile_path
         from dcf2bin.dynod import check
         for path in append:

@@ -96,6 +96,8 @@ def _cell(found, key) -> str:
         return "(none)"
     if a.code is not None:
         return f"abort {a.code:08X}"
+    if a.problem is not None:
+        return "bad answer"
     return f"0x{a.value:08X}" if a.value is not None else "no answer"
 
 
@@ -125,6 +127,9 @@ def _text(path, result, expected, findings, bound) -> str:
     rows = [[str(nid), e.name if e else "?", _status(e, f), *(_cell(f, k) for k, _ in COLUMNS)]
             for nid, e, f in _rows(result, expected)]
     out += table(["node", "name", "on the bus", *(h for _, h in COLUMNS)], rows)
+    if result.virtual and any(f.kind == "missing" for f in findings):
+        from dcf2bin.bus.link import VIRTUAL_NOTE
+        out.append(f"(missing: {VIRTUAL_NOTE})")
     return "\n".join(out) + "\n"
 
 
