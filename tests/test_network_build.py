@@ -151,12 +151,15 @@ def test_verbose_lists_links_and_variables(tmp_path):
     assert "link RPDO1 COB-ID 0x182: drive TPDO1, 48 bits" in lines
     assert ("variable drive_status: 0xA100sub1, UNSIGNED16 input offset 0, from drive "
             "0x6041sub0") in lines
-    assert lines[-1] == (f"network build: 5 files in {tmp_path}: plc.dcf and 2 slaves, "
-                         "4 links, 12 variables")
+    assert lines[-1] == (f"network build: 5 files in {tmp_path}: plc.dcf and 2 slaves "
+                         "for a PLC master, 4 links, 12 variables")
 
 
-def test_master_without_dcf_cannot_build(tmp_path):
-    r = run("network", "build", FIXTURES / "ros2_simple_bus.yml", "-o", tmp_path / "o", "-q")
+def test_plc_master_without_dcf_cannot_build(tmp_path):
+    """--master plc asks for the PLC's file; without --master the file builds a lely
+    master (tests/test_network_lely.py)."""
+    r = run("network", "build", FIXTURES / "ros2_simple_bus.yml", "-o", tmp_path / "o", "-q",
+            "--master", "plc")
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{FIXTURES}/ros2_simple_bus.yml:6: error: build needs the PLC's EDS or DCF: give "

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where
 from dcf2bin.network.model import Network
 
+PLC, LELY = "plc", "lely"
 _BAD_NAME = re.compile(r"[/\\\x00-\x1f:*?\"<>|]")
 
 
@@ -27,6 +28,7 @@ class BuildResult:
     network: Network
     diagnostics: list[Diagnostic] = field(default_factory=list)
     outputs: dict[str, bytes] = field(default_factory=dict)
+    mode: str = PLC                    # the master built: PLC (its dcf:) or LELY (D-21)
 
     @property
     def ok(self) -> bool:
@@ -34,11 +36,13 @@ class BuildResult:
 
 
 def build_network(path: str, outdir: str | None = None, *,
-                  data: bytes | None = None) -> BuildResult:
+                  data: bytes | None = None, master: str | None = None) -> BuildResult:
     """Read, configure, check and build the network file ``path`` (or ``data`` named
-    ``path``). With ``outdir``, the outputs are written there when there is no error:
-    each file is written to a temporary file first, then all are renamed. A network file
-    that cannot be read raises OSError."""
+    ``path``). ``master``: PLC or LELY forces the kind of master; by default a master
+    with ``dcf:`` is a PLC, one without a lely master (D-21). With ``outdir``, the
+    outputs are written there when there is no error: each file is written to a
+    temporary file first, then all are renamed. A network file that cannot be read
+    raises OSError."""
     # As compile does: a build makes many small objects and no reference cycles worth
     # collecting; the cyclic GC would only rescan them (a fifth of the time at 126
     # slaves, and the cost would grow faster than the network). The caller's setting
@@ -46,20 +50,24 @@ def build_network(path: str, outdir: str | None = None, *,
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        return _build(path, outdir, data)
+        return _build(path, outdir, data, master)
     finally:
         if was_enabled:
             gc.enable()
 
 
-def _build(path: str, outdir: str | None, data: bytes | None) -> BuildResult:
+def _build(path: str, outdir: str | None, data: bytes | None,
+           kind: str | None) -> BuildResult:
     from dcf2bin.network.configuration import configure
     from dcf2bin.network.yamlfile import load_network
-    net = configure(load_network(path, data))
-    res = BuildResult(net)
+    net = load_network(path, data)
+    mode = master_kind(net, kind)
+    net = configure(net)
+    res = BuildResult(net, mode=mode)
     diags = net.diagnostics
     master = net.master
-    if master is not None and master.device is None and not diags.has_errors:
+    if (mode == PLC and master is not None and master.device is None
+            and not diags.has_errors):
         diags.error("build needs the PLC's EDS or DCF: give it as 'dcf:' under 'master:'",
                     master.where, rule="NET119")
     res.diagnostics = list(diags.items)
@@ -77,6 +85,19 @@ def _build(path: str, outdir: str | None, data: bytes | None) -> BuildResult:
     if outdir is not None:
         write_all(outdir, outputs)
     return res
+
+
+def master_kind(net: Network, kind: str | None) -> str:
+    """PLC or LELY: ``kind`` when given, else PLC for a master with ``dcf:``. A lely
+    master built from a file whose master has ``dcf:`` does not read it (an info)."""
+    master = net.master
+    if kind is None:
+        return PLC if master is not None and master.file is not None else LELY
+    if kind == LELY and master is not None and master.file is not None:
+        net.diagnostics.info("the master's dcf: is not read: a lely master is built",
+                             master.config_where.get("dcf", master.where), rule="NET007")
+        master.file = None
+    return kind
 
 
 def network_rules(net: Network):
@@ -115,6 +136,9 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     if names is None:
         return {}
     master = net.master
+    if master.device is None:           # a lely master (D-21)
+        from dcf2bin.network.lely import make_outputs as lely_outputs
+        return lely_outputs(net, names, diags)
     outputs: dict[str, bytes] = {}
     plc_name = names[master.name] + ".dcf"
     base = net.files[master.device.path]

@@ -47,12 +47,18 @@ def configure(net: Network) -> Network:
             slaveconfig.configure_slave(net, node, diags)
         _node_facts(node)
     mirrors = links.make_mirrors(net, diags)
+    if master.device is None:          # a lely master (D-21): numbered as dcfgen does
+        from dcf2bin.network.lely import order
+        order.renumber(net, mirrors)
     variables.make_variables(net, mirrors, diags)
     if master.device is not None and not _errors_before_placing(diags):
         variables.place(net, diags)
     plc = nmt.PlcWriter(master, diags)
     _plc_pdos(mirrors, plc)
     nmt.nmt_entries(net, plc, diags)
+    if master.device is None:          # the identity a lely master checks (D-21)
+        from dcf2bin.network.lely import identity
+        identity.apply(net)
     if master.device is not None and 0x1F22 in master.device.objects:
         from dcf2bin.network.concise import concise_dcf
         for s in net.slaves:

@@ -109,9 +109,12 @@ class _Reader(Items):
             return
         for key, v in value.items():
             kline = value.lines[key]
-            if key == "dcf_path":
-                self.diags.info("options: dcf_path is not used: the outputs go where -o "
-                                "says", self.w(kline), rule="NET007")
+            if key == "dcf_path":       # a lely master's 0x1F22 names the .bin under it
+                self.diags.info("options: dcf_path is used only in a lely master's "
+                                "UploadFile= names; the outputs go where -o says",
+                                self.w(kline), rule="NET007")
+                if isinstance(v, str):
+                    self.net.options["dcf_path"] = v
                 continue
             kind = OPTION_KEYS.get(key)
             if kind is None:

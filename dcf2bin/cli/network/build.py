@@ -17,23 +17,29 @@ from dcf2bin.diagnostics import ExitCode, Severity
 @click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
               help="Output folder (made when missing); its files are written atomically, "
                    "never over an input.")
+@click.option("--master", "master_kind", type=click.Choice(["plc", "lely"]), default=None,
+              help="The kind of master to build: plc (the master's dcf: is the PLC's file) "
+                   "or lely (master.dcf as lely's dcfgen -r writes it). Default: plc when "
+                   "the master has dcf:, else lely.")
 @verbose_option("every link and every PLC variable, on standard error.")
 @quiet_option()
 @debug_option
 @guarded
-def build_cmd(network, output, verbose, quiet, debug):
-    """Configure the network of NETWORK.yml and write, in DIR, the PLC's DCF
-    (<master>.dcf) and per slave its concise DCF (<slave>.bin) and its DCF (<slave>.dcf).
+def build_cmd(network, output, master_kind, verbose, quiet, debug):
+    """Configure the network of NETWORK.yml and write, in DIR, the master's DCF
+    (<master>.dcf) and per slave its concise DCF (<slave>.bin).
 
-    The PLC mirrors every slave PDO that exists, its network variables are placed as
-    'allocate --into' places them, COB-IDs marked auto are assigned, and the PLC gets its
-    NMT master entries. Nothing is written when there is an error.
+    A PLC master (one with dcf:) mirrors every slave PDO that exists, its network
+    variables are placed as 'allocate --into' places them, it gets its NMT master
+    entries, and each slave also gets its DCF (<slave>.dcf). A lely master (one without
+    dcf:) gets the master.dcf, and master.bin, that lely's 'dcfgen -r' writes. COB-IDs
+    marked auto are assigned. Nothing is written when there is an error.
     """
     from dcf2bin.network import build_network
     data = read_input(network)
     if os.path.exists(output) and not os.path.isdir(output):
         fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
-    res = build_network(network, data=data)
+    res = build_network(network, data=data, master=master_kind)
     emit(res.diagnostics, quiet)
     try:
         stop_on_errors(res, "network build", "nothing written")
@@ -54,10 +60,15 @@ def build_cmd(network, output, verbose, quiet, debug):
             say(line)
     if not quiet:
         slaves = len(net.slaves)
-        say(f"network build: {len(res.outputs)} files in {output}: "
-            f"{net.master.name}.dcf and {slaves} slave{'s' if slaves != 1 else ''}, "
-            f"{sum(1 for p in net.master.pdos if p.mirror_of)} links, "
-            f"{len(net.variables)} variables")
+        links = sum(1 for p in net.master.pdos if p.mirror_of)
+        files = f"network build: {len(res.outputs)} files in {output}: {net.master.name}.dcf"
+        if res.mode == "lely":
+            own = f"{net.master.name}.bin"
+            say(f"{files}{', ' + own if own in res.outputs else ''} and {slaves} "
+                f"slave{'s' if slaves != 1 else ''} for a lely master, {links} links")
+        else:
+            say(f"{files} and {slaves} slave{'s' if slaves != 1 else ''} for a PLC master, "
+                f"{links} links, {len(net.variables)} variables")
 
 
 def describe(net) -> list[str]:
