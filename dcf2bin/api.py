@@ -206,8 +206,9 @@ _VALIDATE_ARGS = {"profile": (spec.PROFILE, False), "node_id": (spec.NODE_ID, Tr
 def load(path: str | os.PathLike, *, node_id: int | None = None,
          allow_external_files: bool = False, data: bytes | None = None) -> Device:
     """Read a device description (DCF/EDS, CiA 311 XDD/XDC) into the model compile works
-    from (``Device``): problems are collected in its ``problems``, never raised; a file that cannot be read raises
-    ``OSError``. ``node_id`` (1..127) resolves ``$NODEID``, as ``--node-id`` does.
+    from (``Device``): problems are collected in its ``problems``, never raised; a file
+    that cannot be read raises ``OSError``. ``node_id`` (1..127) resolves ``$NODEID``, as
+    ``--node-id`` does.
 
         >>> dev = load("samples/plc.dcf")
         >>> dev.node_id, len(dev.objects)

@@ -173,5 +173,6 @@ def check_all(args: dict, table: dict) -> None:
 
 
 __all__ = ["ADDRESS_BASE", "BYTES", "Bytes", "CONTAINER_VERSION", "COUNT", "Choice", "ENTRIES",
-           "FLAG", "Flag", "GRANULARITY", "LIMIT_CHECK", "MAX_LOAD", "NET", "NODE_ID", "PATH", "PATHS", "PDO_SEQUENCE", "PI_ALIGN", "PROFILE", "Path", "Paths",
+           "FLAG", "Flag", "GRANULARITY", "LIMIT_CHECK", "MAX_LOAD", "NET", "NODE_ID", "PATH",
+           "PATHS", "PDO_SEQUENCE", "PI_ALIGN", "PROFILE", "Path", "Paths",
            "Range", "TARGET_CHECK", "TEXT", "Text", "check", "check_all"]

@@ -248,9 +248,10 @@ def detect(data: bytes, path: str = "") -> str:
     Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete
     container header (its first DWORD is the file's size, 40 bytes or more); a kind of
     ``KINDS`` whose test the content passes; a description format's own content test (CiA
-    306 text: the DCF reader's text test and a ``[section]`` line). Anything else -- an empty file, a truncated or
-    damaged container, a text without sections, UTF-16 -- is decided by the name, and
-    without a known suffix a binary file is a container and text is DCF."""
+    306 text: the DCF reader's text test and a ``[section]`` line). Anything else -- an
+    empty file, a truncated or damaged container, a text without sections, UTF-16 -- is
+    decided by the name, and without a known suffix a binary file is a container and text
+    is DCF."""
     kind = _clear(data)
     if kind is not None:
         return kind
@@ -347,6 +348,6 @@ def misnamed(path: str, kind: str) -> str | None:
     return f"{what_it_is(path, kind)}, not {named} as its name says; read as {called(kind)}"
 
 
-__all__ = ["CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES", "advice", "by_name", "called",
-           "contradicts_name", "detect", "kind_of", "misnamed", "mismatch", "register",
+__all__ = ["CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES", "advice", "by_name",
+           "called", "contradicts_name", "detect", "kind_of", "misnamed", "mismatch", "register",
            "what_it_is"]
