@@ -73,12 +73,16 @@ def test_random_bytes_as_a_node_file_are_never_built(tmp_path):
 
 
 def test_the_network_file_as_a_node_file(tmp_path):
+    """The network file named as a node's EDS is known by its content (issue 26 item 15):
+    one finding naming what it is, not one DCF002 per line."""
     path = network(tmp_path, "bus.yml")
     for command, (code, stdout, stderr) in zip(COMMANDS, every_command(tmp_path, path)):
         assert code == 1, command
         text = stdout + stderr
-        assert f"{tmp_path}/bus.yml: error: the file has no sections [DCF056]" in text
-        assert f"{tmp_path}/bus.yml:3: error: line without '=': 'options:' [DCF002]" in text
+        assert (f"{tmp_path}/bus.yml:15: error: {tmp_path}/bus.yml is not DCF/EDS text (it "
+                "looks like a YAML network file: dcf2bin network check, show, build, download "
+                "and scan read it) [NET011]") in text.splitlines()
+        assert "DCF002" not in text
     assert not (tmp_path / "out").exists()
 
 

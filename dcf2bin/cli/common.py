@@ -18,6 +18,7 @@ import sys
 
 import click
 
+from dcf2bin import argspec
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
@@ -395,11 +396,14 @@ def read_eds(path: str | None, quiet: bool):
 class Integer(click.ParamType):
     """An integer option written as a DCF value is written: decimal, 0x hex or octal with a
     leading 0 (the DCF reader's own syntax, ``values.parse_int``), checked against
-    ``min``..``max`` (click's IntRange wording)."""
+    ``min``..``max`` or a ``spec`` of dcf2bin.argspec (the API's words; click's IntRange
+    wording)."""
     name = "integer"
 
-    def __init__(self, min: int | None = None, max: int | None = None):
-        self.min, self.max = min, max
+    def __init__(self, min: int | None = None, max: int | None = None, *,
+                 spec: argspec.Range | None = None):
+        self.spec = spec or argspec.Range(min, max)
+        self.min, self.max = self.spec.min, self.spec.max
 
     def convert(self, value, param, ctx):
         if isinstance(value, int) and not isinstance(value, bool):
@@ -411,23 +415,42 @@ class Integer(click.ParamType):
             except values.ValueProblem as exc:
                 self.fail(f"'{value}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
                           "as in a DCF)", param, ctx)
-        if (self.min is not None and n < self.min) or (self.max is not None and n > self.max):
-            self.fail(f"{value} is not in the range {self._range()}", param, ctx)
+        problem = self.spec.problem(n, str(value))
+        if problem:
+            self.fail(problem, param, ctx)
         return n
-
-    def _range(self) -> str:
-        if self.max is None:
-            return f"x>={self.min}"
-        if self.min is None:
-            return f"x<={self.max}"
-        return f"{self.min}<=x<={self.max}"
 
     def __repr__(self) -> str:
         return f"Integer({self.min}, {self.max})"
 
 
-NODE_ID = Integer(1, 127)
-COUNT = Integer(0)
+class Choice(click.Choice):
+    """One of the values of a dcf2bin.argspec ``Choice``, returned as the spec's type ('8'
+    -> 8), a wrong one worded as the API words it."""
+
+    def __init__(self, spec: argspec.Choice):
+        self.spec = spec
+        super().__init__([str(v) for v in spec.values])
+
+    def convert(self, value, param, ctx):
+        if self.spec.type_problem(value) is None and value in self.spec.values:
+            return value
+        return self.spec.parse(super().convert(value, param, ctx))
+
+    def get_invalid_choice_message(self, value, ctx) -> str:
+        return self.spec.problem(self.spec.parse(value))
+
+
+class Number(click.FloatRange):
+    """A number in the range of a dcf2bin.argspec float ``Range``."""
+
+    def __init__(self, spec: argspec.Range):
+        self.spec = spec
+        super().__init__(spec.min, spec.max)
+
+
+NODE_ID = Integer(spec=argspec.NODE_ID)
+COUNT = Integer(spec=argspec.COUNT)
 
 
 _DECIMAL = re.compile(r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
@@ -583,7 +606,7 @@ def entries_option(more: str = ""):
     """--entries auto|all (--select is its hidden old name on compile, simulate and map;
     validate's --select names rules)."""
     return click.option("--entries", "--select", "entries", cls=Option,
-                        hidden_names=("--select",), type=click.Choice(["auto", "all"]),
+                        hidden_names=("--select",), type=Choice(argspec.ENTRIES),
                         default="auto", show_default=True, help=_help("entries", more))
 
 
@@ -670,7 +693,7 @@ def target_stack_options(fn=None, *, prefix: str = ""):
         return prefix + help[0].lower() + help[1:]
     fn = click.option("--no-bit-mapping", is_flag=True,
                       help=text("The target cannot map a BOOLEAN as 1 bit."))(fn)
-    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+    fn = click.option("--granularity", type=Choice(argspec.GRANULARITY), default="64",
                       show_default=True, help=text("The target's PDO mapping granularity in "
                                                    "bits (8: whole bytes only)."))(fn)
     fn = click.option("--rx-cobs", type=COUNT, metavar="N",

@@ -6,7 +6,8 @@ import time
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, fail, guarded,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, debug_option, emit, fail, guarded,
                                 input_kind, load_static_od, node_id_option, quiet_option,
                                 read_input, static_od_option, target_stack_options,
                                 verbose_option)
@@ -29,7 +30,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="With --container: PI memory of the target in bytes (default: the "
               "complete size the container gives).")
 @target_stack_options(prefix="With --container: ")
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="With --container: PI addresses count from the image "
               "start or from their area.")
 @click.option("--show-pi", is_flag=True,

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, Integer, check_output, debug_option,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, Number, check_output, debug_option,
                                 format_option, guarded, lint_report, output_option,
                                 quiet_option, rule_options, write_output)
 from dcf2bin.diagnostics import ExitCode
@@ -21,9 +22,9 @@ FORMATS = ("text", "json", "sarif", "github")
 @format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
 @output_option("Default: standard output.")
 @rule_options
-@click.option("--max-load", type=click.FloatRange(0, 100), default=80.0, show_default=True,
+@click.option("--max-load", type=Number(argspec.MAX_LOAD), default=80.0, show_default=True,
               metavar="PERCENT", help="Warn when the estimated bus load is above this.")
-@click.option("--net", "net", type=Integer(1), metavar="N",
+@click.option("--net", "net", type=Integer(spec=argspec.NET), metavar="N",
               help="For a .cpj project: check its N-th network ([TopologyN]; default the "
                    "first, [Topology]).")
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import click
 
+from dcf2bin import argspec
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, check_input, debug_option, emit,
                                 fail, format_option, guarded, output_option, quiet_option, say,
                                 write_output)
@@ -47,7 +48,7 @@ def exit_code(errors) -> ExitCode:
 
 def net_option(fn):
     """--net N: the network of a .cpj project."""
-    return click.option("--net", "net", type=Integer(1), metavar="N",
+    return click.option("--net", "net", type=Integer(spec=argspec.NET), metavar="N",
                         help="For a .cpj project: its N-th network ([TopologyN]; default "
                         "the first, [Topology]).")(fn)
 
