@@ -221,7 +221,8 @@ def _bytes(n: int) -> str:
 @rule("CON030", "concise-repeated-entry", INFO,
       "An entry is written more than once (besides a PDO's COB-ID and its mapping's sub 0, "
       "which its reconfiguration writes twice): the node keeps the last value.",
-      hint="", kind=CONCISE)
+      hint="write each entry once, unless a sequence of the device needs each write",
+      kind=CONCISE)
 def repeated_entry(ctx):
     where: dict[tuple[int, int], list[int]] = {}
     for k, (index, sub, _) in enumerate(ctx.entries):
@@ -238,7 +239,8 @@ def repeated_entry(ctx):
 
 
 @rule("CON031", "concise-empty", INFO,
-      "The concise DCF has no entries: it configures nothing.", hint="", kind=CONCISE)
+      "The concise DCF has no entries: it configures nothing.",
+      hint="nothing to fix when the node needs no configuration", kind=CONCISE)
 def empty(ctx):
     if not ctx.entries:
         yield Finding("no entries: the file configures nothing", offset=0)
