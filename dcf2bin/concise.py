@@ -201,8 +201,8 @@ def _problem(data: bytes, count: int) -> list[Entry]:
         index, sub, size = unpack(data, at)
         if at + HEAD + size > n:
             raise ConciseError(f"entry {i + 1} of {count} (0x{index:04X}sub{sub:X}) claims "
-                               f"{size} data byte{'s' if size != 1 else ''}, {n - at - HEAD} remain", at + 3,
-                               R_PAST_END)
+                               f"{size} data byte{'s' if size != 1 else ''}, "
+                               f"{n - at - HEAD} remain", at + 3, R_PAST_END)
         at += HEAD + size
     raise ConciseError(f"{n - at} byte{'s' if n - at != 1 else ''} after the last of "
                        f"{_entries(count)}", at, R_TRAILING)

@@ -370,6 +370,6 @@ def misnamed(path: str, kind: str) -> str | None:
     return f"{what_it_is(path, kind)}, not {named} as its name says; read as {called(kind)}"
 
 
-__all__ = ["CONCISE", "CONCISE_JSON", "CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES", "advice", "by_name",
-           "called", "contradicts_name", "detect", "kind_of", "misnamed", "mismatch", "register",
-           "what_it_is"]
+__all__ = ["CONCISE", "CONCISE_JSON", "CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES",
+           "advice", "by_name", "called", "contradicts_name", "detect", "kind_of", "misnamed",
+           "mismatch", "register", "what_it_is"]

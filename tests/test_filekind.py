@@ -144,7 +144,8 @@ def test_stdin_goes_by_content():
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_BIN)
     assert r.exit_code == 0 and r.stderr == ""
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_DCF)
-    assert (r.exit_code, r.stderr) == (1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format(CONCISE_TOO)}\n")
+    assert (r.exit_code, r.stderr) == (
+        1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format(CONCISE_TOO)}\n")
 
 
 def test_validate_the_json_form_names_compile(tmp_path):

@@ -110,7 +110,8 @@ def test_every_rule_has_a_failing_and_a_passing_fixture():
     for r in all_rules():
         if r.id in EXEMPT:
             continue
-        # CNT rules check containers, CON rules concise DCFs (.bin too); TGT rules (kind "any") may have either pair
+        # CNT rules check containers, CON rules concise DCFs (.bin too); TGT rules (kind
+        # "any") may have either pair
         exts = ("bin",) if r.id.startswith(("CNT", "CON")) else ("dcf", "bin") \
             if r.kind == "any" else ("dcf",)
         for kind in ("fail", "pass"):

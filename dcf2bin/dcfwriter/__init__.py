@@ -90,5 +90,5 @@ def convert(c: BinContainer, name: str, *, dcf_name: str, eds: EdsInfo | None = 
     return Result(text, spec.issues.diagnostics(), roundtrip, options, spec.encoding)
 
 
-__all__ = ["Result", "convert", "convert_concise", "table_type", "R_HEADER", "R_ATTR", "R_REPEAT", "R_SELECT",
-           "R_PDO", "R_PI", "R_VALUE", "R_EDS", "R_SUMMARY"]
+__all__ = ["Result", "convert", "convert_concise", "table_type", "R_HEADER", "R_ATTR",
+           "R_REPEAT", "R_SELECT", "R_PDO", "R_PI", "R_VALUE", "R_EDS", "R_SUMMARY"]

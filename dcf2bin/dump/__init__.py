@@ -48,9 +48,10 @@ from dcf2bin.dump.concise_json import FORMAT as CONCISE_FORMAT
 from dcf2bin.dump.concise_text import report as concise_report
 from dcf2bin.dump.concise_types import entry_type
 
-__all__ = ["CANONICAL", "CONCISE_FORMAT", "FORMAT", "HEADER_FIELDS", "JSON_SCHEMA", "PIPARAM_FIELDS", "RULE_JSON",
-           "RULE_JSON_HEADER", "RULE_JSON_SYNTAX", "SCHEMA_VERSION", "STORED", "EdsInfo",
-           "JsonProblem", "Parsed", "build", "concise_json", "concise_report", "eds_warnings", "entry_offsets", "entry_type", "format_json",
+__all__ = ["CANONICAL", "CONCISE_FORMAT", "FORMAT", "HEADER_FIELDS", "JSON_SCHEMA",
+           "PIPARAM_FIELDS", "RULE_JSON", "RULE_JSON_HEADER", "RULE_JSON_SYNTAX", "SCHEMA_VERSION",
+           "STORED", "EdsInfo", "JsonProblem", "Parsed", "build", "concise_json",
+           "concise_report", "eds_warnings", "entry_offsets", "entry_type", "format_json",
            "from_dict", "from_json_bytes", "header_notes", "header_of", "load_eds", "locate",
            "nv_keys", "nv_type", "path_text", "read_bytes", "report", "to_dict", "to_json",
            "value_text"]

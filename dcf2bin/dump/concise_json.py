@@ -4,8 +4,14 @@ stored, in order, each with its data in hex. The count is not written: it is the
 entries, recomputed when the form is turned back into bytes (``compile FILE.json``), which
 gives the same bytes for every concise DCF that reads.
 
-    >>> to_json([(0x1017, 0, b"\\x64\\x00")])
-    '{\\n  "format": "dcf2bin-concise",\\n  "version": 1,\\n  "entries": [\\n    {"index": "0x1017", "subindex": 0, "data": "6400"}\\n  ]\\n}\\n'
+    >>> print(to_json([(0x1017, 0, b"\\x64\\x00")]), end="")
+    {
+      "format": "dcf2bin-concise",
+      "version": 1,
+      "entries": [
+        {"index": "0x1017", "subindex": 0, "data": "6400"}
+      ]
+    }
 """
 from __future__ import annotations
 
