@@ -122,9 +122,12 @@ def test_no_bitrate_in_the_file_no_baudrate_in_the_database(cantools):
     assert db.buses == [] or db.buses[0].baudrate is None
 
 
+LONG = "temperature_of_the_second_sensor_in_kelvin"
+
+
 def test_names_are_dbc_identifiers_unique_in_their_message(tmp_path, cantools):
     """Node names a YAML key may hold and DBC may not, one object twice in one PDO, a
-    comment character cp1252 lacks."""
+    character cp1252 lacks, a name over DBC's 32 characters."""
     eds = (DBC / "sensor.eds").as_posix()
     path = tmp_path / "odd.yml"
     path.write_text(f"""master: {{node_id: 1}}
@@ -141,18 +144,32 @@ def test_names_are_dbc_identifiers_unique_in_their_message(tmp_path, cantools):
   node_id: 6
   tpdo:
     1:
+      mapping: [{{index: 0x2003}}, {{index: 0x2000, name: {LONG}}}]
+Düse₂:
+  dcf: {eds}
+  node_id: 7
+  tpdo:
+    1:
       mapping: [{{index: 0x2003}}]
 """, encoding="utf-8")
     res = examine(str(path), lint=ERRORS)
     assert [d.rule for d in res.diagnostics] == ["NET122"]      # the object twice
     data = dbc.dump(res.network)
     db = cantools.database.load_string(data.decode("cp1252"), "dbc")
-    assert [n.name for n in db.nodes] == ["master", "_1st_sensor", "_1st_sensor_2"]
+    assert [n.name for n in db.nodes] == ["master", "_1st_sensor", "_1st_sensor_2", "D_se_"]
     assert [(m.name, m.senders, [s.name for s in m.signals]) for m in db.messages] == [
         ("_1st_sensor_TPDO1", ["_1st_sensor"], ["t__torque", "t__torque_2"]),
-        ("_1st_sensor_2_TPDO1", ["_1st_sensor_2"], ["_1st_sensor_2003_0"])]
+        ("_1st_sensor_2_TPDO1", ["_1st_sensor_2"], ["_1st_sensor_2003_0", LONG]),
+        ("D_se__TPDO1", ["D_se_"], ["D_se_2003_0"])]
     assert b'CM_ BU_ _1st_sensor "node-ID 5";' in data
-    assert data.decode("cp1252").isascii()
+    # over 32 characters: cut, with the whole name beside it (Vector's long names)
+    assert (b' SG_ ' + LONG[:32].encode() + b' : 8|32@1- ' in data
+            and b'BA_ "SystemSignalLongSymbol" SG_ 390 ' + LONG[:32].encode() + b' "'
+            + LONG.encode() + b'";' in data)
+    # the comments keep the node's name: cp1252 has the u-umlaut (0xFC), not the
+    # subscript two, written as '?'
+    assert (b'CM_ BO_ 391 "D\xfcse? TPDO1 (node-ID 7), COB-ID 0x187, transmission type '
+            b'255; received by master RPDO3";') in data
 
 
 def test_deterministic(cantools):
