@@ -16,7 +16,6 @@ they send with the database cantools loads back from the file."""
 from __future__ import annotations
 
 import ast
-import os
 import struct
 import subprocess
 import sys
@@ -293,3 +292,20 @@ def test_a_lely_networks_real64_frame_decodes(bench, cantools):
     frame = got[0x385]
     assert db.decode_message(frame.arbitration_id, bytes(frame.data)) == {
         "sensor_2007_0": 1234.5678}
+
+
+def test_an_rpdo_that_nobody_sends_is_a_message_without_sender(cantools):
+    """(A .cpj project, or a master that could not take the link.) Here: plc.yml with the
+    PLC's TPDOs taken away, so sensor's RPDO1 (0x205) listens to nobody: its objects are
+    no variables, named by their mapping's name: or by the default rule."""
+    net = network_of(DBC / "plc.yml")
+    net.master.pdos = [p for p in net.master.pdos if p.kind != "tpdo"]
+    net.node(5).pdo("rpdo", 1).mirrored_by = None
+    data = dbc.dump(net)
+    db = cantools.database.load_string(data.decode("cp1252"), "dbc")
+    m = db.get_message_by_frame_id(0x205)
+    assert (m.name, m.senders, m.length, [(s.name, s.receivers) for s in m.signals]) == (
+        "sensor_RPDO1", [], 8, [("sensor_2004_0", ["sensor"]), ("gain", ["sensor"])])
+    assert m.comment == ("sensor RPDO1 (node-ID 5), COB-ID 0x205: no node of the network "
+                         "sends it")
+    assert b"BO_ 517 sensor_RPDO1: 8 Vector__XXX\r\n" in data

@@ -13,8 +13,9 @@ Built from the links of :mod:`dcf2bin.network.show` and written by cantools (opt
   floats, everything else unsigned; a dummy entry is a gap, not a signal;
 * a signal is named as the object's variable is (``name:``, ``names:``, else
   ``<slave>_<INDEX>_<SUB>``, ``_in``/``_out`` for an object mapped both ways: SPEC §10.2,
-  D-17), for a PLC master and a lely master alike; an object no master PDO mirrors
-  (a slave-to-slave link, a .cpj project) by the default rule. Characters outside
+  D-17), for a PLC master and a lely master alike; an object of a PDO no master PDO
+  mirrors (only slaves receive it, nobody sends it, a .cpj project) by its mapping's
+  ``name:``, else ``<node>_<INDEX>_<SUB>``. Characters outside
   ``[A-Za-z0-9_]`` become ``_``, a leading digit gets ``_`` before it, and a name taken
   twice in one message (or a node name twice in the network) gets ``_2``, ``_3``...;
 * the receivers of every signal are the consumers of the frame; comments name the node
