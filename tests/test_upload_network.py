@@ -69,8 +69,7 @@ def bus(channel: str, timeout: float | str = "2", *more: str) -> list[str]:
 
 def test_an_upload_of_a_configured_network_agrees_with_its_build(bench, network_file,
                                                                  tmp_path):
-    for nid in (2, 3, 4):
-        bench.device(nid, EDS)
+    nodes = {nid: bench.device(nid, EDS) for nid in (2, 3, 4)}
     built, read = tmp_path / "built", tmp_path / "read"
     assert run("network", "build", network_file, "-o", str(built), "-q").exit_code == 0
     r = run("network", "download", network_file, *bus(bench.channel))
@@ -100,6 +99,16 @@ def test_an_upload_of_a_configured_network_agrees_with_its_build(bench, network_
             "[DeviceComissioning]", f"NodeID={nid}", f"NodeName={name}"]
     assert configured(read / "dev3.dcf", 3)[(0x2002, 0)] == b"\x00\x00\x20\x40"   # 2.5
     assert configured(read / "dev2.dcf", 2)[(0x1A00, 1)] == b"\x18\x00\x01\x20"
+    # a value changed on one node by hand: its next upload differs there, and only there
+    nodes[3].sdo[0x1017].raw = 999
+    again = tmp_path / "again"
+    r = run("network", "upload", network_file, "-o", str(again), "-q", *bus(bench.channel))
+    assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
+    for name in ("dev2.dcf", "dev4.dcf"):
+        assert (again / name).read_bytes() == (read / name).read_bytes()
+    before, after = configured(read / "dev3.dcf", 3), configured(again / "dev3.dcf", 3)
+    assert {k for k in before if before[k] != after[k]} == {(0x1017, 0)}
+    assert (before[(0x1017, 0)], after[(0x1017, 0)]) == (b"\x64\x00", b"\xe7\x03")
 
 
 def network_bound(slaves: int = 3) -> float:
@@ -182,3 +191,57 @@ def test_a_network_with_errors_reads_nothing(tmp_path):
     assert r.exit_code == 1
     assert r.stderr.endswith(f"{bad}: 1 error, nothing read\n")
     assert not (tmp_path / "out").exists()
+
+
+CPJ = "tests/fixtures/network/check/network.cpj"
+CPJ_FILES = {1: "tests/fixtures/network/check/plc.dcf", 2: "tests/fixtures/network/check/io.dcf",
+             3: "tests/fixtures/network/check/io3.dcf"}
+
+
+def test_a_cpj_project_s_nodes_are_read_with_their_dcfs(bench, tmp_path):
+    """A .cpj project: each node read with its own DCF (a PLC with network variables
+    would not be: this project's plc.dcf has none), named by the project's names."""
+    from dcf2bin.bus.node import from_file
+    for nid, path in CPJ_FILES.items():
+        node, errors = from_file(path, nid)
+        assert errors == []
+        bench.add(node)
+    out = tmp_path / "read"
+    r = run("network", "upload", CPJ, "-o", str(out), *bus(bench.channel))
+    assert r.exit_code == 0, r.stderr
+    assert r.stdout == (
+        "node 1 (plc): 55 entries read\n"
+        "node 2 (io): 40 entries read\n"
+        "node 3 (io3): 40 entries read\n"
+        f"{CPJ}: 3 uploaded, 0 failed, 0 did not answer\n"
+        "  uploaded  node 1 (plc)  55 entries read\n"
+        "  uploaded  node 2 (io)  40 entries read\n"
+        "  uploaded  node 3 (io3)  40 entries read\n")
+    assert r.stderr == f"network upload: 3 files in {out}\n"
+    # each node holds its DCF's values (a node made from it): the upload states them
+    for nid, path in CPJ_FILES.items():
+        name = {1: "plc", 2: "io", 3: "io3"}[nid]
+        want, got = configured(path, nid), configured(out / f"{name}.dcf", nid)
+        assert want and {k: got[k] for k in want} == want, name
+
+
+def test_a_cpj_project_s_plc_is_not_read(bench, tmp_path):
+    import shutil
+    from dcf2bin.bus.node import from_file
+    shutil.copy(ROOT / "samples" / "plc.dcf", tmp_path / "plc.dcf")    # network variables
+    shutil.copy(ROOT / CPJ_FILES[2], tmp_path / "io.dcf")
+    cpj = tmp_path / "cell.cpj"
+    cpj.write_text("[Topology]\nNodes=0x02\nNode1Present=0x01\nNode1Name=plc\n"
+                   "Node1DCFName=plc.dcf\nNode2Present=0x01\nNode2Name=io\nNode2DCFName=io.dcf\n")
+    node, errors = from_file(str(tmp_path / "io.dcf"), 2)
+    bench.add(node)
+    out = tmp_path / "read"
+    r = run("network", "upload", str(cpj), "-o", str(out), *bus(bench.channel))
+    assert r.exit_code == 0, r.stderr
+    assert r.stdout == (
+        "node 1 (plc): not read (a PLC: its configuration goes with the PLC program)\n"
+        "node 2 (io): 40 entries read\n"
+        f"{cpj}: 1 uploaded, 0 failed, 0 did not answer, 1 not read (PLC)\n"
+        "  not read  node 1 (plc)  a PLC: its configuration goes with the PLC program\n"
+        "  uploaded  node 2 (io)  40 entries read\n")
+    assert sorted(p.name for p in out.iterdir()) == ["io.dcf"]
