@@ -97,7 +97,6 @@ class Note:
     text: str
     message: str = ""
     code: int | None = None        # the abort code of a refused entry
-    position: int = 0              # entries before it in the upload
 
     def __post_init__(self) -> None:
         self.message = self.message or self.text
@@ -268,31 +267,29 @@ def read_node(ch, todo: list[Target], options: Options, *, encoding: str = "utf-
     out = NodeRead(ch.node_id, len(todo))
     if deadline is None and options.node_timeout is not None:
         deadline = time.monotonic() + options.node_timeout
-    ch.watch_restarts()
+    try:
+        ch.watch_restarts()
+    except sdo.SdoError as exc:       # an answer nobody asked for, since the last transfer
+        return _stop(out, todo, 0, str(exc))
     for k, t in enumerate(todo):
         if cancel is not None and cancel.is_set():
             raise Cancelled()
         try:
             if deadline is not None and time.monotonic() >= deadline:
-                raise sdo.SdoError("timed out")
+                return _stop(out, todo, k, _late(ch.node_id, options))
             data = ch.upload(t.index, t.sub, max_size=t.most, deadline=deadline)
         except sdo.Aborted as exc:
             out.answered += 1
             out.notes.append(Note(t, REFUSED, f"{t.label}: the node refused the upload: "
-                                  f"{_abort(exc.code)}", code=exc.code, position=k))
+                                  f"{_abort(exc.code)}", code=exc.code))
         except sdo.SdoError as exc:
-            late = deadline is not None and time.monotonic() >= deadline
-            reason = (f"the upload of node {ch.node_id} took longer than the "
-                      f"{options.node_timeout:g} s a node is given" if late else str(exc))
-            out.notes.append(Note(t, FAILED, f"{t.label}: {reason}", position=k))
+            if deadline is not None and time.monotonic() >= deadline:
+                return _stop(out, todo, k, _late(ch.node_id, options))
             if isinstance(exc, sdo.NoAnswer) and not out.answered and not answered:
                 out.silent = True
-            if late or not options.keep_going or isinstance(exc, (sdo.NoAnswer,
-                                                                  sdo.Restarted)):
-                out.notes += [Note(r, NOT_READ, f"{r.label}: not read: the upload stopped "
-                                   f"at {t.label}", position=k + 1 + j)
-                              for j, r in enumerate(todo[k + 1:])]
-                return out
+            if not options.keep_going or isinstance(exc, (sdo.NoAnswer, sdo.Restarted)):
+                return _stop(out, todo, k, str(exc))
+            out.notes.append(Note(t, FAILED, f"{t.label}: {exc}"))
         else:
             out.answered += 1
             problem = unfit(t.dtype, data, encoding)
@@ -302,10 +299,26 @@ def read_node(ch, todo: list[Target], options: Options, *, encoding: str = "utf-
                 said = f"{t.label}: the node {problem}"
                 out.notes.append(Note(t, UNFIT, f"{said}: {_hex(data)}",
                                       f"{said}: {shown(data)}; no value stated, the bytes "
-                                      "are kept as a comment", position=k))
+                                      "are kept as a comment"))
         if progress is not None:
             progress(t)
     return out
+
+
+def _stop(out: NodeRead, todo: list[Target], k: int, reason: str) -> NodeRead:
+    """The upload ends at ``todo[k]`` (``reason``); the targets after it are not read."""
+    if k < len(todo):
+        t = todo[k]
+        out.notes.append(Note(t, FAILED, f"{t.label}: {reason}"))
+        out.notes += [Note(r, NOT_READ, f"{r.label}: not read: the upload stopped at "
+                           f"{t.label}") for r in todo[k + 1:]]
+    return out
+
+
+def _late(node_id: int, options: Options) -> str:
+    given = ("the time" if options.node_timeout is None
+             else f"the {options.node_timeout:g} s")
+    return f"the upload of node {node_id} took longer than {given} a node is given"
 
 
 def unfit(dtype: dt.DataType | None, data: bytes, encoding: str) -> str | None:
