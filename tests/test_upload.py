@@ -440,3 +440,11 @@ def test_a_name_must_be_one_line():
     r = run("upload", "-n", "3", "--eds", EDS, "--node-name", "a\nb")
     assert r.exit_code == 2
     assert "must be one line of printable text" in r.stderr
+
+
+def test_a_name_the_eds_encoding_cannot_hold_fails_before_the_bus():
+    r = run("upload", "-n", "5", "--eds", STORED, "--node-name", "Ω-axis", "-i",
+            "no-such-interface")
+    assert (r.exit_code, r.stderr) == (
+        2, f"dcf2bin: error: NodeName 'Ω-axis' cannot be written in the latin-1 encoding of "
+           f"{STORED}\n")

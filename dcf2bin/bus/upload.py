@@ -416,6 +416,13 @@ def dcf(desc: Description, result: NodeRead, commissioning: dict[str, str] | Non
     return annotate(text, desc.path, result.notes, commissioning or {})
 
 
+def check_keys(desc: Description, keys: dict[str, str]) -> None:
+    """``UploadError`` when a [DeviceComissioning] value cannot be written in the
+    description's encoding (before the bus is touched, where the description is known)."""
+    for key, value in keys.items():
+        _encode(value, desc.ini.encoding, desc.path, key)
+
+
 def annotate(data: bytes, path: str, notes: list[Note], keys: dict[str, str]) -> bytes:
     """``data`` (a DCF with [DeviceComissioning]) with a comment line for each note, in
     the section of its entry, and ``keys`` set in [DeviceComissioning]."""

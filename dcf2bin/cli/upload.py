@@ -75,7 +75,10 @@ def upload_cmd(node_id, eds, output, interface, channel, bitrate, timeout, retri
     from dcf2bin.bus import link
     from dcf2bin.bus import upload as up
     check_output(output, [eds] if eds else [])
+    keys = commissioning(node_name, network_name, bitrate)
     desc = _eds(eds, node_id, quiet) if eds is not None else None
+    if desc is not None:
+        _check_keys(desc, keys)
     options = up.Options(timeout, retries, max_upload, node_timeout, keep_going)
     net = open_bus(interface, channel, bitrate)
     try:
@@ -87,17 +90,22 @@ def upload_cmd(node_id, eds, output, interface, channel, bitrate, timeout, retri
     if failed and not keep_going:
         say(f"node {node_id}: {phrase(result)}; nothing written")
         raise Failure(ExitCode.FINDINGS)
-    keys = commissioning(node_name, network_name, bitrate)
-    try:
-        text = up.dcf(desc, result, keys)
-    except up.UploadError as exc:
-        fail(str(exc), code=ExitCode.USAGE)
+    _check_keys(desc, keys)             # a stored EDS is known only now
+    text = up.dcf(desc, result, keys)
     write_output(text, output, [eds] if eds else [], binary=False)
     if not quiet:
         say(f"node {node_id}: {phrase(result)}; "
             f"written to {'<stdout>' if output == '-' else output}")
     if failed:
         raise Failure(ExitCode.FINDINGS)
+
+
+def _check_keys(desc, keys: dict[str, str]) -> None:
+    from dcf2bin.bus import upload as up
+    try:
+        up.check_keys(desc, keys)
+    except up.UploadError as exc:
+        fail(str(exc), code=ExitCode.USAGE)
 
 
 def check_output(output: str, inputs: list[str]) -> None:

@@ -47,6 +47,11 @@ def upload_cmd(network_file, output, interface, channel, bitrate, timeout, retri
     if os.path.exists(output) and not os.path.isdir(output):
         fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
     work, plcs = _jobs(network, output, max_upload, quiet)
+    for job in work:
+        try:
+            up.check_keys(job.desc, commissioning(job.name, network_name, bitrate))
+        except up.UploadError as exc:
+            fail(f"{job.label}: {exc}", str(job.where or network_file))
     inputs = [network_file] + sorted({j.desc.path for j in work})
     for path in inputs:
         register_input(path)            # no output may overwrite a node's file
@@ -77,11 +82,8 @@ def upload_cmd(network_file, output, interface, channel, bitrate, timeout, retri
     for job, r in zip(work, results):
         if r.status == up.SILENT:
             continue
-        keys = commissioning(job.name, network_name, bitrate)
-        try:
-            files[job.output] = up.dcf(job.desc, r, keys)
-        except up.UploadError as exc:
-            fail(str(exc), code=ExitCode.USAGE)
+        files[job.output] = up.dcf(job.desc, r, commissioning(job.name, network_name,
+                                                              bitrate))
     write_files(output, files, inputs)
     if not quiet:
         say(f"network upload: {len(files)} file{'s' if len(files) != 1 else ''} in {output}")
