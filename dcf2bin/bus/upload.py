@@ -19,7 +19,8 @@ is read, one request in flight per node, in index order:
   the abort code or the raw bytes -- never a guessed value;
 * a node that stops answering, answers what SDO does not allow or restarts ends its
   upload at that entry (``keep_going``: a wrong answer is a comment and the next entry
-  is read; silence and a restart still end it).
+  is read; silence and a restart still end it). ``read_nodes`` reads several nodes at
+  once, each on its own SDO channel, up to a given number at a time.
 
 The DCF is the description's own text with every value read stated as ParameterValue
 and [DeviceComissioning] filled, written by ``network.dcfedit`` as ``network build``
@@ -125,11 +126,6 @@ class NodeRead:
 
     def count(self, kind: str) -> int:
         return sum(n.kind == kind for n in self.notes)
-
-    @property
-    def warnings(self) -> list[Note]:
-        """The entries the node answered whose value is not stated."""
-        return [n for n in self.notes if n.kind in (REFUSED, UNFIT)]
 
 
 # -- the description ------------------------------------------------------------------------
