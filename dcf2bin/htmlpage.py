@@ -34,12 +34,14 @@ def page(title: str, style: str, body: list[str]) -> str:
     return "\n".join(out)
 
 
-def table(head: list[str], rows, cls: str = "") -> list[str]:
-    """A table's lines: a header row and one row a line; every text is escaped, a cell
-    may be a ``Cell`` to carry a class."""
-    out = [f'<table class="{escape(cls)}">' if cls else "<table>",
-           "<thead><tr>" + "".join(f"<th>{escape(h)}</th>" for h in head) + "</tr></thead>",
-           "<tbody>"]
+def table(head: list[str] | None, rows, cls: str = "") -> list[str]:
+    """A table's lines: a header row (none when ``head`` is None) and one row a line;
+    every text is escaped, a cell may be a ``Cell`` to carry a class."""
+    out = [f'<table class="{escape(cls)}">' if cls else "<table>"]
+    if head is not None:
+        out.append("<thead><tr>" + "".join(f"<th>{escape(h)}</th>" for h in head)
+                   + "</tr></thead>")
+    out.append("<tbody>")
     for row in rows:
         out.append("<tr>" + "".join(_cell(c) for c in row) + "</tr>")
     out += ["</tbody>", "</table>"]
