@@ -9,7 +9,7 @@ describes and its OD editor writes; the code here is this project's own):
   ARRAY; one structure type per storage group (``OD_RAM_t``, ``OD_PERSIST_COMM_t``, ...)
   with a member per entry that has data, and its ``extern`` variable; ``extern OD_t *OD``;
   ``OD_ENTRY_H<index>`` and ``OD_ENTRY_H<index>_<name>``, the address of each object's
-  entry in the list; ``OD_INIT_CONFIG`` for a build with several object dictionaries
+  entry in the list (in parentheses, so that ``OD_ENTRY_H1017->index`` means what it says); ``OD_INIT_CONFIG`` for a build with several object dictionaries
   (``CO_MULTIPLE_OD``).
 * ``OD.c``: the storage groups' variables at their values; one constant object per OD
   object (``OD_obj_var_t`` for a VAR, ``OD_obj_array_t`` for an ARRAY,
@@ -485,9 +485,10 @@ def h_file(dev, b: Built) -> str:
               f"extern {n}_ATTR_{group} {n}_{group}_t {n}_{group};", ""]
     L += [f"#ifndef {n}_ATTR_OD", f"#define {n}_ATTR_OD", "#endif",
           f"extern {n}_ATTR_OD OD_t *{n};", "", "/* Each object's entry, by index */"]
-    L += [f"#define {n}_ENTRY_H{i:04X} &{n}->list[{k}]" for k, (i, *_) in enumerate(b.entries)]
+    L += [f"#define {n}_ENTRY_H{i:04X} (&{n}->list[{k}])"
+          for k, (i, *_) in enumerate(b.entries)]
     L += ["", "/* Each object's entry, by index and name */"]
-    L += [f"#define {n}_ENTRY_H{var} &{n}->list[{k}]"
+    L += [f"#define {n}_ENTRY_H{var} (&{n}->list[{k}])"
           for k, (_, _, _, var, part) in enumerate(b.entries) if part]
     L += ["", "/* CANopenNode's configuration from this object dictionary, for a build with",
           "   several object dictionaries (CO_MULTIPLE_OD) */", "#ifdef CO_MULTIPLE_OD",
