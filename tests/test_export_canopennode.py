@@ -444,3 +444,40 @@ def test_the_example_od_holds_what_canopeneditors_page_says(tmp_path):
         has_data = any(row["default"] for row in obj["subs"].values())
         holding = [g for g, body in groups.items() if re.search(r"\b" + var + r"\b", body)]
         assert holding == ([obj["group"]] if has_data else []), hex(idx)
+
+
+@pytest.mark.parametrize("old, new, said", [
+    (";CO_accessSRDO=tx\nDataType=0x0003\nAccessType=rw\nDefaultValue=-1",
+     ";CO_accessSRDO=both\nDataType=0x0003\nAccessType=rw\nDefaultValue=-1",
+     "0x2002sub1: CO_accessSRDO 'both' is none of tx, rx, trx, no [EXP310]"),
+    (";CO_stringLengthMin=4", ";CO_stringLengthMin=-1",
+     "0x2004sub0: CO_stringLengthMin '-1' is not a length from 0 to 65535 [EXP310]")])
+def test_a_setting_that_is_none_of_its_values_is_an_error_at_its_line(tmp_path, old, new, said):
+    src = _with(tmp_path, old, new)
+    line = src.read_text().splitlines().index(new.split("\n")[0]) + 1
+    r = run("canopennode", str(src))
+    assert r.output is None
+    assert [d.format() for d in r.errors] == [f"{src}:{line}: error: {said}"]
+
+
+def test_a_description_without_objects_from_0x1000_exports_nothing(tmp_path):
+    src = tmp_path / "types.eds"
+    src.write_text("[FileInfo]\nFileName=types.eds\n\n[DeviceInfo]\nProductName=x\n\n"
+                   "[0005]\nParameterName=UNSIGNED8\nObjectType=0x7\nDataType=0x0007\n"
+                   "AccessType=ro\nDefaultValue=8\nPDOMapping=0\n")
+    r = run("canopennode", str(src))
+    assert r.output is None
+    assert [d.format() for d in r.errors] == [
+        f"{src}: error: no objects from 0x1000 up: nothing to export [EXP100]"]
+
+
+@pytest.mark.parametrize("name, other", [("OD.h", "OD.c"), ("OD.c", "OD.h")])
+def test_neither_file_is_written_when_one_would_be_the_input(tmp_path, name, other):
+    src = tmp_path / name
+    src.write_text((FIX / "sample.eds").read_text())
+    r = cli("export", "-q", "-f", "canopennode", src, "-o", tmp_path)
+    assert r.exit_code == 2
+    assert r.stderr == (f"dcf2bin: error: output '{tmp_path / name}' is the input file; "
+                        "refusing to overwrite it\n")
+    assert src.read_text() == (FIX / "sample.eds").read_text()
+    assert not (tmp_path / other).exists()

@@ -138,5 +138,10 @@ def _write_files(files: dict, folder: str, input: str) -> None:
         os.makedirs(folder, exist_ok=True)
     except OSError as exc:
         fail(f"cannot write: {exc.strerror or exc}", folder, ExitCode.UNREADABLE)
-    for name, text in files.items():
-        write_output(text, os.path.join(folder, name), [input], binary=False)
+    paths = [os.path.join(folder, name) for name in files]
+    for path in paths:                  # before the first file: none may be the input
+        if input != "-" and os.path.exists(path) and os.path.samefile(path, input):
+            fail(f"output '{path}' is the input file; refusing to overwrite it",
+                 code=ExitCode.USAGE)
+    for path, text in zip(paths, files.values()):
+        write_output(text, path, [input], binary=False)

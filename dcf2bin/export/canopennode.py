@@ -187,7 +187,8 @@ class _Builder:
                 self.diags.append(warning(
                     f"{entry.label}: a DOMAIN holds no data in CANopenNode's object "
                     "dictionary; its value is left out", entry.value_where, "EXP313"))
-            return Data("uint8_t", attribute=self.attrs(entry, obj, t))
+            attribute = self.attrs(entry, obj, t)
+            return Data("uint8_t", attribute=attribute) if attribute is not None else None
         raw = self.encode(entry, text) if text else b""
         if raw is None:
             return None
@@ -195,8 +196,10 @@ class _Builder:
         if at_least is None:
             return None
         d = self.shape(entry, t, raw, bool(text), at_least)
-        if d is not None:
-            d.attribute = self.attrs(entry, obj, t)
+        attribute = self.attrs(entry, obj, t)
+        if d is None or attribute is None:
+            return None
+        d.attribute = attribute
         return d
 
     def shape(self, entry, t, raw: bytes, given: bool, at_least: int) -> Data | None:
@@ -256,7 +259,8 @@ class _Builder:
                                 "length from 0 to 65535", _where(entry, line), "EXP310"))
         return None
 
-    def attrs(self, entry, obj, t) -> str:
+    def attrs(self, entry, obj, t) -> str | None:
+        """The ODA_* expression, or None after an error."""
         names = [SDO_ATTR.get(entry.access or "", ""),
                  PDO_ATTR.get(pdo_direction(self.dev, entry, obj), "")]
         said = entry_setting(self.settings, entry, obj, "CO_accessSRDO")
@@ -266,7 +270,8 @@ class _Builder:
                 self.diags.append(error(f"{entry.label}: CO_accessSRDO '{said[0]}' is none "
                                         "of tx, rx, trx, no", _where(entry, said[1]),
                                         "EXP310"))
-            names.append(srdo or "")
+                return None
+            names.append(srdo)
         names.append("ODA_MB" if t.name in MULTI_BYTE else "")
         names.append("ODA_STR" if t.kind in (dt.VSTRING, dt.USTRING) else "")
         return " | ".join(n for n in names if n) or "0"
