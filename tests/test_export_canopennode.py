@@ -155,7 +155,7 @@ def stated(path, dev) -> dict:
 
 def expected_walk(path, dev) -> list[str]:
     """What walk prints, worked out from the model: SDO bits 1/2/3 by access, PDO bits
-    4 (into a TPDO), 8 (from an RPDO) by PDOmapping or by access, SRDO 0x10/0x20, 0x40
+    4 (into a TPDO), 8 (from an RPDO) by PDOmapping TPDO/RPDO or by access, SRDO 0x10/0x20, 0x40
     for numbers of 2 bytes and more, 0x80 for strings; the value's bytes ($NODEID as 0),
     '-' where the description gives none."""
     says = stated(path, dev)
@@ -170,9 +170,9 @@ def expected_walk(path, dev) -> list[str]:
             s = says.get((o.index, e.sub if o.complex else None), {})
             attr = {"ro": 1, "const": 1, "wo": 2, "rw": 3, "rwr": 3, "rww": 3}[e.access]
             word = s.get("PDOmapping")
-            if word is not None:
-                attr |= {"TPDO": 4, "RPDO": 8, "optional": 12, "default": 12, "no": 0}[word]
-            elif e.pdo_mapping:
+            if word in ("TPDO", "RPDO"):
+                attr |= {"TPDO": 4, "RPDO": 8}[word]
+            elif e.pdo_mapping:         # PDOMapping=1, optional, default: by the access
                 attr |= {"ro": 4, "const": 4, "rwr": 4, "wo": 8, "rww": 8, "rw": 12}[e.access]
             attr |= {"tx": 0x10, "rx": 0x20, "trx": 0x30}.get(s.get("CO_accessSRDO"), 0)
             t = e.dtype

@@ -9,7 +9,8 @@ describes and its OD editor writes; the code here is this project's own):
   ARRAY; one structure type per storage group (``OD_RAM_t``, ``OD_PERSIST_COMM_t``, ...)
   with a member per entry that has data, and its ``extern`` variable; ``extern OD_t *OD``;
   ``OD_ENTRY_H<index>`` and ``OD_ENTRY_H<index>_<name>``, the address of each object's
-  entry in the list (in parentheses, so that ``OD_ENTRY_H1017->index`` means what it says); ``OD_INIT_CONFIG`` for a build with several object dictionaries
+  entry in the list (in parentheses, so that ``OD_ENTRY_H1017->index`` means what it
+  says); ``OD_INIT_CONFIG`` for a build with several object dictionaries
   (``CO_MULTIPLE_OD``).
 * ``OD.c``: the storage groups' variables at their values; one constant object per OD
   object (``OD_obj_var_t`` for a VAR, ``OD_obj_array_t`` for an ARRAY,

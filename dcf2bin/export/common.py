@@ -96,13 +96,14 @@ def written_default(entry) -> str | None:
 
 def pdo_direction(dev, entry, obj) -> str:
     """How the entry may be mapped: "" (not at all), "t" (into a TPDO), "r" (from an RPDO)
-    or "tr" (either). A CiA 311 file says it (PDOmapping TPDO, RPDO, optional, default);
-    else PDOMapping=1 and the access say it, as a PDO reads and writes it (SPEC §5: ro,
-    const and rwr are read by a TPDO; wo and rww written by an RPDO; rw both)."""
+    or "tr" (either). A CiA 311 file's PDOmapping TPDO or RPDO says it; a mappable entry
+    otherwise (PDOMapping=1, PDOmapping optional or default) is mapped as a PDO reads and
+    writes it (SPEC §5: ro, const and rwr are read by a TPDO; wo and rww written by an
+    RPDO; rw both)."""
     said = dev.specifics.get((entry.index, entry.sub if obj.complex else None), {})
     word = said.get("PDOmapping")
-    if word is not None:
-        return {"TPDO": "t", "RPDO": "r", "optional": "tr", "default": "tr"}.get(word, "")
+    if word in ("TPDO", "RPDO"):
+        return word[0].lower()
     if not entry.pdo_mapping:
         return ""
     access = entry.access or ""
@@ -131,8 +132,7 @@ def object_description(dev, obj) -> str:
 # ``property`` elements); an EDS states them as comment lines ";CO_name=value" in the
 # object's or entry's section, and CANopenEditor writes the storage group there as
 # ";StorageLocation=NAME".
-CO_SETTINGS = ("CO_countLabel", "CO_storageGroup", "CO_accessSRDO", "CO_stringLengthMin",
-               "CO_flagsPDO")
+CO_SETTINGS = ("CO_countLabel", "CO_storageGroup", "CO_accessSRDO", "CO_stringLengthMin")
 _EDS_ALIASES = {"storagelocation": "CO_storageGroup"}
 _SECTION_RE = re.compile(r"\[\s*([0-9A-Fa-f]{4})(?:sub([0-9A-Fa-f]{1,3}))?\s*\]\s*$")
 _COMMENT_RE = re.compile(r";\s*([A-Za-z_]+)\s*=(.*)$")
