@@ -225,17 +225,17 @@ class Master:
         return self._count([frame(FASTSCAN, value, bit, sub, next_)], IDENTIFIED)
 
     def fastscan(self, known: dict[int, int] | None = None,
-                 skip: frozenset = frozenset()) -> tuple[int, dict[int, int] | None]:
+                 skip: frozenset = frozenset()) -> tuple[bool, dict[int, int] | None]:
         """One fastscan among the unconfigured slaves in the waiting state: the parts
         ``known`` (0 vendor-ID ... 3 serial) confirmed in one step each, the others scanned
         bit by bit (the lowest value any slave has), the parts in ``skip`` left out (never
-        the vendor-ID). Returns how many slaves answered the reset step and the parts
+        the vendor-ID). Returns whether any slave answered the reset step, and the parts
         found (None: no slave matched); the slave found is then in configuration, and
         takes part in no further fastscan until it is back in waiting."""
         known = known or {}
-        present = self._step(0, FASTSCAN_RESET, 0, 0)
+        present = self._step(0, FASTSCAN_RESET, 0, 0) > 0
         if not present:
-            return 0, None
+            return False, None
         subs = [s for s in range(4) if s not in skip or s == 0]
         found: dict[int, int] = {}
         for k, sub in enumerate(subs):

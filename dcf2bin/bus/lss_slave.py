@@ -18,7 +18,8 @@ hardware: `dcf2bin node` answers the LSS master on 0x7E5 (answers on 0x7E4).
   applied (the bus rate is the interface's).
 
 Faults, for the tests of the master: ``store_error`` (store answers this error code),
-``twice`` (every answer is sent twice), ``delay`` (seconds before each answer).
+``twice`` (every answer is sent again this many seconds later), ``delay`` (seconds
+before each answer).
 """
 from __future__ import annotations
 
@@ -42,7 +43,7 @@ class LssSlave:
     booting and at each reset)."""
 
     def __init__(self, node, identity: L.Identity, *, unconfigured: bool = False,
-                 store_error: int = 0, twice: bool = False, delay: float = 0.0):
+                 store_error: int = 0, twice: float | None = None, delay: float = 0.0):
         self.node, self.identity = node, identity
         self.active = L.UNCONFIGURED if unconfigured else node.id
         self.pending = self.stored = self.active
@@ -93,7 +94,9 @@ class LssSlave:
         if self.delay:
             time.sleep(self.delay)           # a slow slave (a fault the tests ask for)
         data = L.frame(cs, value, *more)
-        for _ in range(2 if self.twice else 1):
+        self.net.send_message(L.SLAVE_COB, data)
+        if self.twice is not None:
+            time.sleep(self.twice)
             self.net.send_message(L.SLAVE_COB, data)
 
     def on_request(self, can_id, data, timestamp) -> None:

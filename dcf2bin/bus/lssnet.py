@@ -158,10 +158,10 @@ def _find_all(m: L.Master, rows: list[Row]) -> list[Problem]:
         found = _find(m, w)
         m.switch_global(configuration=False)
         if len(found) > 1:
-            named = "; ".join(f[0].text() if f[0] is not None else
-                              "and another node that has no node-ID" for f in found)
             problems.append(Problem(f"{w.label}: two nodes match its identity "
-                                    f"({_known_text(w.known)}): {named}", w.where))
+                                    f"({_known_text(w.known)}): {_twins(w, found)}; the "
+                                    "network file must tell them apart (serial_number)",
+                                    w.where))
         elif found:
             row.identity, row.was, row.found_by = found[0]
             if row.was is None:
@@ -201,6 +201,18 @@ def _node_id_of(m: L.Master, identity: L.Identity, switch_back: bool = True) -> 
     if switch_back:
         m.switch_global(configuration=False)
     return node_id
+
+
+def _twins(w: Wanted, found) -> str:
+    """The nodes that match, each by the parts the network file does not give."""
+    out = []
+    for identity, _, _ in found:
+        if identity is None:
+            out.append("another node without a node-ID")
+            continue
+        out.append("the one with " + _known_text({k: v for k, v in enumerate(identity.parts)
+                                                  if k not in w.known}))
+    return " and ".join(out)
 
 
 def _known_text(known: dict[int, int]) -> str:
