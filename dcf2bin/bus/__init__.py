@@ -4,11 +4,15 @@ software CANopen node.
 Everything here stands on ``canopen`` (SDO client and server, LocalNode, PDO maps,
 NMT) over ``python-can`` (every interface it supports). Nothing here drives a CAN adapter
 itself or imports click, and nothing speaks the SDO protocol but ``scan``'s upload
-requests (so that all 127 can be in flight at once; see scan.py).
+requests (so that all 127 can be in flight at once; see scan.py). LSS is spoken by
+``lss`` and ``lss_slave`` (canopen's LssMaster falls short; see lss.py).
 
     link.py      open a canopen.Network on a python-can interface; abort-code texts
     download.py  plan (the writes of a container, each with its DCF line), run, verify
     netconf.py   a network's slaves configured in node-ID order, each after its identity
     scan.py      which node-IDs answer (all 127 asked at once) and who they say they are
     node.py      a LocalNode from an EDS/DCF or an emulated SYS TEC target
+    lss.py       the LSS master (CiA 305): every answer matched to its request
+    lssnet.py    a network's slaves given their node-IDs by LSS: find, check, assign
+    lss_slave.py the software node's LSS slave (hooked into node.py as ``node.lss``)
 """
