@@ -209,8 +209,11 @@ def test_what_the_network_file_leaves_open_is_an_error_before_the_bus(network, m
 
 def test_set_bitrate(bench):
     nodes = three_unconfigured(bench)
-    r = lss(bench, THREE, "--set-bitrate", "250000", "-q")
-    assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
+    r = lss(bench, THREE, "--set-bitrate", "250000")
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert r.stdout.splitlines()[2] == (
+        f"2     io1   assigned  selective switch  none  {IO8}  0x00001001  yes      bit rate "
+        "250000 bit/s from its next start")
     assert [(n.lss.stored, n.lss.stored_timing) for n in nodes.values()] == [
         (4, 3), (2, 3), (3, 3)]
     r = run("network", "lss", THREE, "--set-bitrate", "100000")
@@ -222,3 +225,14 @@ def test_set_bitrate(bench):
 def test_an_interface_that_cannot_be_opened():
     r = run("network", "lss", THREE, "-i", "no-such-interface")
     assert (r.exit_code, r.stdout) == (3, "")
+
+
+def test_a_cpj_projects_nodes_are_found_by_their_dcfs_identity():
+    """Its two I/O modules' DCFs state one vendor-ID and product code and no serial."""
+    path = "tests/fixtures/network/check/network.cpj"
+    r = run("network", "lss", path, "-i", "no-such-interface")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines()[0] == (
+        f"{path}:11: error: node 2 (io) has no serial number (its DCF's 0x1018 sub 4), but "
+        "node 3 (io3) has its vendor-ID 0x000000AB and product code 0x00000401: LSS cannot "
+        "tell which node is which")

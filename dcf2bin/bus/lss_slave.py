@@ -57,7 +57,6 @@ class LssSlave:
         self._selection: dict[int, int] = {}
         self._ranges: dict[int, int] = {}
         self._position = 0                    # fastscan: the part compared next
-        fill_identity(node, identity)
         node.lss = self
 
     @property
@@ -282,9 +281,9 @@ def device_info(data: bytes, path: str) -> dict[int, int]:
     return out
 
 
-def fill_identity(node, identity: L.Identity) -> None:
-    """0x1018 sub 1-4 hold the identity LSS answers with (the entries the object dictionary
-    lacks are added, read-only UNSIGNED32)."""
+def fill_identity(node, identity: L.Identity, subs=(1, 2, 3, 4)) -> None:
+    """0x1018 ``subs`` hold the identity LSS answers with (the entries the object
+    dictionary lacks are added, read-only UNSIGNED32)."""
     od = node.object_dictionary
     if 0x1018 not in od:
         od.add_object(od_mod.ODRecord("Identity object", 0x1018))
@@ -296,6 +295,8 @@ def fill_identity(node, identity: L.Identity) -> None:
         var.data_type, var.access_type = od_mod.UNSIGNED8, "ro"
         record.add_member(var)
     for sub, name, value in zip((1, 2, 3, 4), _IDENTITY_NAMES, identity.parts):
+        if sub not in subs:
+            continue
         if sub not in record:
             var = od_mod.ODVariable(name, 0x1018, sub)
             var.data_type, var.access_type = od_mod.UNSIGNED32, "ro"
@@ -303,9 +304,9 @@ def fill_identity(node, identity: L.Identity) -> None:
         var = record[sub]
         var.value = value
         node.data_store.get(0x1018, {}).pop(sub, None)
-    top = record[0]
-    if (top.value if top.value is not None else top.default or 0) < 4:
-        top.value = 4
+    top, highest = record[0], max((*subs, 0))
+    if (top.value if top.value is not None else top.default or 0) < highest:
+        top.value = highest
         node.data_store.get(0x1018, {}).pop(0, None)
 
 
@@ -314,18 +315,22 @@ def attach_lss(node, *, serial: int | None = None, unconfigured: bool = False,
                **faults) -> LssSlave:
     """Make ``node`` answer LSS with the identity :func:`identity_of` gives; ``info_from``:
     the EDS/DCF whose [DeviceInfo] is read when 0x1018 lacks sub 1, 2 or 3."""
-    if info is None and info_from is not None and not _has_identity(node):
+    held = {sub for sub in (1, 2, 3, 4) if _holds(node, sub)}
+    if info is None and info_from is not None and not {1, 2, 3} <= held:
         from dcf2bin.fileio import read_file
         try:
             info = device_info(read_file(info_from), info_from)
         except OSError:
             info = None               # it was read a moment ago; now it is not there
-    return LssSlave(node, identity_of(node, serial, info), unconfigured=unconfigured,
-                    **faults)
+    identity = identity_of(node, serial, info)
+    # 0x1018 holds what is known: its own entries, [DeviceInfo]'s, the serial given
+    fill_identity(node, identity, held | set(info or ()) | ({4} if serial is not None else set()))
+    return LssSlave(node, identity, unconfigured=unconfigured, **faults)
 
 
-def _has_identity(node) -> bool:
+def _holds(node, sub: int) -> bool:
     try:
-        return all(node.get_data(0x1018, sub) for sub in (1, 2, 3))
+        node.get_data(0x1018, sub)
+        return True
     except (SdoAbortedError, KeyError, ValueError, TypeError):
         return False

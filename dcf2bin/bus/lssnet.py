@@ -64,6 +64,7 @@ class Options:
     wait: float = L.WAIT
     bitrate: int | None = None          # configure this bit timing too
     store: bool = True
+    serial_key: str = "serial_number"   # where the network file gives a serial number
 
 
 @dataclass
@@ -94,7 +95,7 @@ class Result:
     steps: int = 0                      # waits of Options.wait (silence was an answer)
 
 
-def file_problems(wanted: list[Wanted]) -> list[Problem]:
+def file_problems(wanted: list[Wanted], serial_key: str = "serial_number") -> list[Problem]:
     """What the network file leaves open: two slaves with one full identity, and a slave
     without a serial number among several of one vendor-ID and product code."""
     out = []
@@ -118,7 +119,7 @@ def file_problems(wanted: list[Wanted]) -> list[Problem]:
             if 3 not in w.known:
                 others = ", ".join(o.label for o in group if o is not w)
                 out.append(Problem(
-                    f"{w.label} has no serial number (serial_number), but {others} "
+                    f"{w.label} has no serial number ({serial_key}), but {others} "
                     f"{'has' if len(group) == 2 else 'have'} its vendor-ID 0x{vendor:08X} "
                     f"and product code 0x{product:08X}: LSS cannot tell which node is "
                     "which", w.where))
@@ -132,7 +133,7 @@ def commission(net, wanted: list[Wanted], options: Options, *,
     master = L.Master(net, timeout=options.timeout, wait=options.wait)
     try:
         rows = [Row(w) for w in wanted]
-        problems = _find_all(master, rows)
+        problems = _find_all(master, rows, options.serial_key)
         if check_ids:
             problems += _taken(net, rows, options)
         if not problems:
@@ -146,7 +147,7 @@ def commission(net, wanted: list[Wanted], options: Options, *,
 
 # -- 1. find ----------------------------------------------------------------------------------
 
-def _find_all(m: L.Master, rows: list[Row]) -> list[Problem]:
+def _find_all(m: L.Master, rows: list[Row], serial_key: str) -> list[Problem]:
     m.switch_global(configuration=False)
     problems = []
     for row in rows:
@@ -160,7 +161,7 @@ def _find_all(m: L.Master, rows: list[Row]) -> list[Problem]:
         if len(found) > 1:
             problems.append(Problem(f"{w.label}: two nodes match its identity "
                                     f"({_known_text(w.known)}): {_twins(w, found)}; the "
-                                    "network file must tell them apart (serial_number)",
+                                    f"network file must tell them apart ({serial_key})",
                                     w.where))
         elif found:
             row.identity, row.was, row.found_by = found[0]
@@ -295,6 +296,8 @@ def _assign(m: L.Master, net, row: Row, options: Options) -> None:
             row.reply, row.text = reply, ("no answer" if reply is None else reply.text())
             return
     row.status = ASSIGNED
+    if options.bitrate is not None:
+        row.text = f"bit rate {options.bitrate} bit/s from its next start"
     if not moves:
         m.switch_global(configuration=False)
         return

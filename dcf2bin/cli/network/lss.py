@@ -81,11 +81,12 @@ def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_b
     check_bitrate(set_bitrate)
     network = configured_network(network_file, quiet, "nothing changed", net)
     wanted = wanted_of(network)
-    stop_on(lssnet.file_problems(wanted), network_file, quiet)
+    serial_key = "its DCF's 0x1018 sub 4" if network.kind == "cpj" else "serial_number"
+    stop_on(lssnet.file_problems(wanted, serial_key), network_file, quiet)
     bus = open_bus(interface, channel, bitrate)
     try:
-        result = lssnet.commission(bus, wanted, lssnet.Options(timeout, scan_wait,
-                                                               set_bitrate))
+        result = lssnet.commission(bus, wanted, lssnet.Options(
+            timeout, scan_wait, set_bitrate, serial_key=serial_key))
     finally:
         link.close_network(bus)
     stop_on(result.problems, network_file, quiet)
