@@ -197,3 +197,23 @@ def test_node_identity_from_device_info(channel):
     assert (r.exit_code, r.stderr) == (0, "")
     assert seen == {"lss": [*IO8, 5, 3],
                     "sdo": [v.to_bytes(4, "little") for v in (*IO8, 5)]}
+
+
+def test_an_emulated_target_answers_lss_too(channel, tmp_path):
+    """Its object dictionary holds raw bytes: the identity is read and added as bytes."""
+    plc_bin = str(tmp_path / "plc.bin")
+    assert run("compile", "samples/bench_plc.dcf", "-o", plc_bin).exit_code == 0
+    seen = {}
+
+    def scenario(bench):
+        m = L.Master(bench.network(), timeout=0.1)
+        identity = L.Identity(0xAB, 0, 0, 9)           # 0x1018 sub 1 of the static OD
+        assert eventually(lambda: m.select(identity), 5)
+        seen["node_id"] = m.inquire_node_id()
+        m.switch_global(configuration=False)
+        seen["sdo"] = [bench.sdo(16).upload(0x1018, k) for k in (0, 1, 4)]
+        m.close()
+    r = node_beside(scenario, channel, "--container", plc_bin, "-n", "16", "--static-od",
+                    "samples/device.eds", "--serial", "9", "-q")
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert seen == {"node_id": 16, "sdo": [b"\x04", b"\xab\0\0\0", b"\x09\0\0\0"]}

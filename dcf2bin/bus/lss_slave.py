@@ -230,9 +230,12 @@ def renumber(node, node_id: int) -> None:
             if var is None:
                 continue
             for attr in ("value", "default"):
-                cob = getattr(var, attr, None)
-                if isinstance(cob, int) and not cob & 0x20000000 and cob & 0x7FF == base + old:
-                    setattr(var, attr, (cob & ~0x7FF) | (base + node_id))
+                raw = getattr(var, attr, None)
+                if raw is None:
+                    continue
+                cob = _number(raw)
+                if not cob & 0x20000000 and cob & 0x7FF == base + old:
+                    setattr(var, attr, _like(raw, (cob & ~0x7FF) | (base + node_id)))
     od.node_id = node_id
 
 
@@ -302,12 +305,27 @@ def fill_identity(node, identity: L.Identity, subs=(1, 2, 3, 4)) -> None:
             var.data_type, var.access_type = od_mod.UNSIGNED32, "ro"
             record.add_member(var)
         var = record[sub]
-        var.value = value
+        var.value = _like(var.value, value)
         node.data_store.get(0x1018, {}).pop(sub, None)
     top, highest = record[0], max((*subs, 0))
-    if (top.value if top.value is not None else top.default or 0) < highest:
-        top.value = highest
+    if _number(top.value if top.value is not None else top.default) < highest:
+        top.value = _like(top.value, highest, 1)
         node.data_store.get(0x1018, {}).pop(0, None)
+
+
+def _number(value) -> int:
+    """An entry's value as canopen holds it: an int, raw bytes (an emulated target's
+    object dictionary), or None."""
+    if isinstance(value, (bytes, bytearray)):
+        return int.from_bytes(value, "little")
+    return value if isinstance(value, int) else 0
+
+
+def _like(old, value: int, size: int = 4):
+    """``value`` in the form ``old`` has (raw bytes of its length, else an int)."""
+    if isinstance(old, (bytes, bytearray)):
+        return value.to_bytes(len(old) or size, "little")
+    return value
 
 
 def attach_lss(node, *, serial: int | None = None, unconfigured: bool = False,
