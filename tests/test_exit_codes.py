@@ -157,7 +157,8 @@ def test_a_directory_is_exit_3_with_one_line(folder):
 def test_validate_an_empty_directory_counts_no_file(folder):
     r = CliRunner().invoke(main, ["validate", str(folder / "adir")])
     assert (r.exit_code, r.stdout) == (3, (
-        f"{folder / 'adir'}: error: no *.dcf, *.eds or *.bin file in this directory [IO001]\n"
+        f"{folder / 'adir'}: error: no *.dcf, *.eds, *.xdd, *.xdc, *.xpd or *.bin file in "
+        "this directory [IO001]\n"
         "1 error, 0 warnings, 0 infos in 0 files\n"))
 
 
@@ -170,7 +171,7 @@ def test_compile_default_output_never_replaces_a_file(tmp_path):
         out.write_text("the user's own file\n")
         r = CliRunner().invoke(main, ["compile", str(src), *extra])
         assert (r.exit_code, r.stderr) == (2, (
-            f"dcf2bin: error: {out} exists; name the output with -o to replace it, or give "
+            f"{out}: error: the file exists; name the output with -o to replace it, or give "
             "--force\n"))
         assert out.read_text() == "the user's own file\n"
         r = CliRunner().invoke(main, ["compile", str(src), *extra, "--force"])

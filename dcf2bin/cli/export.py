@@ -88,7 +88,7 @@ def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with
                  code=ExitCode.USAGE)
     from dcf2bin.export import run
     data = read_input(input)
-    input_kind(input, data, ("dcf",), quiet=quiet)
+    input_kind(input, data, ("dcf", "xdd"), quiet=quiet)
     name = "<stdin>" if input == "-" else input
     res = run(fmt, name, data=data, node_id=node_id, allow_external_files=allow_external_files,
               var_name=var_name, with_type=with_type,

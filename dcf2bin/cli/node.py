@@ -6,8 +6,9 @@ import time
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, emit, fail,
-                                guarded, input_kind, load_static_od, node_id_option,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, Integer, debug_option, emit,
+                                fail, guarded, input_kind, load_static_od, node_id_option,
                                 quiet_option, read_input, static_od_option,
                                 target_stack_options, verbose_option)
 from dcf2bin.cli.download import bus_options, open_bus
@@ -29,7 +30,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="With --container: PI memory of the target in bytes (default: the "
               "complete size the container gives).")
 @target_stack_options(prefix="With --container: ")
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="With --container: PI addresses count from the image "
               "start or from their area.")
 @click.option("--show-pi", is_flag=True,
@@ -96,9 +97,10 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
         if not quiet:
             who = (f"node {node.id}" if node.lss.configured else
                    f"node without a node-ID (LSS serial 0x{node.lss.identity.serial:08X})")
-            click.echo(f"{name}: {who} on the bus "
-                       f"({link.BusConfig(interface, channel, bitrate).describe()}); "
-                       "Ctrl-C stops it", err=True)
+            where = link.BusConfig(interface, channel, bitrate).describe()
+            if link.is_virtual(net):
+                where += ": python-can's virtual bus reaches only this process"
+            click.echo(f"{name}: {who} on the bus ({where}); Ctrl-C stops it", err=True)
         _wait(duration)
     except KeyboardInterrupt:
         pass          # Ctrl-C is how a node is meant to stop: exit 0
@@ -128,7 +130,7 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
     run_it = f"run it with dcf2bin node --container {name} --node-id N"
-    input_kind(path, data, ("dcf",), quiet=quiet, use={"bin": run_it, "json": run_it})
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet, use={"bin": run_it, "json": run_it})
     try:
         node, errors = nodemod.from_file(name, node_id, data=data)
     except nodemod.NodeError as exc:
@@ -137,6 +139,7 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
         emit([Diagnostic(Severity.WARNING, f"the file has {len(errors)} error"
                          f"{'s' if len(errors) != 1 else ''} (see 'dcf2bin validate'); the "
                          "node has the objects that could be read", name)], quiet)
+    emit([Diagnostic(Severity.WARNING, w, name) for w in node.warnings], quiet)
     return node, name
 
 

@@ -19,9 +19,9 @@ from dcf2bin.export.common import (FIRST_INDEX, FORMATS, ExportResult, ascii_tex
 def run(fmt: str, path: str, *, data: bytes | None = None, node_id: int | None = None,
         allow_external_files: bool = False, **options) -> ExportResult:
     """Load ``path`` (or ``data``) and export it in ``fmt`` (one of FORMATS)."""
-    from dcf2bin import model
-    dev = model.load(path, node_id=node_id, allow_external_files=allow_external_files,
-                     data=data)
+    from dcf2bin import formats
+    dev = formats.load(path, node_id=node_id, allow_external_files=allow_external_files,
+                       data=data)
     return export_device(fmt, dev, **options)
 
 

@@ -72,8 +72,8 @@ class DcfContext:
     # -- raw text ----------------------------------------------------------------------------
     @cached_property
     def text(self) -> str:
-        if self.ini.rejected:
-            return ""   # not text (DCF008): no rule looks at its "lines"
+        if self.ini.rejected or self.ini.format != "ini":
+            return ""   # not text (DCF008), or not CiA 306 text: no rule looks at its "lines"
         return ini_mod.decode_bytes(self.data)[0]
 
     @cached_property

@@ -16,7 +16,8 @@ and the severities) and the package ``__init__`` imports every rule module once,
 table is full before anything in ``dcf2bin.lint`` is used.
 
 Id families: DCF0xx syntax and file structure, DCF1xx object dictionary, DCF2xx
-values, DCF3xx network variables and process image, DCF4xx PDOs, CNT0xx containers,
+values, DCF3xx network variables and process image, DCF4xx PDOs, XDD0xx CiA 311 XML,
+CNT0xx containers,
 plus IO001/INT001 for unreadable inputs and internal errors (always on).
 """
 from __future__ import annotations
@@ -37,6 +38,7 @@ FAMILIES = {
     "DCF2": "values",
     "DCF3": "network variables and process image",
     "DCF4": "PDOs",
+    "XDD0": "CiA 311 XML (XDD/XDC)",
     "CNT0": "containers",
     "TGT0": "target emulation (DynBuildOd)",
     "TGT1": "target emulation: what could not be checked",
@@ -125,7 +127,7 @@ _ORDER: tuple[tuple, list[str]] = ((), [])
 @functools.lru_cache(maxsize=1024)
 def _sort_key(rule_id: str):
     # DCF before CNT before IO/INT; numerically inside a family
-    order = {"DCF": 0, "CNT": 1, "TGT": 2, "IO": 3, "INT": 4}
+    order = {"DCF": 0, "XDD": 0.5, "CNT": 1, "TGT": 2, "IO": 3, "INT": 4}
     prefix = rule_id.rstrip("0123456789")
     if prefix.startswith("TGT"):     # TGT + a hex code: TGT0A1
         prefix = "TGT"
