@@ -177,7 +177,7 @@ def test_node_without_a_node_id_is_given_one(channel):
                     "serial": (0x4D).to_bytes(4, "little")}
     assert r.stderr.splitlines()[:2] == [
         f"{AI}: node without a node-ID (LSS serial 0x0000004D) on the bus (interface "
-        f"virtual, channel {channel}); Ctrl-C stops it",
+        f"virtual, channel {channel}: python-can's virtual bus reaches only this process); Ctrl-C stops it",
         "node 6: node-ID 6 from LSS"]
 
 
