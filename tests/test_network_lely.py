@@ -113,8 +113,9 @@ def test_command_says_lely_master(tmp_path):
     assert r.stderr.splitlines()[-1] == (
         f"network build: 4 files in {tmp_path}: master.dcf, master.bin and 2 slaves for a "
         "lely master, 9 links")
+    # and the folder's lock, which names the files the build wrote (tests/test_build_atomic.py)
     assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "drive.bin", "io.bin", "master.bin", "master.dcf"]
+        ".dcf2bin-build.lock", "drive.bin", "io.bin", "master.bin", "master.dcf"]
 
 
 def test_master_lely_on_a_plc_file(tmp_path):

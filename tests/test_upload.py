@@ -427,7 +427,7 @@ def test_an_output_that_cannot_be_written_fails_before_the_bus(tmp_path):
         3, f"{missing}: error: cannot write: No such file or directory\n")
     r = run("upload", "-n", "3", "--eds", EDS, "-o", EDS, "-i", "no-such-interface")
     assert (r.exit_code, r.stderr) == (
-        2, f"dcf2bin: error: output '{EDS}' is the input file; refusing to overwrite it\n")
+        2, f"{EDS}: error: the output is the input file; refusing to overwrite it\n")
 
 
 def test_eds_of_another_kind_is_an_input_error():

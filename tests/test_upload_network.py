@@ -90,7 +90,8 @@ def test_an_upload_of_a_configured_network_agrees_with_its_build(bench, network_
         f"{ROOT}/{EDS}:157: warning: node 4 (dev4): 0x2000 sub 0: the node refused the "
         "upload: SDO abort 0x060A0023: Resource not available\n"
         f"network upload: 3 files in {read}\n")
-    assert sorted(p.name for p in read.iterdir()) == ["dev2.dcf", "dev3.dcf", "dev4.dcf"]
+    # and the lock of the folder, which names the files written (as network build's)
+    assert sorted(p.name for p in read.iterdir()) == [".dcf2bin-build.lock", "dev2.dcf", "dev3.dcf", "dev4.dcf"]
     for name, nid in (("dev2", 2), ("dev3", 3), ("dev4", 4)):
         want, got = configured(built / f"{name}.dcf", nid), configured(read / f"{name}.dcf", nid)
         assert {k: got[k] for k in want} == want, name
@@ -160,7 +161,7 @@ def test_keep_going_writes_the_slaves_that_answered(bench, faulty, network_file,
         f"node 3 (dev3): {FAILED_ROW}",
         "node 4 (dev4): 0x1000 sub 0: node 4 did not answer (no SDO response within 0.2 s, "
         f"1 try{VIRTUAL})"]
-    assert sorted(p.name for p in out.iterdir()) == ["dev2.dcf", "dev3.dcf"]   # not dev4
+    assert sorted(p.name for p in out.iterdir()) == [".dcf2bin-build.lock", "dev2.dcf", "dev3.dcf"]   # not dev4
     assert section((out / "dev3.dcf").read_text(), "1018sub0")[-1] == f"; {FAILED_ROW}"
 
 
@@ -228,7 +229,12 @@ def test_a_cpj_project_s_nodes_are_read_with_their_dcfs(bench, tmp_path):
 def test_a_cpj_project_s_plc_is_not_read(bench, tmp_path):
     import shutil
     from dcf2bin.bus.node import from_file
-    shutil.copy(ROOT / "samples" / "plc.dcf", tmp_path / "plc.dcf")    # network variables
+    # the project's PLC of the check fixtures, given one network variable (what makes it
+    # a PLC), so that the project has no error that stops every network command
+    (tmp_path / "plc.dcf").write_bytes((ROOT / CPJ_FILES[1]).read_bytes() + (
+        b"\n[A040]\nParameterName=inputs\nObjectType=0x8\nSubNumber=2\n\n[A040sub0]\n"
+        b"ParameterName=count\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\n\n"
+        b"[A040sub1]\nParameterName=in1\nDataType=0x0005\nAccessType=ro\nPDOMapping=1\n"))
     shutil.copy(ROOT / CPJ_FILES[2], tmp_path / "io.dcf")
     cpj = tmp_path / "cell.cpj"
     cpj.write_text("[Topology]\nNodes=0x02\nNode1Present=0x01\nNode1Name=plc\n"
@@ -244,4 +250,4 @@ def test_a_cpj_project_s_plc_is_not_read(bench, tmp_path):
         f"{cpj}: 1 uploaded, 0 failed, 0 did not answer, 1 not read (PLC)\n"
         "  not read  node 1 (plc)  a PLC: its configuration goes with the PLC program\n"
         "  uploaded  node 2 (io)  40 entries read\n")
-    assert sorted(p.name for p in out.iterdir()) == ["io.dcf"]
+    assert sorted(p.name for p in out.iterdir()) == [".dcf2bin-build.lock", "io.dcf"]

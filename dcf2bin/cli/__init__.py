@@ -29,6 +29,7 @@ COMMANDS = {
     "map": "dcf2bin.cli.map:map_cmd",
     "allocate": "dcf2bin.cli.allocate:allocate_cmd",
     "network": "dcf2bin.cli.network:network_group",
+    "lss": "dcf2bin.cli.lss:lss_group",
 }
 
 

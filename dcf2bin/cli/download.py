@@ -5,10 +5,10 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, NODE_ID, Failure, Integer, debug_option,
-                                decode_container, emit, fail, from_option, guarded, input_kind,
-                                node_id_option, quiet_option, read_input, stop_on_errors,
-                                write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, NODE_ID, Failure, Integer, Seconds,
+                                check_output, debug_option, decode_container, emit, fail,
+                                from_option, guarded, input_kind, node_id_option, quiet_option,
+                                read_input, stop_on_errors, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 MAX_UPLOAD = 1 << 20          # = dcf2bin.bus.sdo.MAX_DOMAIN (not imported: --help stays light)
@@ -36,7 +36,7 @@ def sdo_options(fn):
                       "(DOMAIN, strings) may be read back as; a node that sends more fails.")(fn)
     fn = click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
                       help="Times an unanswered SDO request is sent again.")(fn)
-    return click.option("--timeout", type=click.FloatRange(0.001), default=1.0,
+    return click.option("--timeout", type=Seconds(0.001), default=1.0,
                         show_default=True, metavar="SECONDS",
                         help="Seconds to wait for each SDO response.")(fn)
 
@@ -94,6 +94,7 @@ def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, 
     the entry's byte offset in a container) it comes from.
     """
     from dcf2bin.bus import download as dl
+    check_output("-")           # the summary's way out, before any bus work
     plan = _plan(input, from_, node_id, quiet)
     target = node_id
     if manager is not None:

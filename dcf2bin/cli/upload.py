@@ -1,13 +1,12 @@
 """dcf2bin upload: read a node's configuration back by SDO into a DCF."""
 from __future__ import annotations
 
-import os
 import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, emit, fail,
-                                guarded, input_kind, node_id_option, output_option,
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, check_output, debug_option, emit,
+                                fail, guarded, input_kind, node_id_option, output_option,
                                 quiet_option, read_input, say, write_output)
 from dcf2bin.cli.download import MAX_UPLOAD, bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -106,23 +105,6 @@ def _check_keys(desc, keys: dict[str, str]) -> None:
         up.check_keys(desc, keys)
     except up.UploadError as exc:
         fail(str(exc), code=ExitCode.USAGE)
-
-
-def check_output(output: str, inputs: list[str]) -> None:
-    """Before the bus is touched: an output that is a folder, in a folder that does not
-    exist, or that is an input, fails now (as write_output would after the upload)."""
-    if output == "-":
-        return
-    if os.path.isdir(output):
-        fail("cannot write: Is a directory", output, ExitCode.UNREADABLE)
-    folder = os.path.dirname(os.path.abspath(output))
-    if not os.path.isdir(folder):
-        fail("cannot write: No such file or directory", output, ExitCode.UNREADABLE)
-    for inp in inputs:
-        if inp != "-" and os.path.exists(output) and os.path.exists(inp) \
-                and os.path.samefile(inp, output):
-            fail(f"output '{output}' is the input file; refusing to overwrite it",
-                 code=ExitCode.USAGE)
 
 
 def _eds(path: str, node_id: int, quiet: bool):

@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, debug_option, format_option,
-                                guarded, lint_report, load_static_od, node_id_option, output_option,
-                                quiet_option, read_input, rule_options, static_od_option,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, Integer, check_output,
+                                debug_option, format_option, guarded, lint_report,
+                                load_static_od, node_id_option, output_option, quiet_option,
+                                read_input, rule_options, static_od_option,
                                 target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode
 
@@ -23,14 +25,14 @@ FORMATS = ("text", "json", "sarif", "github")
 @output_option("Default: standard output.")
 @rule_options
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
-@click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
+@click.option("--profile", type=Choice(argspec.PROFILE), default="cia301",
               show_default=True, help="Device profile for the PDO checks (dis2: Metronix DIS-2).")
 @node_id_option("Used for $NODEID values (overrides [DeviceComissioning] NodeID).")
 @click.option("--pi-size", type=COUNT, metavar="N", help="PI memory of the target in bytes.")
-@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+@click.option("--pi-align", type=Choice(argspec.PI_ALIGN), default="8",
               show_default=True,
               help="Alignment in bytes of the output area's start in the process image.")
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="PI addresses count from the start of the whole "
               "process image, or from the start of the variable's area.")
 @click.option("--allow-external-files", is_flag=True,
@@ -77,6 +79,7 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
         return
     if not paths:
         raise click.UsageError("give at least one PATH (file, directory or '-')")
+    check_output(output, [p for p in paths if p != "-"])    # before a folder's worth of work
     try:
         active = resolve(select_, ignore)
     except SelectorError as exc:

@@ -90,13 +90,22 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
 
 def _kind_of(path: str, data: bytes) -> str:
     """The file's kind by content, as every command reads it (dcf2bin.filekind); the name
-    decides only for an empty or blank file. Every description format is KIND_DCF."""
-    return _KINDS.get(_file_kind(path, data), KIND_DCF)
+    decides only for an empty or blank file. Every description format is KIND_DCF; a kind
+    validate does not check (a CSV list, a network file, an output of dcf2bin:
+    filekind.KINDS) is returned as filekind names it."""
+    return _lint_kind(_file_kind(path, data))
 
 
 def _file_kind(path: str, data: bytes) -> str:
     from dcf2bin import filekind
     return filekind.detect(data, "" if path.startswith("<") else path)
+
+
+def _lint_kind(file_kind: str) -> str:
+    from dcf2bin import filekind
+    if filekind.kind_of(file_kind) is not None:
+        return file_kind
+    return _KINDS.get(file_kind, KIND_DCF)
 
 
 _KINDS = {"bin": KIND_BIN, "json": KIND_JSON}     # filekind's kinds; the rest: KIND_DCF
@@ -131,9 +140,9 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
 def lint_path(path: str, shown: str, opts: Options) -> FileResult:
     """Read and lint the file ``path`` (named ``shown`` in the diagnostics); an unreadable
     file is one IO001 finding."""
+    from dcf2bin.fileio.reading import read_file   # bounded, never a FIFO or a device
     try:
-        with open(path, "rb") as f:
-            data = f.read()
+        data = read_file(path)
     except OSError as exc:
         return _unreadable(shown, exc.strerror or str(exc))
     return lint_bytes(shown, data, opts)
@@ -151,10 +160,14 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     """Lint one input given as bytes; ``name`` is used in the diagnostics."""
     opts = opts or Options()
     file_kind = _file_kind(name, data)
-    kind = kind or _KINDS.get(file_kind, KIND_DCF)
+    kind = kind or _lint_kind(file_kind)
     res = FileResult(name, kind)
     if kind == KIND_JSON:
         res.diagnostics.append(_not_lintable(name))
+        return res
+    if kind not in (KIND_DCF, KIND_BIN):      # another kind: one sentence, not its lines
+        res.kind = KIND_DCF
+        res.diagnostics.append(_other_kind(name, kind))
         return res
     note = _misnamed(name, "bin" if kind == KIND_BIN else file_kind)
     # As in a compile: a large file makes hundreds of thousands of small objects and no
@@ -203,6 +216,15 @@ def _misnamed(name: str, file_kind: str) -> Diagnostic | None:
         return None
     return Diagnostic(Severity.WARNING, text.replace("; read as", "; checked as"), name,
                       rule="IO002", hint=RULES["IO002"].hint)
+
+
+def _other_kind(name: str, kind: str) -> Diagnostic:
+    """A file of another kind (filekind.KINDS): what it looks like and who reads it, once
+    (DCF008: not EDS/DCF text), instead of a DCF002 for each of its lines."""
+    from dcf2bin import filekind
+    return Diagnostic(Severity.ERROR, filekind.mismatch(
+        name, kind, (filekind.DCF, filekind.CONTAINER)), name, rule="DCF008",
+        hint=RULES["DCF008"].hint)
 
 
 def _not_lintable(name: str) -> Diagnostic:

@@ -6,7 +6,7 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, emit, fail, guarded,
-                                quiet_option, register_input, say, write_output)
+                                quiet_option, register_input, say)
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.cli.upload import commissioning, phrase, report, upload_options
@@ -119,26 +119,31 @@ def _jobs(network, output: str, max_upload: int, quiet: bool):
 
 
 def _refuse_inputs(folder: str, names: list[str], inputs: list[str]) -> None:
-    """Before the bus is touched: no output may be one of the inputs."""
-    for name in names:
-        path = os.path.join(folder, name)
-        if not os.path.exists(path):
-            continue
-        for inp in inputs:
-            if os.path.exists(inp) and os.path.samefile(inp, path):
-                fail(f"output '{path}' is the input file; refusing to overwrite it",
-                     code=ExitCode.USAGE)
+    """Before the bus is touched: every output can be written and none is an input (the
+    checks of the writer, fileio.OutputSet, made first)."""
+    from dcf2bin.fileio import OutputIsInput, OutputSet
+    try:
+        OutputSet(folder, [(name, b"") for name in names], inputs=inputs).check()
+    except OutputIsInput as exc:
+        fail(exc.reason, exc.path, ExitCode.USAGE)
+    except OSError as exc:
+        fail(f"cannot write: {exc.strerror or exc}", exc.filename or folder,
+             ExitCode.UNREADABLE)
 
 
 def write_files(folder: str, files: dict[str, bytes], inputs: list[str]) -> None:
-    """Write every file of ``files`` (name -> bytes) in ``folder`` (made when missing):
-    the one place a network upload's outputs are written, each atomically."""
+    """Write every file of ``files`` (name -> bytes) in ``folder`` (made when missing), all
+    or none (fileio.OutputSet: temporaries renamed only when all are complete, rolled back
+    on an error or a signal): the one place a network upload's outputs are written."""
+    from dcf2bin.fileio import OutputIsInput, OutputSet, signals
     try:
-        os.makedirs(folder, exist_ok=True)
+        with signals.raising():
+            OutputSet(folder, files.items(), inputs=inputs).write()
+    except OutputIsInput as exc:
+        fail(exc.reason, exc.path, ExitCode.USAGE)
     except OSError as exc:
-        fail(f"cannot write: {exc.strerror or exc}", folder, ExitCode.UNREADABLE)
-    for name, data in files.items():
-        write_output(data, os.path.join(folder, name), inputs, binary=True)
+        fail(f"cannot write: {exc.strerror or exc}", exc.filename or folder,
+             ExitCode.UNREADABLE)
 
 
 def _summary(path: str, work, results, plcs) -> str:
