@@ -5,7 +5,8 @@ import sys
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, check_output, debug_option, emit,
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, Seconds, check_output,
+                                debug_option, emit,
                                 fail, guarded, input_kind, node_id_option, output_option,
                                 quiet_option, read_input, say, write_output)
 from dcf2bin.cli.download import MAX_UPLOAD, bus_options, open_bus
@@ -25,7 +26,7 @@ def upload_options(fn=None, *, network: bool = False):
     fn = click.option("--keep-going", is_flag=True,
                       help=f"{keep_going}, each entry not read as a comment (the exit status "
                       "is 1 all the same).")(fn)
-    fn = click.option("--node-timeout", type=click.FloatRange(0.001), metavar="SECONDS",
+    fn = click.option("--node-timeout", type=Seconds(0.001), metavar="SECONDS",
                       help="The most seconds one node's upload may take, all entries "
                       "together (default: the sum of each entry's own bound).")(fn)
     fn = click.option("--max-upload", type=Integer(1), default=MAX_UPLOAD, show_default=True,
@@ -35,7 +36,7 @@ def upload_options(fn=None, *, network: bool = False):
                       "as; a node that sends more fails.")(fn)
     fn = click.option("--retries", type=COUNT, default=2, show_default=True, metavar="N",
                       help="Times an unanswered SDO request is sent again.")(fn)
-    return click.option("--timeout", type=click.FloatRange(0.001), default=1.0,
+    return click.option("--timeout", type=Seconds(0.001), default=1.0,
                         show_default=True, metavar="SECONDS",
                         help="Seconds to wait for each SDO response.")(fn)
 

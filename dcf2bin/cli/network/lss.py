@@ -5,7 +5,7 @@ import json
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, emit, fail,
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, Seconds, debug_option, emit, fail,
                                 format_option, guarded, output_option, quiet_option, say,
                                 write_output)
 from dcf2bin.cli.download import bus_options, open_bus
@@ -28,14 +28,14 @@ def lss_options(fn):
 
 
 def timeout_option(fn):
-    return click.option("--timeout", type=click.FloatRange(0.001), default=0.5,
+    return click.option("--timeout", type=Seconds(0.001), default=0.5,
                         show_default=True, metavar="SECONDS",
                         help="Seconds to wait for an LSS answer, a boot-up message, or the "
                         "SDO answers of one scan round.")(fn)
 
 
 def scan_wait_option(fn):
-    return click.option("--scan-wait", "scan_wait", type=click.FloatRange(0.001),
+    return click.option("--scan-wait", "scan_wait", type=Seconds(0.001),
                         default=0.05, show_default=True, metavar="SECONDS",
                         help="Seconds each fastscan or identify step listens: there, "
                         "silence is the answer, and every node must answer within it.")(fn)
