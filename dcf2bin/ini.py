@@ -307,8 +307,10 @@ def _rejected(path: str, message: str, line: int, hint: str,
 
 
 def read(path: str) -> IniFile:
-    with open(path, "rb") as f:
-        return parse_bytes(f.read(), path)
+    """Parse the file at ``path``, read through the one bounded reader (``fileio``: a
+    regular file of at most 64 MiB); OSError when it cannot be read."""
+    from dcf2bin.fileio.reading import read_file
+    return parse_bytes(read_file(path), path)
 
 
 def parse_text(text: str, path: str, encoding: str = "utf-8",

@@ -107,6 +107,16 @@ TABLE = {
         3: [["{T}/missing.dcf", "-n", "3", "--dry-run"], ["{T}/adir", "-n", "3", "--dry-run"],
             ["{S}/plc.dcf", "-n", "3", "-i", "no-such-interface"]],
     },
+    "upload": {
+        0: [["--help"]],
+        1: [["-n", "3", "--eds", "{S}/device.eds", "{BUS}", "--timeout", "0.01", "--retries",
+             "0", "-o", "{T}/out.dcf"],
+            ["-n", "3", "--eds", "{T}/bad.bin", "-o", "{T}/out.dcf"]],
+        2: [["--eds", "{S}/device.eds"], ["-n", "128", "--eds", "{S}/device.eds"]],
+        3: [["-n", "3", "--eds", "{T}/missing.eds"], ["-n", "3", "--eds", "{T}/adir"],
+            ["-n", "3", "--eds", "{S}/device.eds", "-o", "{T}/adir"],
+            ["-n", "3", "--eds", "{S}/device.eds", "-i", "no-such-interface"]],
+    },
     "node": {
         0: [["{S}/device.eds", "-n", "3", "{BUS}", "--duration", "0"]],
         1: [["--container", "{S}/plc.bin", "-n", "3", "--static-od", "{S}/bild8.bin",
@@ -145,7 +155,7 @@ def test_exit_code(folder, cmd, code, args):
 
 
 def test_every_command_is_in_the_table():
-    assert set(TABLE) == set(main.commands) - {"network"}
+    assert set(TABLE) == set(main.commands) - {"network", "lss"}
     for cmd, codes in TABLE.items():
         assert {0, 2, 3} <= set(codes), cmd
         if cmd != "tunnel":                # tunnel reads no input: its errors are usage
@@ -179,7 +189,7 @@ def test_compile_default_output_never_replaces_a_file(tmp_path):
         out.write_text("the user's own file\n")
         r = CliRunner().invoke(main, ["compile", str(src), *extra])
         assert (r.exit_code, r.stderr) == (2, (
-            f"dcf2bin: error: {out} exists; name the output with -o to replace it, or give "
+            f"{out}: error: the file exists; name the output with -o to replace it, or give "
             "--force\n"))
         assert out.read_text() == "the user's own file\n"
         r = CliRunner().invoke(main, ["compile", str(src), *extra, "--force"])

@@ -25,10 +25,12 @@ COMMANDS = {
     "tunnel": "dcf2bin.cli.tunnel:tunnel_cmd",
     "simulate": "dcf2bin.cli.simulate:simulate_cmd",
     "download": "dcf2bin.cli.download:download_cmd",
+    "upload": "dcf2bin.cli.upload:upload_cmd",
     "node": "dcf2bin.cli.node:node_cmd",
     "map": "dcf2bin.cli.map:map_cmd",
     "allocate": "dcf2bin.cli.allocate:allocate_cmd",
     "network": "dcf2bin.cli.network:network_group",
+    "lss": "dcf2bin.cli.lss:lss_group",
 }
 
 

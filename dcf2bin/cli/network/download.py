@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, guarded,
+from dcf2bin.cli.common import (CONTEXT, Failure, check_output, debug_option, emit, guarded,
                                 quiet_option, write_output)
 from dcf2bin.cli.download import bus_options, open_bus, sdo_options
 from dcf2bin.cli.network.show import configured_network, net_option
@@ -45,6 +45,7 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, ma
     is not written.
     """
     from dcf2bin.bus import netconf
+    check_output("-")           # the summary's way out, before any bus work
     network = configured_network(network_file, quiet, "nothing sent", net)
     plans = _plans(network, network_file, quiet)
     if dry_run:
