@@ -5,6 +5,7 @@ objects (at 126 slaves: 1,008 links, 4,032 PLC variables).
     python benchmarks/network.py                    # 8, 32, 126 slaves, best of 3
     python benchmarks/network.py --sizes 126 --repeat 5
     python benchmarks/network.py --no-dcfgen        # dcf2bin only
+    python benchmarks/network.py --sizes 126 --lely # a lely master (D-21) on both sides
 
 Both tools run as a fresh process on the same YAML (dcfgen ignores the master's dcf: and
 the mapping's name:), so each time includes its start-up and its writing of the files;
@@ -13,6 +14,10 @@ than the build); `build` is the CPU time of `dcf2bin.network.build_network` alon
 time per node shows how the work grows. The ratio is taken on CPU time (user +
 system of the process), which a machine shared with other jobs disturbs far less than
 wall time (both are printed). Files go to benchmarks/out/network_N/.
+
+With ``--lely`` the master has no ``dcf:`` (``bus_lely.yml``): both tools then make the
+same files -- a lely master's master.dcf and the slaves' concise DCFs (SPEC §10.2a,
+D-21) -- and the table compares like with like.
 """
 from __future__ import annotations
 
@@ -118,9 +123,11 @@ def slave_eds() -> str:
     return "".join(out)
 
 
-def bus_yml(n: int) -> str:
-    out = ["master:\n  node_id: 1\n  dcf: plc.dcf\n  heartbeat_producer: 100\n"
-           "  sync_period: 10000\n"]
+def bus_yml(n: int, plc: bool = True) -> str:
+    """N slaves x 8 PDOs (4 TPDOs, 4 RPDOs of 4 objects, cob_id auto); the master a PLC
+    (its dcf:) or, without ``plc``, a lely master."""
+    out = [f"master:\n  node_id: 1\n{'  dcf: plc.dcf' + chr(10) if plc else ''}"
+           "  heartbeat_producer: 100\n  sync_period: 10000\n"]
     for k in range(n):
         nid = 2 + k
         out.append(f"s{nid}:\n  dcf: slave.eds\n  node_id: {nid}\n  heartbeat_producer: 50\n")
@@ -144,6 +151,8 @@ def generate(n: int) -> str:
         f.write(slave_eds())
     with open(os.path.join(folder, "bus.yml"), "w") as f:
         f.write(bus_yml(n))
+    with open(os.path.join(folder, "bus_lely.yml"), "w") as f:
+        f.write(bus_yml(n, plc=False))
     return folder
 
 
@@ -167,7 +176,7 @@ def _timed(cmd: list[str], cwd: str, outdir: str, repeat: int) -> tuple[float, f
     return best_wall, best_cpu
 
 
-def _in_process(folder: str, repeat: int) -> float:
+def _in_process(folder: str, repeat: int, name: str = "bus.yml") -> float:
     """Best CPU seconds of ``dcf2bin.network.build_network`` alone (no start-up, no
     writing): how the work itself grows with the network."""
     sys.path.insert(0, ROOT)
@@ -175,7 +184,7 @@ def _in_process(folder: str, repeat: int) -> float:
     best = float("inf")
     for _ in range(repeat):
         t = time.process_time()
-        res = build_network(os.path.join(folder, "bus.yml"))
+        res = build_network(os.path.join(folder, name))
         best = min(best, time.process_time() - t)
         assert res.ok, [d.format() for d in res.diagnostics if d.severity.value == "error"]
     return best
@@ -186,6 +195,8 @@ def main() -> None:
     ap.add_argument("--sizes", default="8,32,126", help="numbers of slaves (max 126)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-dcfgen", action="store_true")
+    ap.add_argument("--lely", action="store_true",
+                    help="a lely master (no dcf:) on both sides instead of a PLC")
     args = ap.parse_args()
     dcfgen = None if args.no_dcfgen else shutil.which("dcfgen")
     if dcfgen is None and not args.no_dcfgen:
@@ -195,16 +206,19 @@ def main() -> None:
         if not 1 <= n <= 126:
             raise SystemExit("sizes are 1..126 slaves")
         folder = generate(n)
-        ours = _timed([sys.executable, "-m", "dcf2bin", "network", "build", "bus.yml", "-o",
+        bus = "bus_lely.yml" if args.lely else "bus.yml"
+        ours = _timed([sys.executable, "-m", "dcf2bin", "network", "build", bus, "-o",
                        "out_dcf2bin", "-q"], folder, os.path.join(folder, "out_dcf2bin"),
                       args.repeat)
-        check = _timed([sys.executable, "-m", "dcf2bin", "network", "check", "bus.yml", "-q"],
+        check = _timed([sys.executable, "-m", "dcf2bin", "network", "check", bus, "-q"],
                        folder, os.path.join(folder, "out_check"), args.repeat)
-        inproc = _in_process(folder, args.repeat)
-        theirs = (_timed([dcfgen, "-r", "-d", "out_dcfgen", "bus.yml"], folder,
+        inproc = _in_process(folder, args.repeat, bus)
+        theirs = (_timed([dcfgen, "-r", "-d", "out_dcfgen", bus], folder,
                          os.path.join(folder, "out_dcfgen"), args.repeat)
                   if dcfgen else None)
         rows.append((n, ours, check, inproc, theirs))
+    print("a lely master (no dcf:) on both sides" if args.lely else
+          "a PLC master (dcf:) for dcf2bin; dcfgen builds its lely master")
     print(f"{'slaves':>6} {'links':>6} {'vars':>6} | {'dcf2bin':>8} {'cpu':>6} {'check':>6} "
           f"{'build':>6} {'ms/node':>8} | {'dcfgen -r':>9} {'cpu':>6} {'ms/node':>8} | "
           f"{'ratio cpu':>9} {'wall':>5}")

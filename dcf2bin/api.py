@@ -22,7 +22,10 @@ rule), the same the command line prints. Two kinds of function deliver them:
 
 A file that cannot be read raises ``OSError``, as ``open`` does. Containers may be
 given as bytes (the content), as a path (``str`` or ``os.PathLike``) or as a
-``BinContainer``.
+``BinContainer``. Every argument is checked as the command line checks its option
+(``dcf2bin.argspec``): a value the command would refuse raises ``ValueError`` in its
+words (``node_id: 200 is not in the range 1<=x<=127``), one of the wrong type
+``TypeError``.
 """
 from __future__ import annotations
 
@@ -31,14 +34,17 @@ import os
 import warnings
 from collections.abc import Iterable
 
+from dcf2bin import argspec as spec
 from dcf2bin import dcfwriter
 from dcf2bin import dump as _dump
+from dcf2bin import formats as _formats
 from dcf2bin.compiler import CompileError, CompileOptions, compile_file, compile_path
 from dcf2bin.compiler import Result as CompileResult
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter import Result as DcfResult
 from dcf2bin.diagnostics import Diagnostic, DiagnosticWarning, Severity
-from dcf2bin.model import Device, load
+from dcf2bin.fileio import read_file
+from dcf2bin.model import Device
 from dcf2bin.network import configure as _configure
 from dcf2bin.network import load_network as _load_network
 from dcf2bin.network.build import BuildResult
@@ -105,6 +111,7 @@ def dump_text(source: Container, *, eds: str | os.PathLike | None = None, full: 
         >>> print(dump_text("samples/bild8.bin").splitlines()[0])
         samples/bild8.bin: binary DCF segment container, 127 bytes, canonical layout
     """
+    spec.check("full", full, spec.FLAG)
     c, shown, diags = _read(source, name)
     info, _, eds_diags = _eds(eds)
     _warn(diags + eds_diags)
@@ -115,6 +122,9 @@ def from_json(doc: str | bytes | dict, *, name: str = "<json>") -> bytes:
     """The container bytes of a lossless JSON dump (text, bytes or the parsed ``dict``),
     as ``dcf2bin compile FILE.json`` builds them. Raises ``ReadError`` on a document
     that is not a valid dump (the diagnostics name the line)."""
+    spec.check("name", name, spec.TEXT)
+    if not isinstance(doc, (str, bytes, bytearray, memoryview, dict)):
+        raise TypeError(f"doc must be a str, bytes or a dict, not {type(doc).__name__}")
     if isinstance(doc, dict):
         doc = json.dumps(doc, indent=1)
     data = doc.encode("utf-8") if isinstance(doc, str) else bytes(doc)
@@ -145,6 +155,7 @@ def to_dcf(source: Container, *, eds: str | os.PathLike | None = None,
         ...     open("samples/bild8.bin", "rb").read()
         True
     """
+    spec.check("dcf_name", dcf_name, spec.TEXT, optional=True)
     c, shown, diags = _read(source, name)
     info, dev, eds_diags = _eds(eds)
     if dcf_name is None:
@@ -175,13 +186,42 @@ def validate(paths: str | os.PathLike | Iterable[str | os.PathLike], *,
         []
     """
     from dcf2bin.lint import Options, resolve, run
-    if isinstance(paths, (str, os.PathLike)):
-        paths = [paths]
-    active = resolve(_names(select), _names(ignore))
+    paths = _paths(paths)
+    spec.check_all(dict(profile=profile, node_id=node_id, pi_size=pi_size, pi_align=pi_align,
+                        address_base=address_base, allow_external_files=allow_external_files),
+                   _VALIDATE_ARGS)
+    active = resolve(_names("select", select), _names("ignore", ignore))
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=pi_align,
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active)
-    return run([os.fspath(p) for p in paths], opts).diagnostics
+    return run(paths, opts).diagnostics
+
+
+#: validate's arguments -> (spec, None allowed), as the command's options take them
+_VALIDATE_ARGS = {"profile": (spec.PROFILE, False), "node_id": (spec.NODE_ID, True),
+                  "pi_size": (spec.COUNT, True), "pi_align": (spec.PI_ALIGN, False),
+                  "address_base": (spec.ADDRESS_BASE, False),
+                  "allow_external_files": (spec.FLAG, False)}
+
+
+def load(path: str | os.PathLike, *, node_id: int | None = None,
+         allow_external_files: bool = False, data: bytes | None = None) -> Device:
+    """Read a device description (DCF/EDS, CiA 311 XDD/XDC) into the model compile works
+    from (``Device``): problems are collected in its ``problems``, never raised; a file
+    that cannot be read raises ``OSError``. ``node_id`` (1..127) resolves ``$NODEID``, as
+    ``--node-id`` does.
+
+        >>> dev = load("samples/plc.dcf")
+        >>> dev.node_id, len(dev.objects)
+        (16, 12)
+    """
+    spec.check("path", path, spec.PATH)
+    spec.check("node_id", node_id, spec.NODE_ID, optional=True)
+    spec.check("allow_external_files", allow_external_files, spec.FLAG)
+    spec.check("data", data, spec.BYTES, optional=True)
+    return _formats.load(os.fspath(path), node_id=node_id,
+                         allow_external_files=allow_external_files,
+                         data=None if data is None else bytes(data))
 
 
 # -- networks --------------------------------------------------------------------------------
@@ -195,7 +235,8 @@ def load_network(path: str | os.PathLike, *, data: bytes | None = None) -> Netwo
         >>> [(n.name, n.node_id, n.role) for n in net.nodes]
         [('plc', 1, 'master'), ('drive', 2, 'slave'), ('io', 5, 'slave')]
     """
-    return _load_network(os.fspath(path), data)
+    _path_and_data(path, data)
+    return _load_network(os.fspath(path), None if data is None else bytes(data))
 
 
 def configure_network(network: Network) -> Network:
@@ -210,6 +251,9 @@ def configure_network(network: Network) -> Network:
         >>> [hex(w.index) for w in net.node(2).writes][-2:]
         ['0x1017', '0x6060']
     """
+    if not isinstance(network, Network):
+        raise TypeError(f"network must be a Network (from load_network), not "
+                        f"{type(network).__name__}")
     return _configure(network)
 
 
@@ -226,8 +270,10 @@ def build_network(path: str | os.PathLike, outdir: str | os.PathLike | None = No
         (True, ['drive.bin', 'drive.dcf', 'io.bin', 'io.dcf', 'plc.dcf'])
     """
     from dcf2bin.network.build import build_network as _build
+    _path_and_data(path, data)
+    spec.check("outdir", outdir, spec.PATH, optional=True)
     return _build(os.fspath(path), None if outdir is None else os.fspath(outdir),
-                  data=data)
+                  data=None if data is None else bytes(data))
 
 
 def check_network(path: str | os.PathLike, *, select: str | Iterable[str] | None = None,
@@ -249,20 +295,27 @@ def check_network(path: str | os.PathLike, *, select: str | Iterable[str] | None
         ([(3, 'NET260')], 3.625)
     """
     from dcf2bin.network.check import check_network as _check
-    return _check(os.fspath(path), select=select, ignore=ignore, max_load=max_load, net=net)
+    spec.check("path", path, spec.PATH)
+    spec.check("max_load", max_load, spec.MAX_LOAD)
+    spec.check("net", net, spec.NET, optional=True)
+    return _check(os.fspath(path), select=_names("select", select),
+                  ignore=_names("ignore", ignore), max_load=max_load, net=net)
 
 
 # -- helpers ---------------------------------------------------------------------------------
 
 def _read(source: Container, name: str | None) -> tuple[BinContainer, str, list[Diagnostic]]:
+    spec.check("name", name, spec.TEXT, optional=True)
+    if not isinstance(source, (bytes, bytearray, memoryview, str, os.PathLike, BinContainer)):
+        raise TypeError("source must be bytes, a path (str or os.PathLike) or a BinContainer, "
+                        f"not {type(source).__name__}")
     if isinstance(source, BinContainer):
         return source, name or "<container>", []
     if isinstance(source, (bytes, bytearray, memoryview)):
         data, shown = bytes(source), name or "<bytes>"
     else:
         shown = name or os.fspath(source)
-        with open(source, "rb") as f:
-            data = f.read()
+        data = read_file(os.fsdecode(source))
     c, diags = _dump.read_bytes(data, shown)
     if c is None:
         raise ReadError(diags)
@@ -273,9 +326,9 @@ def _eds(path):
     """(EdsInfo, Device, warnings) of ``--eds``, or Nones."""
     if path is None:
         return None, None, []
-    path = os.fspath(path)
-    with open(path, "rb") as f:
-        data = f.read()
+    spec.check("eds", path, spec.PATH)
+    path = os.fsdecode(path)
+    data = read_file(path)
     info, dev, errors = _dump.load_eds(path, data)
     return info, dev, _dump.eds_warnings(path, errors)
 
@@ -285,7 +338,36 @@ def _warn(diags: list[Diagnostic]) -> None:
         warnings.warn(DiagnosticWarning(d), stacklevel=3)
 
 
-def _names(value: str | Iterable[str] | None) -> list[str] | None:
+def _names(what: str, value: str | Iterable[str] | None) -> list[str] | None:
+    """--select/--ignore as a list: one str (comma-separated) or several."""
     if value is None:
         return None
-    return [value] if isinstance(value, str) else list(value)
+    if isinstance(value, str):
+        return [value]
+    try:
+        names = list(value)
+    except TypeError:
+        names = None
+    if names is None or not all(isinstance(n, str) for n in names):
+        raise TypeError(f"{what} must be a str, an iterable of str or None, not "
+                        f"{type(value).__name__}")
+    return names
+
+
+def _paths(value) -> list[str]:
+    """One path or an iterable of them, as strings."""
+    if isinstance(value, (str, os.PathLike)):
+        return [os.fspath(value)]
+    try:
+        paths = list(value)
+    except TypeError:
+        paths = None
+    if paths is None or not all(isinstance(p, (str, os.PathLike)) for p in paths):
+        raise TypeError("paths must be a path (str or os.PathLike) or an iterable of paths, "
+                        f"not {type(value).__name__}")
+    return [os.fspath(p) for p in paths]
+
+
+def _path_and_data(path, data) -> None:
+    spec.check("path", path, spec.PATH)
+    spec.check("data", data, spec.BYTES, optional=True)

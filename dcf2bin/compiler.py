@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import dataclasses
 import gc
+import os
 import warnings
 from dataclasses import dataclass, field
 
+from dcf2bin import argspec as spec
 from dcf2bin import layout as layout_mod
-from dcf2bin import model
+from dcf2bin import formats, model
 from dcf2bin import select as select_mod
 from dcf2bin import values
 from dcf2bin.container import BinContainer
@@ -26,7 +28,12 @@ from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severit
 
 @dataclass
 class CompileOptions:
-    """The options of ``dcf2bin compile``, by field name (README, man/dcf2bin.1)."""
+    """The options of ``dcf2bin compile``, by field name (README, man/dcf2bin.1).
+
+    Every field is checked as the command line checks its option (``ARGS``, from
+    ``argspec``): a value of the wrong type raises TypeError, one the command would refuse
+    raises ValueError in the command's words ('node_id: 200 is not in the range
+    1<=x<=127'). ``dataclasses.replace`` checks the new values too."""
     node_id: int | None = None
     select: str = select_mod.AUTO
     pdo_sequence: str = select_mod.CIA301
@@ -45,8 +52,32 @@ class CompileOptions:
     rx_cobs: int | None = None
     granularity: int = 64
     bit_mapping: bool = True
-    # a written value outside LowLimit..HighLimit (DCF212): "error" or "warning"
-    limit_check: str = "error"
+    # a written value outside LowLimit..HighLimit (DCF212): "warning" (the default: such
+    # values are often read back from the device, and vendors' limits are not always
+    # right) or "error"
+    limit_check: str = "warning"
+
+    def __post_init__(self) -> None:
+        spec.check_all({f.name: getattr(self, f.name) for f in dataclasses.fields(self)},
+                       ARGS)
+        if self.static_od is not None:
+            self.static_od = os.fspath(self.static_od)
+        self.append = tuple(map(os.fspath, self.append))
+
+
+#: CompileOptions field -> (its spec, None allowed): the option of ``compile`` it stands for
+ARGS = {
+    "node_id": (spec.NODE_ID, True), "select": (spec.ENTRIES, False),
+    "pdo_sequence": (spec.PDO_SEQUENCE, False), "static_od": (spec.PATH, True),
+    "process_image": (spec.FLAG, False), "pi_align": (spec.PI_ALIGN, False),
+    "pi_size": (spec.COUNT, True), "address_base": (spec.ADDRESS_BASE, False),
+    "container_version": (spec.CONTAINER_VERSION, False),
+    "allow_external_files": (spec.FLAG, False), "profile": (spec.PROFILE, False),
+    "append": (spec.PATHS, False), "target_check": (spec.TARGET_CHECK, False),
+    "tx_cobs": (spec.COUNT, True), "rx_cobs": (spec.COUNT, True),
+    "granularity": (spec.GRANULARITY, False), "bit_mapping": (spec.FLAG, False),
+    "limit_check": (spec.LIMIT_CHECK, False),
+}
 
 
 @dataclass
@@ -84,13 +115,14 @@ def static_od_indexes(path: str) -> tuple[set[int], list[Diagnostic]]:
     """The object indexes of the target's static OD, and the errors that make that set
     unreliable (an unreadable file, broken INI syntax, repeated sections)."""
     try:
-        dev = model.load(path)
+        dev = formats.load(path)
     except OSError as exc:
         return set(), [Diagnostic(Severity.ERROR, f"cannot read the static OD: {exc.strerror}",
                                   path)]
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR
               and p.diagnostic.rule in ("DCF001", "DCF002", "DCF003", "DCF006", "DCF010",
-                                         "DCF008", "DCF056")
+                                         "DCF008", "DCF056", "XDD001", "XDD002",
+                                         "XDD003", "XDD004")
               and (p.diagnostic.rule != "DCF010" or p.sub is None)]
     return set(dev.objects), [
         Diagnostic(d.severity, f"static OD: {d.message}", d.file, d.line, d.column, d.offset,
@@ -152,15 +184,15 @@ _LIMITS = (("lowlimit", "LowLimit"), ("highlimit", "HighLimit"))
 _HEX_CODES = (0x0A, 0x0F)                                    # OCTET_STRING, DOMAIN
 
 
-def value_checks(dev: model.Device, written, limit_errors: bool = True) -> list[Diagnostic]:
+def value_checks(dev: model.Device, written, limit_errors: bool = False) -> list[Diagnostic]:
     """What validate says of the values beyond DCF200, in its words: a DefaultValue or
-    ParameterValue outside LowLimit..HighLimit (DCF212) -- an error where ``written(index,
-    sub)`` says the entry's effective value is written (a warning with ``limit_errors``
-    False), a warning "(not written by compile)" elsewhere; a limit that is no value of
-    the type (DCF210) or LowLimit above HighLimit (DCF211), warnings (limits are never
-    written; the check cannot be made); an OCTET_STRING/DOMAIN value with a 0x prefix
-    (DCF218, a warning). Only entries with a limit or of those two types are looked at
-    (one test per entry otherwise)."""
+    ParameterValue outside LowLimit..HighLimit (DCF212) -- where ``written(index, sub)``
+    says the entry's effective value is written, a warning (an error with
+    ``limit_errors``: ``--limit-check error``), elsewhere a warning "(not written by
+    compile)"; a limit that is no value of the type (DCF210) or LowLimit above HighLimit
+    (DCF211), warnings (limits are never written; the check cannot be made); an
+    OCTET_STRING/DOMAIN value with a 0x prefix (DCF218, a warning). Only entries with a
+    limit or of those two types are looked at (one test per entry otherwise)."""
     found: dict[tuple[str, int | None], list] = {}   # (rule, line) -> [message, written]
     node_id, enc = dev.node_id, dev.encoding
 
@@ -226,8 +258,11 @@ def value_checks(dev: model.Device, written, limit_errors: bool = True) -> list[
         if not is_written:
             severity, message = Severity.WARNING, message + " (not written by compile)"
         elif rule == "DCF212" and limit_errors:
-            severity, hint = Severity.ERROR, ("change the value or the limits; "
-                                              "--no-limit-check makes this a warning")
+            severity, hint = Severity.ERROR, ("change the value or the limits; without "
+                                              "--limit-check error this is a warning")
+        elif rule == "DCF212":
+            severity, hint = Severity.WARNING, ("the value is written as it is; "
+                                                "--limit-check error refuses it")
         else:
             severity = Severity.WARNING
         out.append(Diagnostic(severity, message, dev.path, line, rule=rule, hint=hint))
@@ -310,20 +345,29 @@ def compile_path(path: str, opts: CompileOptions | None = None, data: bytes | No
 
     Options: a ``CompileOptions``, keyword arguments with its field names, or both
     (the keywords win). Errors and warnings are in the result's ``diagnostics``;
-    ``data`` is None when errors stop the build. An unreadable file raises OSError.
+    ``data`` is None when errors stop the build. An unreadable file raises OSError; an
+    argument the command line would refuse raises ValueError in its words, one of the
+    wrong type TypeError.
     """
+    spec.check("path", path, spec.PATH)
+    spec.check("data", data, spec.BYTES, optional=True)
     if opts is None:
         opts = CompileOptions()
+    elif not isinstance(opts, CompileOptions):
+        raise TypeError(f"opts must be a CompileOptions or None, not {type(opts).__name__}")
     if options:
         opts = dataclasses.replace(opts, **options)
+    path = os.fspath(path)
+    if data is not None and not isinstance(data, bytes):
+        data = bytes(data)
     # A compile builds hundreds of thousands of small objects and no reference cycles
     # worth collecting: the cyclic GC would only rescan them (about a third of the time
     # on a 60,000-variable file). Restore the caller's setting afterwards.
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        dev = model.load(path, node_id=opts.node_id,
-                         allow_external_files=opts.allow_external_files, data=data)
+        dev = formats.load(path, node_id=opts.node_id,
+                           allow_external_files=opts.allow_external_files, data=data)
         return compile_device(dev, opts)
     finally:
         if was_enabled:

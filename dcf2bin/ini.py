@@ -287,6 +287,9 @@ class IniFile:
     # canonical names of sections whose name is written otherwise ("[1018sub001]", "[1018SUB01]"),
     # so that the model words DCF061 without reading every lazily kept name
     respelled: list[str] = field(default_factory=list)
+    # the registry name of the format the sections were read from (dcf2bin.formats): "ini"
+    # for CiA 306 text; another format's sections have no CiA 306 lines to look at
+    format: str = "ini"
 
     def section(self, name: str) -> Section | None:
         return self.sections.get(name)
@@ -360,8 +363,10 @@ def _rejected(path: str, message: str, line: int, hint: str,
 
 
 def read(path: str) -> IniFile:
-    with open(path, "rb") as f:
-        return parse_bytes(f.read(), path)
+    """Parse the file at ``path``, read through the one bounded reader (``fileio``: a
+    regular file of at most 64 MiB); OSError when it cannot be read."""
+    from dcf2bin.fileio.reading import read_file
+    return parse_bytes(read_file(path), path)
 
 
 def parse_text(text: str, path: str, encoding: str = "utf-8",

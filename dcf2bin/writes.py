@@ -220,9 +220,9 @@ def read_extra_writes(path: str, data: bytes | None = None, *,
                       node_id: int | None = None) -> list[ExtraWrite]:
     """Read an extra-writes file (or ``data``) -> parsed lines; raises ExtraWritesError."""
     if data is None:
+        from dcf2bin.fileio.reading import read_file
         try:
-            with open(path, "rb") as f:
-                data = f.read()
+            data = read_file(path)
         except OSError as exc:
             raise ExtraWritesError([DcfError(f"cannot read: {exc.strerror}",
                                              Where(path)).diagnostic]) from None

@@ -12,6 +12,9 @@ from dcf2bin.cli import main
 # SDO response timeout of the tests that expect answers: generous, since an answer ends
 # the wait at once and a loaded machine must not fail them (the silence tests use 0.05 s)
 TIMEOUT = "2"
+# what a "did not answer" says on python-can's virtual bus
+VIRTUAL = ("; python-can's virtual bus reaches only this process: a node run by another "
+           "process cannot answer")
 
 
 def run(*args):
@@ -72,6 +75,8 @@ class Bench:
         from dcf2bin.bus import link
         try:
             for node in self.nodes:
+                if getattr(node, "misbehaving", None) is not None:
+                    node.misbehaving.undo()
                 node.detach()
         finally:
             for net in self.nets:
@@ -108,3 +113,16 @@ def beside_target(scenario, plc_bin: str, node_id: int, channel: str, duration: 
     if failure:
         raise failure[0]
     return r
+
+
+def run_within(seconds: float, *args):
+    """Run the command in a thread of its own and fail unless it ends within ``seconds``:
+    the time bound of a command against a misbehaving node, asserted without sleeping
+    (the thread is a daemon, so a command that hangs fails its test, not the run)."""
+    box: dict = {}
+    t = threading.Thread(target=lambda: box.setdefault("result", run(*args)), daemon=True)
+    t.start()
+    t.join(seconds)
+    assert not t.is_alive(), f"dcf2bin {' '.join(args)} still runs after {seconds:.2f} s"
+    assert "result" in box, f"dcf2bin {' '.join(args)} raised (see the thread's traceback)"
+    return box["result"]

@@ -77,3 +77,17 @@ def network(slaves: int = 2, tpdos: int = 1, rpdos: int = 1, *, plc_id: int = 16
     net.nodes.sort(key=lambda n: n.node_id)
     net.configured = True
     return net
+
+
+def line_diff(before: bytes, after: bytes) -> str:
+    """The lines ``after`` changes in ``before`` as a unified diff without context, each
+    line split at LF only, a CR shown as ``\\r`` (and a backslash as ``\\\\``): the same
+    ``before`` and the same diff give the same bytes, so a golden diff pins an output
+    built from a file the project does not copy (the corpus)."""
+    import difflib
+
+    def lines(data: bytes) -> list[str]:
+        text = data.decode("latin-1").replace("\\", "\\\\").replace("\r", "\\r")
+        return text.split("\n")
+    return "".join(line + "\n" for line in difflib.unified_diff(
+        lines(before), lines(after), "file", "built", n=0, lineterm=""))

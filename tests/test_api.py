@@ -85,7 +85,7 @@ def test_docs_api_md_examples(monkeypatch):
                                               "docs/api.md", 0)
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     runner.run(test)
-    assert runner.summarize(verbose=False) == doctest.TestResults(0, 23)
+    assert runner.summarize(verbose=False) == doctest.TestResults(0, 24)
 
 
 # -- compile_path / compile_file ------------------------------------------------------------------

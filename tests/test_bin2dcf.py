@@ -550,7 +550,7 @@ def test_default_output_never_clobbers_an_existing_dcf(tmp_path):
     (tmp_path / "plc.dcf").write_text("; the user's own DCF\n")
     r = run("bin2dcf", tmp_path / "plc.bin")
     assert r.exit_code == 2
-    assert r.stderr == (f"dcf2bin: error: {tmp_path / 'plc.dcf'} exists (often the DCF this "
+    assert r.stderr == (f"{tmp_path / 'plc.dcf'}: error: the file exists (often the DCF this "
                         "container was compiled from); name the output with -o to replace it, "
                         "or give --force\n")
     assert (tmp_path / "plc.dcf").read_text() == "; the user's own DCF\n"

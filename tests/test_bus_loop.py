@@ -89,7 +89,8 @@ def test_download_slave_and_see_its_tpdo_in_the_targets_process_image(channel, t
     r = beside_target(scenario, plc_bin, PLC_ID, channel, 20, bench)
     assert seen["download"] is None and r.exit_code == 0
     assert r.stderr == (f"{plc_bin}: node 16 on the bus (interface virtual, channel "
-                        f"{channel}); Ctrl-C stops it\n{plc_bin}: node 16 stopped\n")
+                        f"{channel}: python-can's virtual bus reaches only this process); "
+                        f"Ctrl-C stops it\n{plc_bin}: node 16 stopped\n")
     # device.dcf's 0x2001 = -8388608 (INTEGER24 00 00 80), then the dummy byte
     assert seen["tpdo1"] == bytes.fromhex("00008000")
     assert seen["tpdo2"] == bytes.fromhex("56341200")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from bus_helpers import TIMEOUT, bus_args, eventually, run
+from bus_helpers import TIMEOUT, VIRTUAL, bus_args, eventually, run
 from conftest import SAMPLES
 
 from dcf2bin.compiler import CompileOptions, compile_path
@@ -176,7 +176,7 @@ def test_silent_node_is_a_timeout_error_after_the_retries(channel):
     assert time.monotonic() - start < 2.0
     assert (r.exit_code, r.stdout) == (1, "")
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 3 did not answer (no SDO response "
-                        "within 0.05 s, 3 tries); 0 of 15 entries written before it\n")
+                        f"within 0.05 s, 3 tries{VIRTUAL}); 0 of 15 entries written before it\n")
 
 
 def test_node_without_sdo_server_is_a_timeout_error(bench):
@@ -189,7 +189,7 @@ def test_node_without_sdo_server_is_a_timeout_error(bench):
         node.network.subscribe(node.sdo.rx_cobid, node.sdo.on_request)
     assert (r.exit_code, r.stdout) == (1, "")
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 3 did not answer (no SDO response "
-                        "within 0.05 s, 2 tries); 0 of 15 entries written before it\n")
+                        f"within 0.05 s, 2 tries{VIRTUAL}); 0 of 15 entries written before it\n")
 
 
 def test_keep_going_still_stops_at_a_silent_node(channel):
@@ -197,7 +197,7 @@ def test_keep_going_still_stops_at_a_silent_node(channel):
             "--timeout", "0.05", "--retries", "0")
     assert r.exit_code == 1
     assert r.stderr == (f"{DCF}:84: error: 0x1016sub1: node 9 did not answer (no SDO response "
-                        "within 0.05 s, 1 try); 0 of 15 entries written before it\n")
+                        f"within 0.05 s, 1 try{VIRTUAL}); 0 of 15 entries written before it\n")
 
 
 # -- verify ---------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ import uuid
 
 import pytest
 from click.testing import CliRunner
-from conftest import SAMPLES
+from conftest import ROOT, SAMPLES
 
 from dcf2bin import filekind
 from dcf2bin.cli import main
@@ -70,13 +70,15 @@ BIN_IS_NOT = ("is a binary container, not DCF/EDS text{}; use dcf2bin dump to re
 JSON_IS_NOT = ("is the JSON form of a container, not {}; use dcf2bin compile to turn it back "
                "into the container")
 
+CONCISE_TOO = " or a concise DCF (CiA 302-3)"     # dump and bin2dcf read both
+
 # (command, arguments before the file, the file's kind, the sentence after "<file> ")
 WRONG = [
-    ("dump", [], "dcf", DCF_IS_NOT.format("")),
-    ("dump", [], "json", JSON_IS_NOT.format("a binary container")),
-    ("bin2dcf", ["-o", "-"], "dcf", "is DCF/EDS text, not a binary container; it is a DCF "
-                                    "already (dcf2bin compile makes a container of it)"),
-    ("bin2dcf", ["-o", "-"], "json", JSON_IS_NOT.format("a binary container")),
+    ("dump", [], "dcf", DCF_IS_NOT.format(CONCISE_TOO)),
+    ("dump", [], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
+    ("bin2dcf", ["-o", "-"], "dcf", "is DCF/EDS text, not a binary container" + CONCISE_TOO +
+     "; it is a DCF already (dcf2bin compile makes a container of it)"),
+    ("bin2dcf", ["-o", "-"], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
     ("compile", ["-o", "-"], "bin", BIN_IS_NOT.format(" or its JSON form")),
     ("export", ["-f", "lenze-st"], "bin", BIN_IS_NOT.format("")),
     ("export", ["-f", "lenze-st"], "json", JSON_IS_NOT.format("DCF/EDS text")),
@@ -142,7 +144,8 @@ def test_stdin_goes_by_content():
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_BIN)
     assert r.exit_code == 0 and r.stderr == ""
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_DCF)
-    assert (r.exit_code, r.stderr) == (1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format('')}\n")
+    assert (r.exit_code, r.stderr) == (
+        1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format(CONCISE_TOO)}\n")
 
 
 def test_validate_the_json_form_names_compile(tmp_path):
@@ -227,3 +230,136 @@ def test_validate_static_od_checks_what_a_container_never_writes():
     r = run("validate", SAMPLES / "dis2.bin", "--static-od", SAMPLES / "device.eds")
     # device.eds has no 0x6040: the mapped object the container never writes is now checked
     assert r.exit_code == 1 and "0x6040" in r.stdout, r.stdout
+
+
+# -- the other kinds dcf2bin reads or writes (issue 26 item 15) --------------------------------
+
+NET = ROOT / "tests" / "golden" / "network" / "flat"
+
+# kind -> (how to make a file of it, what it is called, who reads it)
+OTHER = {
+    "csv": (lambda d: _write(d, "v", b"name,type,direction\nA,UNSIGNED8,input\n"),
+            "CSV", "dcf2bin allocate reads it"),
+    "map-csv": (lambda d: _made(d, "map", "-f", "csv", SAMPLES / "plc.dcf"),
+                "the CSV map of dcf2bin map", "dcf2bin writes this; it is not an input"),
+    "yaml": (lambda d: _write(d, "n", (NET / "bus.yml").read_bytes()),
+             "a YAML network file",
+             "dcf2bin network check, show, build, download and scan read it"),
+    "cpj": (lambda d: _write(d, "p", (ROOT / "tests" / "fixtures" / "network" / "check" /
+                                      "network.cpj").read_bytes()),
+            "a CiA 306-3 network project", "dcf2bin network check and network show read it"),
+    "iec": (lambda d: _made(d, "map", "-f", "iec", SAMPLES / "plc.dcf"), "IEC 61131-3 text",
+            "dcf2bin map and export write this; it is not an input"),
+    "c": (lambda d: _made(d, "compile", "-f", "c", SAMPLES / "plc.dcf"), "C source",
+          "dcf2bin compile, map and export write this; it is not an input"),
+    "json-output": (lambda d: _made(d, "map", "-f", "json", SAMPLES / "plc.dcf"),
+                    "a JSON report of dcf2bin", "dcf2bin writes this; it is not an input"),
+    "svg": (lambda d: _made(d, "map", "-f", "svg", SAMPLES / "plc.dcf"), "an SVG picture",
+            "dcf2bin map and network show write this; it is not an input"),
+    "html": (lambda d: _made(d, "map", "-f", "html", SAMPLES / "plc.dcf"), "an HTML page",
+             "dcf2bin map and network show write this; it is not an input"),
+    "lenze-bin": (lambda d: _made(d, "export", "-f", "lenze-bin", "-n", "2",
+                                  SAMPLES / "device.eds"),
+                  "Lenze PLC Designer records",
+                  "dcf2bin export --format lenze-bin writes this; it is not an input"),
+}
+
+
+def _write(folder, stem, data: bytes):
+    path = folder / stem
+    path.write_bytes(data)
+    return path
+
+
+def _made(folder, *args):
+    out = folder / "made"
+    r = run(*args, "-o", out)
+    assert r.exit_code == 0, r.stderr
+    return out
+
+
+@pytest.mark.parametrize("kind", sorted(OTHER))
+def test_each_kind_is_told_by_its_content(tmp_path, kind):
+    """Content first: without a suffix, and under a name that says DCF."""
+    data = OTHER[kind][0](tmp_path).read_bytes()
+    for name in ("x", "x.dcf", "x.eds"):
+        assert filekind.detect(data, name) == kind, name
+
+
+@pytest.mark.parametrize("kind", sorted(OTHER))
+def test_a_file_of_another_kind_is_one_sentence_in_every_reader(tmp_path, kind):
+    """simulate, map, compile, export, download, node and dump say once what the file
+    looks like and who reads it (exit 1), validate the same as its one DCF008 finding --
+    never one DCF002 per line."""
+    path = OTHER[kind][0](tmp_path)
+    _, what, words = OTHER[kind]
+    line = f"{path}: error: {path} is not DCF/EDS text (it looks like {what}: {words})\n"
+    for args in (["simulate"], ["map"], ["compile", "-o", tmp_path / "out.bin"],
+                 ["export", "-f", "lenze-st", "-n", "2"],
+                 ["download", "-n", "3", "--dry-run"]):
+        r = run(*args, path)
+        assert (r.exit_code, r.stderr) == (1, line), args
+    r = run("node", "-n", "3", path, *_bus())
+    assert (r.exit_code, r.stderr) == (1, line)
+    r = run("dump", path)
+    assert (r.exit_code, r.stderr) == (1, line.replace("DCF/EDS text", "a binary container"))
+    r = run("validate", path)
+    assert r.exit_code == 1
+    assert r.stdout == (line[:-1] + " [DCF008]\n"
+                        "1 error, 0 warnings, 0 infos in 1 file\n")
+    r = run("compile", SAMPLES / "plc.dcf", "-o", tmp_path / "o.bin", "--static-od", path)
+    assert (r.exit_code, r.stderr) == (1, line[:-1] + "; --static-od takes the EDS of the "
+                                       "target's firmware\n")
+    assert not (tmp_path / "out.bin").exists() and not (tmp_path / "o.bin").exists()
+
+
+def test_the_issue_commands(tmp_path):
+    """simulate vars.csv and map nv.st printed one DCF002 per line and DCF056."""
+    csv = tmp_path / "vars.csv"
+    csv.write_text("name,type,direction\nDigIn_1,UNSIGNED8,input\nDigOut_1,UNSIGNED8,output\n")
+    r = run("simulate", csv)
+    assert (r.exit_code, r.stdout, r.stderr) == (1, "", (
+        f"{csv}: error: {csv} is not DCF/EDS text (it looks like CSV: dcf2bin allocate "
+        "reads it)\n"))
+    st = tmp_path / "nv.st"
+    assert run("map", "-f", "iec", SAMPLES / "plc.dcf", "-o", st).exit_code == 0
+    r = run("map", st)
+    assert (r.exit_code, r.stdout, r.stderr) == (1, "", (
+        f"{st}: error: {st} is not DCF/EDS text (it looks like IEC 61131-3 text: dcf2bin map "
+        "and export write this; it is not an input)\n"))
+
+
+@pytest.mark.parametrize("name,kind", [("x.csv", "csv"), ("x.yml", "yaml"),
+                                       ("x.yaml", "yaml"), ("x.cpj", "cpj"), ("x.st", "iec"),
+                                       ("x.h", "c"), ("x.svg", "svg"), ("x.HTML", "html")])
+def test_the_name_decides_where_the_content_does_not(name, kind):
+    assert filekind.detect(b"", name) == kind
+    assert filekind.detect(PLC_DCF, name) == filekind.DCF     # content first
+    assert filekind.misnamed(name, filekind.DCF).startswith(f"{name} is DCF/EDS text, not ")
+
+
+def test_no_dcf_or_eds_of_the_corpus_is_taken_for_another_kind():
+    from conftest import corpus_files
+    files = corpus_files(".dcf", ".eds")
+    if not files:
+        pytest.skip("corpus not found (a fresh clone without ../shared)")
+    got = {str(p): filekind.detect(p.read_bytes(), p.name) for p in files}
+    assert {p: k for p, k in got.items() if k != filekind.DCF} == {}
+
+
+def test_a_registry_extends_the_table(monkeypatch):
+    """Another module adds a kind: detected by its content before the description formats,
+    worded with its reader, its suffix known; a kind of the same name is replaced."""
+    monkeypatch.setattr(filekind, "KINDS", list(filekind.KINDS))
+    dbc = filekind.Kind("dbc", "a CAN database (DBC)", "cantools reads it, dcf2bin does not",
+                        lambda d: d.startswith(b'VERSION "'), (".dbc",))
+    filekind.register(dbc, first=True)
+    data = b'VERSION ""\n\n[not a section]\nBO_ 100 Msg: 8 Node\n'
+    assert filekind.detect(data, "x.dcf") == "dbc" and filekind.by_name("d.DBC") == "dbc"
+    assert filekind.mismatch("d.dbc", "dbc", ("bin",)) == (
+        "d.dbc is not a binary container (it looks like a CAN database (DBC): cantools reads "
+        "it, dcf2bin does not)")
+    assert filekind.mismatch("d.dbc", "dbc", ("dcf", "dbc")) is None
+    filekind.register(filekind.Kind("dbc", "DBC", "", lambda d: False))
+    assert [k.name for k in filekind.KINDS].count("dbc") == 1
+    assert filekind.detect(data, "x.dcf") == filekind.DCF

@@ -281,7 +281,7 @@ def test_a_directory_without_inputs_is_an_error_in_every_format(tmp_path, fmt):
     assert r.exit_code == ExitCode.UNREADABLE
     assert "IO001" in r.stdout
     if fmt == "text":
-        assert r.stdout == (f"{empty}: error: no *.dcf, *.eds or *.bin file in this directory "
+        assert r.stdout == (f"{empty}: error: no *.dcf, *.eds, *.xdd, *.xdc, *.xpd or *.bin file in this directory "
                             "[IO001]\n1 error, 0 warnings, 0 infos in 0 files\n")
 
 

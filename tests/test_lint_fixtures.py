@@ -23,10 +23,19 @@ EXEMPT = {
     "DCF009": "compile only (validate never reports it): tests/test_hostile_input.py",
     "IO001": "needs an unreadable path: tests/test_lint_cli.py",
     "IO002": "a fixture's name is its kind; a misnamed file is in tests/test_filekind.py",
+    "CON001": "fewer than 4 bytes are no concise DCF by content (a .bin is then a container, "
+              "CNT001); read as one only when forced (download --from concise): "
+              "tests/test_concise.py, tests/test_concise_commands.py",
     "INT001": "needs a crashing rule: tests/test_lint_cli.py monkeypatches one",
     "TGT0A0": "needs --pi-size, which container fixtures cannot give, and on a DCF the layout "
               "check (DCF305) stops compile first: tests/test_target.py",
 }
+# CiA 311 XML: the fixtures here are CiA 306 text; each XDD rule's failing case (exact text)
+# is in tests/test_xdd.py or tests/test_xdd_corpus.py, and tests/fixtures/xdd/vendor_v10.xdc
+# is the passing one (validate: no XDD finding)
+EXEMPT.update(dict.fromkeys(
+    ("XDD001", "XDD002", "XDD003", "XDD004", "XDD010", "XDD011", "XDD012", "XDD013", "XDD014",
+     "XDD020"), "CiA 311 XML: tests/test_xdd.py, tests/test_xdd_corpus.py"))
 # simulate's warnings (an unknown static OD): validate reports only the emulation's verdict;
 # their cases are in tests/test_dynod.py and tests/test_simulate.py
 EXEMPT.update(dict.fromkeys(("TGT101", "TGT102", "TGT103", "TGT104"),
@@ -101,9 +110,10 @@ def test_every_rule_has_a_failing_and_a_passing_fixture():
     for r in all_rules():
         if r.id in EXEMPT:
             continue
-        # CNT rules check containers; TGT rules (kind "any") may have either pair
-        exts = ("bin",) if r.id.startswith("CNT") else ("dcf", "bin") if r.kind == "any" \
-            else ("dcf",)
+        # CNT rules check containers, CON rules concise DCFs (.bin too); TGT rules (kind
+        # "any") may have either pair
+        exts = ("bin",) if r.id.startswith(("CNT", "CON")) else ("dcf", "bin") \
+            if r.kind == "any" else ("dcf",)
         for kind in ("fail", "pass"):
             if not any(f"{r.id}.{kind}.{ext}" in names for ext in exts):
                 missing.append(f"{r.id}.{kind}.{exts[0]}")

@@ -33,7 +33,8 @@ def test_golden_network_byte_for_byte(tmp_path, name):
     r = run("network", "build", GOLDEN / name / "bus.yml", "-o", out, "-q")
     assert (r.exit_code, r.stderr) == (0, "")
     expected = sorted(p.name for p in (GOLDEN / name / "out").iterdir())
-    assert sorted(p.name for p in out.iterdir()) == expected
+    # and the folder's lock, which names the files the build wrote (tests/test_build_atomic.py)
+    assert sorted(p.name for p in out.iterdir()) == [".dcf2bin-build.lock"] + expected
     for fname in expected:
         assert (out / fname).read_bytes() == (GOLDEN / name / "out" / fname).read_bytes(), fname
 
@@ -151,12 +152,15 @@ def test_verbose_lists_links_and_variables(tmp_path):
     assert "link RPDO1 COB-ID 0x182: drive TPDO1, 48 bits" in lines
     assert ("variable drive_status: 0xA100sub1, UNSIGNED16 input offset 0, from drive "
             "0x6041sub0") in lines
-    assert lines[-1] == (f"network build: 5 files in {tmp_path}: plc.dcf and 2 slaves, "
-                         "4 links, 12 variables")
+    assert lines[-1] == (f"network build: 5 files in {tmp_path}: plc.dcf and 2 slaves "
+                         "for a PLC master, 4 links, 12 variables")
 
 
-def test_master_without_dcf_cannot_build(tmp_path):
-    r = run("network", "build", FIXTURES / "ros2_simple_bus.yml", "-o", tmp_path / "o", "-q")
+def test_plc_master_without_dcf_cannot_build(tmp_path):
+    """--master plc asks for the PLC's file; without --master the file builds a lely
+    master (tests/test_network_lely.py)."""
+    r = run("network", "build", FIXTURES / "ros2_simple_bus.yml", "-o", tmp_path / "o", "-q",
+            "--master", "plc")
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{FIXTURES}/ros2_simple_bus.yml:6: error: build needs the PLC's EDS or DCF: give "
@@ -307,6 +311,8 @@ def test_two_names_for_one_object_and_one_name_for_two(tmp_path):
             "        - {index: 0x6200, sub_index: 0, name: LEVEL}\n")
     got, _ = build(tmp_path, SLAVE + body)
     assert got == [
+        "bus.yml:12: warning: io TPDO1 maps 0x6000sub0 twice (also at line 11): it sends it "
+        "twice in every frame [NET122]",
         "bus.yml:12: error: 0x6000sub0 of io is named 'level2' here and 'level' at line 11 "
         "[NET107]",
         "bus.yml:16: error: name 'LEVEL' is given to two objects (also at bus.yml:11) "
@@ -314,10 +320,22 @@ def test_two_names_for_one_object_and_one_name_for_two(tmp_path):
 
 
 def test_zero_entry_in_a_kept_mapping(tmp_path):
+    """D-17: a kept PDO whose mapping names a zero entry is neither mirrored nor counted:
+    a warning when the YAML does not list that PDO (a vendor file keeps it; the network
+    builds), an error when it does. Validate's DCF404 about the same entry is not said
+    again (one cause, one finding)."""
     got, res = build(tmp_path, SLAVE, eds=mini_eds(n_mapped=2))
-    assert got == ["mini.eds:206: error: io TPDO1 maps a zero entry [NET105]"]
-    assert res.network.master.pdo("rpdo", 1).mirror_of is None or \
-        res.network.master.pdo("rpdo", 1).mirror_of.kind != "tpdo"
+    assert got == ["mini.eds:206: warning: io TPDO1 maps a zero entry (sub 0 counts 2 "
+                   "objects): the PDO is kept as the file has it, and nothing links it "
+                   "[NET105]"]
+    assert res.ok and "io.bin" in res.outputs
+    assert [p.mirror_of.label for p in res.network.master.pdos if p.mirror_of] == ["RPDO1"]
+    got, res = build(tmp_path, SLAVE + "  tpdo:\n    1:\n      transmission: 1\n",
+                     eds=mini_eds(n_mapped=2))
+    assert got == ["mini.eds:206: error: io TPDO1 maps a zero entry (sub 0 counts 2 "
+                   "objects); the network file lists this PDO: give its mapping, or "
+                   "disable it [NET105]"]
+    assert not res.ok
 
 
 def test_identity_differs_from_0x1018(tmp_path):
@@ -352,9 +370,29 @@ def test_more_links_than_plc_pdos(tmp_path):
     got, _ = build(tmp_path, body)
     assert got == [
         "mini.eds:169: error: the PLC has no free RPDO for io8 TPDO1 (8 RPDOs in its file, "
-        "all in use) [NET108]",
+        "all in use; 1 more link than it can take) [NET108]",
         "mini.eds:111: error: the PLC has no free TPDO for io8 RPDO1 (8 TPDOs in its file, "
-        "all in use) [NET108]"]
+        "all in use; 1 more link than it can take) [NET108]"]
+
+
+def test_a_plc_short_of_pdos_is_one_finding_per_kind(tmp_path):
+    """Issue 27: one cause, one finding -- 12 links the PLC cannot take are one NET108 per
+    kind, not one per link, and never also NET211/NET212 for the PDOs it leaves unlinked
+    (a PLC lacking PDOs printed 36 errors from one cause)."""
+    body = "".join(f"io{k}:\n  dcf: mini.eds\n  node_id: {10 + k}\n" for k in range(12))
+    (tmp_path / "mini.eds").write_text(mini_eds())
+    shutil.copy(FIXTURES / "plc.dcf", tmp_path / "plc.dcf")
+    (tmp_path / "bus.yml").write_text(HEAD + body)
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics] == [
+        "mini.eds:169: error: the PLC has no free RPDO for io8 TPDO1, io9 TPDO1, io10 TPDO1, "
+        "io11 TPDO1 (8 RPDOs in its file, all in use; 4 more links than it can take) "
+        "[NET108]",
+        "mini.eds:111: error: the PLC has no free TPDO for io8 RPDO1, io9 RPDO1, io10 RPDO1, "
+        "io11 RPDO1 (8 TPDOs in its file, all in use; 4 more links than it can take) "
+        "[NET108]"] + [
+        f"mini.eds:{line}: warning: io{k} (node {10 + k}) monitors node {n}, which is not "
+        "in the network [NET252]" for k in range(12) for line, n in ((45, 7), (53, 8))]
 
 
 def test_plc_with_dynamic_channels_is_refused(tmp_path):

@@ -19,6 +19,13 @@ FILES = {2: "tests/fixtures/network/check/io.dcf", 3: "samples/device.eds",
          5: "tests/fixtures/network/IoX4_8AI.eds"}            # the files bus.yml names
 
 
+# io.dcf (shared with the .cpj fixture, whose PLC is node 1) monitors node 1: every network
+# command reports what network check reports (issue 26: one verdict)
+NET252 = ("tests/fixtures/network/check/io.dcf:116: warning: io1 (node 2) monitors node 1, "
+          "which is not in the network [NET252]\n"
+          "    hint: remove the consumer entry, or add the node\n")
+
+
 def slaves(bench, ids=(2, 3, 5)):
     from dcf2bin.bus.node import from_file
     out = {}
@@ -37,7 +44,7 @@ def bus(bench, *more):
 
 def test_show_text():
     r = run("network", "show", NETWORK)
-    assert (r.exit_code, r.stderr) == (0, "")
+    assert (r.exit_code, r.stderr) == (0, NET252)
     lines = r.stdout.splitlines()
     assert lines[0] == (f"{NETWORK}: 4 nodes, 5 PDO COB-IDs, estimated bus load 5.6 % of 500 "
                         "kbit/s (2 frames of unknown rate counted as 0)")
@@ -62,17 +69,36 @@ def test_show_text():
 
 
 def test_show_writes_of_one_node():
-    r = run("network", "show", NETWORK, "--writes", "dev3")
+    r = run("network", "show", NETWORK, "--writes=dev3")
     assert r.exit_code == 0
     tail = r.stdout.split("dev3 (node 3): 7 SDO writes\n")[1].splitlines()
     assert tail[0].split() == ["#", "entry", "name", "value", "why", "source"]
     assert tail[1].startswith("1  0x1800sub1  COB-ID used by TPDO       0x80000183")
     assert tail[1].endswith(f"TPDO1 COB-ID (invalid while configuring)  {NETWORK}:32")
     assert "io1 (node 2)" not in r.stdout
-    r = run("network", "show", NETWORK, "--writes", "9")
+    r = run("network", "show", NETWORK, "--writes=9")
     assert r.exit_code == 2
-    assert r.stderr == (f"dcf2bin: error: --writes 9: no such node in {NETWORK} (slaves: "
-                        "io1 (2), dev3 (3), ai5 (5))\n")
+    assert r.stderr == NET252 + (f"dcf2bin: error: --writes=9: no such node in {NETWORK} "
+                                 "(slaves: io1 (2), dev3 (3), ai5 (5))\n")
+
+
+def test_show_writes_never_takes_the_network_argument():
+    """Issue 26: '--writes net/bus.yml' took the path as --writes' value ("Missing argument
+    'NETWORK'"). --writes alone is a flag; a node is given only as --writes=NODE."""
+    r = run("network", "show", "--writes", NETWORK)
+    assert r.exit_code == 0, r.stderr
+    assert "dev3 (node 3): 7 SDO writes" in r.stdout and "io1 (node 2): 14 SDO writes" in \
+        r.stdout
+    assert run("network", "show", NETWORK, "--writes").stdout == r.stdout
+    r = run("network", "show", NETWORK, "--writes", "dev3")
+    assert r.exit_code == 2
+    assert "Got unexpected extra argument (dev3)" in r.stderr
+    r = run("network", "show", NETWORK, "--writes=")
+    assert r.exit_code == 2
+    assert ("Invalid value for '--writes': give the node after '=' (--writes=NODE), or "
+            "--writes alone for every slave") in r.stderr
+    help_text = run("network", "show", "--help").stdout
+    assert "--writes[=NODE]" in help_text
 
 
 def test_show_json():
@@ -119,12 +145,14 @@ def test_show_cpj():
     assert "io (2)   0x000F0191   0x000000AB  0x00000401" in r.stdout
 
 
-def test_show_network_with_errors_shows_nothing(tmp_path):
+def test_show_network_file_with_errors_shows_nothing(tmp_path):
     bad = tmp_path / "bad.yml"
     bad.write_text("master:\n  node_id: 1\n")
     r = run("network", "show", str(bad))
     assert r.exit_code == 1 and r.stdout == ""
-    assert r.stderr.endswith(f"{bad}: 1 error, nothing shown\n")
+    assert r.stderr == (f"{bad}:1: error: no slave in the network file [NET005]\n"
+                        f"{bad}: 1 error, nothing shown (the network file cannot be "
+                        "configured)\n")
 
 
 # -- scan -----------------------------------------------------------------------------------
@@ -132,7 +160,7 @@ def test_show_network_with_errors_shows_nothing(tmp_path):
 def test_scan_clean(bench):
     slaves(bench)
     r = run("network", "scan", NETWORK, *bus(bench, "--listen", "0.1", "--timeout", TIMEOUT))
-    assert (r.exit_code, r.stderr) == (0, "")
+    assert (r.exit_code, r.stderr) == (0, NET252)
     lines = r.stdout.splitlines()
     assert lines[0].startswith(f"{NETWORK}: node-IDs 1-127 scanned in ")
     assert lines[0].endswith("3 answer, 0 findings")
@@ -150,7 +178,7 @@ def test_scan_wrong_vendor_missing_and_extra(bench):
     bench.add(extra)
     r = run("network", "scan", NETWORK, *bus(bench, "--listen", "0.1", "--timeout", "0.5"))
     assert r.exit_code == 1
-    assert r.stderr.splitlines() == [
+    assert r.stderr.splitlines() == NET252.splitlines() + [
         f"{NETWORK}:26: error: node 3 (dev3): 0x1018 sub 1 (vendor-ID) is 0x000000AC, the "
         "master expects 0x000000AB (0x1F85): it will not boot this node",
         f"{NETWORK}:36: error: node 5 (ai5) is in the network but does not answer",
@@ -203,7 +231,7 @@ def test_download_abort_stops_the_run(bench):
     later = refuse(nodes[5], 0, 0)                     # records ai5's writes
     r = run("network", "download", NETWORK, *bus(bench, "--timeout", TIMEOUT))
     assert r.exit_code == 1
-    assert r.stderr == (
+    assert r.stderr == NET252 + (
         f"{NETWORK}:33: error: node 3 (dev3): 0x1800sub2 Transmission type (TPDO1 "
         "transmission type): SDO abort 0x06090030: Value range of parameter exceeded; "
         "1 of 7 entries written before it\n")
@@ -249,7 +277,7 @@ def test_download_identity_mismatch_writes_nothing(bench):
 
 def test_download_dry_run_touches_no_bus():
     r = run("network", "download", NETWORK, "--dry-run", "-i", "no-such-interface")
-    assert (r.exit_code, r.stderr) == (0, "")
+    assert (r.exit_code, r.stderr) == (0, NET252)
     lines = r.stdout.splitlines()
     assert lines[0] == ("node 2 (io1): checks 0x1000 = 0x000F0191, 0x1018 sub 1 = 0x000000AB, "
                         "0x1018 sub 2 = 0x00000401; 14 SDO writes (dry run, nothing sent)")

@@ -166,7 +166,7 @@ def test_build_then_a_cpj_naming_the_outputs_checks_clean(tmp_path):
     res = build_network(str(yml), str(out))
     assert res.ok, [d.format() for d in res.diagnostics]
     assert sorted(p.name for p in out.iterdir()) == [
-        "drive.bin", "drive.dcf", "io.bin", "io.dcf", "master.dcf"]
+        ".dcf2bin-build.lock", "drive.bin", "drive.dcf", "io.bin", "io.dcf", "master.dcf"]
     (out / "machine.cpj").write_text(
         "[Topology]\nNetName=machine\nNodes=3\n"
         "Node1Present=1\nNode1Name=master\nNode1DCFName=master.dcf\n"

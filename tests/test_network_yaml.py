@@ -151,7 +151,8 @@ nodes:
     assert found(net, tmp_path) == [
         "bus.yml:6: info: key 'driver' is not used by dcf2bin; ignored [NET007]",
         "bus.yml:12: warning: 'heartbeat_producer' of d2 is also in defaults: (line 5); the "
-        "node's value is taken [NET009]"]
+        "node's value is taken (ros2_canopen's generator takes the one of defaults:) "
+        "[NET009]"]
     d1, d2 = net.slaves
     assert net.layout == "nodes"
     assert (d1.config["heartbeat_producer"], d2.config["heartbeat_producer"]) == (100, 50)
@@ -308,6 +309,14 @@ def test_docs_list_every_code():
     text = (ROOT / "docs" / "network.md").read_text()
     rows = [line for line in text.splitlines() if line.startswith("| NET")]
     assert rows == [f"| {c} | {s} | {t} |" for c, s, t in CODES]
+
+
+def test_man_page_lists_every_code():
+    """man/dcf2bin-network.1's CODES section is the code table of network/codes.py."""
+    text = (ROOT / "man" / "dcf2bin-network.1").read_text().replace("\\-", "-")
+    section = text.split(".SH CODES\n")[1].split(".SH ")[0]
+    rows = section.split(".TP\n")[1:]
+    assert rows == [f".B {c}\n({s}) {t}\n" for c, s, t in CODES]
 
 
 @pytest.mark.parametrize("value,message", [

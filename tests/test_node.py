@@ -150,8 +150,8 @@ def test_node_command_runs_for_its_duration(channel):
         b.close()
     assert r.exit_code == 0
     assert r.stdout == ""
-    assert r.stderr == (f"{DCF}: node 3 on the bus (interface virtual, channel {channel}); "
-                        "Ctrl-C stops it\n"
+    assert r.stderr == (f"{DCF}: node 3 on the bus (interface virtual, channel {channel}: "
+                        "python-can's virtual bus reaches only this process); Ctrl-C stops it\n"
                         f"{DCF}: node 3 stopped\n")
     assert answers == [b"\xf4\x01"]
 

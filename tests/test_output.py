@@ -112,6 +112,23 @@ def test_a_symlink_is_followed_and_stays_a_link(tmp_path):
     assert temps(tmp_path) == [] and temps(real_dir) == []
 
 
+def _release_reader(fifo, reader: threading.Thread, deadline: float = 10) -> None:
+    """End a reader thread blocked on ``fifo`` without ever blocking the test: a writer
+    is opened only without blocking (ENXIO when no reader has the FIFO open -- the reader
+    has read its EOF and is about to end), and the thread is joined with a deadline. A
+    blocking open here could wait for ever for a reader that is already gone."""
+    end = time.monotonic() + deadline
+    while reader.is_alive() and time.monotonic() < end:
+        try:
+            fd = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
+        except OSError:             # ENXIO: no reader (any more)
+            pass
+        else:
+            os.close(fd)            # a reader waiting in open() now reads EOF
+        reader.join(0.05)
+    assert not reader.is_alive(), "the FIFO's reader never ended"
+
+
 def test_a_fifo_is_written_directly(tmp_path):
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)
@@ -121,10 +138,7 @@ def test_a_fifo_is_written_directly(tmp_path):
     try:
         r = run("compile", BILD8, "-o", fifo)
     finally:
-        if reader.is_alive():           # unblock the reader if nothing opened the FIFO
-            with open(fifo, "wb"):
-                pass
-        reader.join(10)
+        _release_reader(fifo, reader)
     assert r.exit_code == 0, r.stderr
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
     assert got == [BILD8_BIN.read_bytes()]

@@ -194,12 +194,11 @@ ParameterValue=7
 
 
 def test_compile_reports_limits_as_validate_does(tmp_path):
+    """A written value outside its limits is a warning by default (issue 26 item 17: values
+    read back from a device, vendors' junk limits), an error with --limit-check error;
+    validate says the same words, every one an error."""
     path = write(tmp_path, LIMITS.format(param="5", default="101"))
-    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
-    assert res.exit_code == 1
-    assert lines(res.output, path) == [
-        "F:10: error: 0x2000sub0 ParameterValue 5 is below LowLimit 10 [DCF212]",
-        "    hint: change the value or the limits; --no-limit-check makes this a warning",
+    later = [
         "F:11: warning: 0x2000sub0 DefaultValue 101 is above HighLimit 0x64 (= 100) "
         "(not written by compile) [DCF212]",
         "F:19: warning: 0x2001sub0 ParameterValue 200 is above HighLimit 100 "
@@ -207,8 +206,21 @@ def test_compile_reports_limits_as_validate_does(tmp_path):
         "F:25: warning: 0x2002sub0 LowLimit: value 200 out of range for INTEGER8 (-128..127) "
         "[DCF210]",
         "F:33: warning: 0x2003sub0 LowLimit 9 is greater than HighLimit 5 [DCF211]",
-        "F: 1 error, nothing written",
     ]
+    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
+    assert res.exit_code == 0
+    assert lines(res.output, path) == [
+        "F:10: warning: 0x2000sub0 ParameterValue 5 is below LowLimit 10 [DCF212]",
+        "    hint: the value is written as it is; --limit-check error refuses it",
+    ] + later
+    assert (tmp_path / "v.bin").read_bytes() == compile_path(str(path)).data
+    res = run("compile", "--limit-check", "error", str(path), "-o", str(tmp_path / "e.bin"))
+    assert res.exit_code == 1 and not (tmp_path / "e.bin").exists()
+    assert lines(res.output, path) == [
+        "F:10: error: 0x2000sub0 ParameterValue 5 is below LowLimit 10 [DCF212]",
+        "    hint: change the value or the limits; without --limit-check error this is a "
+        "warning",
+    ] + later + ["F: 1 error, nothing written"]
     # validate: the same words, at its own severities
     assert validate(path, "DCF210", "DCF211", "DCF212") == [
         ("DCF212", 10, "error", "0x2000sub0 ParameterValue 5 is below LowLimit 10"),
@@ -220,14 +232,26 @@ def test_compile_reports_limits_as_validate_does(tmp_path):
     ]
 
 
-def test_no_limit_check_makes_a_written_value_outside_its_limits_a_warning(tmp_path):
+@pytest.mark.parametrize("args", [[], ["--no-limit-check"], ["--limit-check", "warning"]])
+def test_no_limit_check_is_the_default_a_written_value_outside_its_limits_a_warning(
+        tmp_path, args):
     path = write(tmp_path, LIMITS.format(param="5", default="50"))
-    res = run("compile", "-q", "--no-limit-check", str(path), "-o", str(tmp_path / "v.bin"))
+    res = run("compile", "-q", *args, str(path), "-o", str(tmp_path / "v.bin"))
     assert res.exit_code == 0 and res.output == ""
     full = compile_path(str(path), limit_check="warning")
     assert [(d.rule, d.line, d.severity.value) for d in full.diagnostics
             if d.rule == "DCF212"] == [("DCF212", 10, "warning"), ("DCF212", 19, "warning")]
-    assert (tmp_path / "v.bin").read_bytes() == full.data
+    assert (tmp_path / "v.bin").read_bytes() == full.data == compile_path(str(path)).data
+    assert compile_path(str(path), limit_check="error").data is None
+
+
+def test_no_limit_check_with_limit_check_error_is_a_usage_error(tmp_path):
+    path = write(tmp_path, LIMITS.format(param="5", default="50"))
+    res = run("compile", "--no-limit-check", "--limit-check", "error", str(path), "-o",
+              str(tmp_path / "v.bin"))
+    assert res.exit_code == 2 and not (tmp_path / "v.bin").exists()
+    assert res.output.splitlines()[-1] == ("Error: --no-limit-check and --limit-check error "
+                                           "contradict each other; give one")
 
 
 def test_values_within_limits_compile_silently(tmp_path):
@@ -259,12 +283,13 @@ NrOfEntries=1
 2=3
 """
     path = write(tmp_path, text)
-    res = run("compile", str(path), "-o", str(tmp_path / "v.bin"))
+    res = run("compile", "--limit-check", "error", str(path), "-o", str(tmp_path / "v.bin"))
     assert res.exit_code == 1
     assert lines(res.output, path) == [
         "F:9: error: 0x2000sub0 ParameterValue 0x180 (= 384) is below LowLimit "
         "$NODEID+0x180 (= 389) [DCF212]",
-        "    hint: change the value or the limits; --no-limit-check makes this a warning",
+        "    hint: change the value or the limits; without --limit-check error this is a "
+        "warning",
         "F:18: warning: 0x2100sub1 DefaultValue 5 is above HighLimit 4 (not written by "
         "compile) [DCF212]",
         "F: 1 error, nothing written",

@@ -8,7 +8,8 @@ sequences of D-8 reach the device entry by entry, repeated writes included.
 
     plan = plan_from_result(compile_path(...), "io.dcf")
     net = link.open_network(link.BusConfig("virtual", "bench"))
-    run = execute(plan, sdo_client(net, 3, timeout=0.5, retries=2))
+    with sdo_client(net, 3, timeout=0.5, retries=2) as ch:
+        run = execute(plan, ch)
 """
 from __future__ import annotations
 
@@ -97,6 +98,25 @@ def plan_from_container(c, name: str, json_text: str | None = None) -> Plan:
     return Plan(name, writes, c.index_bytes())
 
 
+def plan_from_concise(entries, name: str, json_text: str | None = None) -> Plan:
+    """From a CiA 302-3 concise DCF's entries (or its JSON form, when ``json_text`` is
+    given), written in its order as a configuration manager writes them: each entry's place
+    is its byte offset in the file, or its line in the JSON text. Its entries have no
+    attribute: each is read back (``--verify``) as far as ``--max-upload`` allows."""
+    from dcf2bin import concise
+    from dcf2bin.dump import locate
+    offsets = concise.offsets(entries)
+    writes = []
+    for k, (index, sub, data) in enumerate(entries):
+        if json_text is not None:
+            pos = locate(json_text, ("entries", k))
+            where = f"{name}:{json_text.count(chr(10), 0, pos) + 1}" if pos is not None else name
+        else:
+            where = f"{name}:0x{offsets[k]:X}"
+        writes.append(Write(k + 1, index, sub, data, None, where))
+    return Plan(name, writes, concise.to_bytes(entries))
+
+
 # -- dry run ------------------------------------------------------------------------------
 
 def render(plan: Plan, node_id: int) -> list[str]:
@@ -144,49 +164,63 @@ class RunResult:
     aborts: list[Abort] = field(default_factory=list)
 
 
-class NoAnswer(Exception):
-    """The node did not answer an SDO request, retries included."""
+class Stopped(Exception):
+    """A node that did not take a write as SDO says (no answer, a wrong or malformed answer,
+    a restart): the run of that node ends. ``phase``: "identity" (the check before the
+    writes), "write", "verify" or "save"."""
 
-    def __init__(self, write: Write, written_before: int, tries: int, timeout: float):
-        super().__init__(f"{write.label}: node did not answer")
-        self.write, self.written_before, self.tries, self.timeout = (
-            write, written_before, tries, timeout)
+    def __init__(self, write: Write, written_before: int, error, phase: str = "write"):
+        super().__init__(str(error))
+        self.write, self.written_before, self.error, self.phase = (
+            write, written_before, error, phase)
+
+    def text(self, total: int) -> str:
+        """One line: what the node did, at which entry, and how far the run got."""
+        from dcf2bin.bus import sdo
+        e = self.error
+        if isinstance(e, sdo.Restarted):
+            after = self.written_before if self.phase == "write" else total
+            return (f"node {e.node_id} restarted during the download (after entry {after} of "
+                    f"{total}{', while reading back' if self.phase == 'verify' else ''})")
+        said = f"{self.write.label}: {e}" if isinstance(e, sdo.NoAnswer) else str(e)
+        if self.phase == "verify":
+            return said + " while reading back"
+        if self.phase == "write":
+            return f"{said}; {self.written_before} of {total} entries written before it"
+        return said
 
 
 def sdo_client(net, node_id: int, *, timeout: float, retries: int):
-    """canopen's SDO client for ``node_id`` on ``net`` (a RemoteNode with an empty object
-    dictionary: every write and read is raw bytes, nothing is converted)."""
-    import canopen
-    node = canopen.RemoteNode(node_id, canopen.ObjectDictionary())
-    net.add_node(node)
-    node.sdo.RESPONSE_TIMEOUT = timeout
-    node.sdo.MAX_RETRIES = retries + 1      # canopen counts the first try
-    return node.sdo
+    """The SDO channel to ``node_id`` on ``net`` (bus/sdo.py: every write and read is raw
+    bytes, nothing is converted); close it when done."""
+    from dcf2bin.bus import sdo
+    return sdo.Channel(net, node_id, timeout=timeout, retries=retries)
 
 
-def _tries(sdo) -> int:
-    return sdo.MAX_RETRIES
-
-
-def execute(plan: Plan, sdo, *, keep_going: bool = False,
+def execute(plan: Plan, ch, *, keep_going: bool = False,
             progress: Callable[[Write], None] | None = None) -> RunResult:
     """Write every entry in order. An abort stops the run (``keep_going``: is recorded and
-    the run goes on); a node that does not answer raises ``NoAnswer`` either way."""
-    from canopen import SdoAbortedError, SdoCommunicationError
+    the run goes on); a node that does not answer, answers what was not asked or restarts
+    (its boot-up message) raises ``Stopped`` either way."""
+    from dcf2bin.bus import sdo
     result = RunResult(len(plan.writes))
-    for w in plan.writes:
-        try:
-            sdo.download(w.index, w.sub, w.data)
-        except SdoAbortedError as exc:
-            result.aborts.append(Abort(w, exc.code, len(result.written)))
-            if not keep_going:
-                return result
-        except SdoCommunicationError:
-            raise NoAnswer(w, len(result.written), _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
-        else:
-            result.written.append(w)
-        if progress is not None:
-            progress(w)
+    w = plan.writes[0] if plan.writes else Write(0, 0, 0, b"", None, plan.source)
+    try:
+        ch.watch_restarts()
+        for w in plan.writes:
+            try:
+                ch.download(w.index, w.sub, w.data)
+            except sdo.Aborted as exc:
+                result.aborts.append(Abort(w, exc.code, len(result.written)))
+                if not keep_going:
+                    return result
+            else:
+                result.written.append(w)
+            if progress is not None:
+                progress(w)
+        ch.check_between()          # a boot-up or a repeated answer after the last write
+    except sdo.SdoError as exc:
+        raise Stopped(w, len(result.written), exc) from None
     return result
 
 
@@ -218,24 +252,28 @@ def final_writes(writes: list[Write]) -> list[Write]:
     return list(last.values())
 
 
-def verify(writes: list[Write], sdo) -> list[Difference]:
+def verify(writes: list[Write], ch, *, max_upload: int | None = None) -> list[Difference]:
     """Read back the final value of every readable entry written; return each difference.
     A fixed-size entry read back longer than written is compared on its own size (some
-    devices answer a 32-bit value for a smaller type, as canopen allows)."""
-    from canopen import SdoAbortedError, SdoCommunicationError
+    devices answer a 32-bit value for a smaller type, as canopen allows). No entry is read
+    beyond what it can hold: a fixed-size one 4 bytes (or its own size), any other
+    ``max_upload`` bytes (or what was written, when that is more)."""
+    from dcf2bin.bus import sdo
+    limit = sdo.MAX_DOMAIN if max_upload is None else max_upload
     diffs = []
     for w in final_writes(writes):
         if not w.readable:
             continue
+        most = max(len(w.data), 4) if w.fixed_size else max(len(w.data), limit)
         try:
-            read = sdo.upload(w.index, w.sub)
-        except SdoAbortedError as exc:
+            read = ch.upload(w.index, w.sub, max_size=most)
+        except sdo.Aborted as exc:
             if not w.data and exc.code == NO_DATA:
                 continue        # an empty value: "no data available" is what it holds
             diffs.append(Difference(w, None, exc.code))
             continue
-        except SdoCommunicationError:
-            raise NoAnswer(w, 0, _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
+        except sdo.SdoError as exc:
+            raise Stopped(w, 0, exc, "verify") from None
         if w.fixed_size and len(read) > len(w.data):
             read = read[:len(w.data)]
         if read != w.data:
@@ -245,19 +283,23 @@ def verify(writes: list[Write], sdo) -> list[Difference]:
 
 # -- NMT and storing ----------------------------------------------------------------------
 
+NMT_COMMANDS = {"OPERATIONAL": 0x01, "STOPPED": 0x02, "PRE-OPERATIONAL": 0x80,
+                "RESET": 0x81, "RESET COMMUNICATION": 0x82}
+
+
 def nmt(net, node_id: int, state: str) -> None:
     """Send one NMT command ('PRE-OPERATIONAL', 'RESET COMMUNICATION', …) to a node."""
-    net[node_id].nmt.state = state
+    net.send_message(0, bytes([NMT_COMMANDS[state], node_id]))
 
 
-def store(sdo, where: str) -> Abort | None:
+def store(ch, where: str) -> Abort | None:
     """Write "save" to 0x1010 sub 1 (store all parameters); the abort, if any."""
-    from canopen import SdoAbortedError, SdoCommunicationError
+    from dcf2bin.bus import sdo
     w = Write(0, STORE_INDEX, STORE_SUB, STORE_SIGNATURE, None, where)
     try:
-        sdo.download(STORE_INDEX, STORE_SUB, STORE_SIGNATURE)
-    except SdoAbortedError as exc:
+        ch.download(STORE_INDEX, STORE_SUB, STORE_SIGNATURE)
+    except sdo.Aborted as exc:
         return Abort(w, exc.code, 0)
-    except SdoCommunicationError:
-        raise NoAnswer(w, 0, _tries(sdo), sdo.RESPONSE_TIMEOUT) from None
+    except sdo.SdoError as exc:
+        raise Stopped(w, 0, exc, "save") from None
     return None

@@ -20,6 +20,11 @@ _MORE_ABORTS = {
 }
 
 
+# why a node in another process is never heard on python-can's virtual interface
+VIRTUAL_NOTE = ("python-can's virtual bus reaches only this process: a node run by another "
+                "process cannot answer")
+
+
 class BusError(Exception):
     """The CAN interface could not be opened or used (one line for the user)."""
 
@@ -65,6 +70,12 @@ def open_network(config: BusConfig):
         raise BusError(f"cannot open the CAN interface ({config.describe()}): "
                        f"{exc}") from None
     return net
+
+
+def is_virtual(net) -> bool:
+    """The network is on python-can's virtual interface (whose buses are those of one
+    process), given by name or by python-can's configuration."""
+    return type(getattr(net, "bus", None)).__name__ == "VirtualBus"
 
 
 def close_network(net) -> None:

@@ -30,6 +30,7 @@ class Options:
     verify: bool = False
     keep_going: bool = False
     save: bool = False
+    max_upload: int | None = None     # the most a read-back may be (None: sdo.MAX_DOMAIN)
 
 
 @dataclass
@@ -92,11 +93,13 @@ def cpj_plan(node) -> tuple[dl.Plan | None, list]:
     return (dl.plan_from_result(res, node.file) if res.ok else None), list(res.diagnostics)
 
 
-def identity_problems(sdo, node, identity: dict[int, int],
+def identity_problems(ch, node, identity: dict[int, int],
                       from_file: bool = False) -> list[Problem]:
     """The identity entries the node does not hold as ``identity`` says (read by SDO):
-    what the master enforces, or with ``from_file`` what the node's own DCF states."""
-    from canopen import SdoAbortedError, SdoCommunicationError
+    what the master enforces, or with ``from_file`` what the node's own DCF states. Each is
+    an UNSIGNED32: a node that answers more than 4 bytes, or anything but an answer, is a
+    problem, and the entries after it are not read."""
+    from dcf2bin.bus import sdo
     where = str(node.where) if node.where is not None else ""
     out = []
     for key in sorted(identity):
@@ -108,15 +111,19 @@ def identity_problems(sdo, node, identity: dict[int, int],
         expects = (f"its DCF states 0x{want:08X}" if from_file
                    else f"the master expects 0x{want:08X} (0x{key:04X})")
         try:
-            data = sdo.upload(index, sub)
-        except SdoAbortedError as exc:
+            data = ch.upload(index, sub, max_size=4)
+        except sdo.Aborted as exc:
             out.append(Problem(f"{entry} ({what}) cannot be read: SDO abort 0x{exc.code:08X}: "
                                f"{dl.abort_text(exc.code)}; {expects}: nothing written", where))
             continue
-        except SdoCommunicationError:
-            w = dl.Write(0, index, sub, b"", None, where)
-            raise dl.NoAnswer(w, 0, sdo.MAX_RETRIES, sdo.RESPONSE_TIMEOUT) from None
-        got = int.from_bytes(data[:4], "little")
+        except sdo.NoAnswer as exc:
+            raise dl.Stopped(dl.Write(0, index, sub, b"", None, where), 0, exc,
+                             "identity") from None
+        except sdo.SdoError as exc:
+            out.append(Problem(f"{entry} ({what}) cannot be read: {exc}; {expects}: nothing "
+                               "written", where))
+            return out
+        got = int.from_bytes(data, "little")
         if got != want:
             out.append(Problem(f"{entry} ({what}) is 0x{got:08X}, {expects}: nothing written",
                                where))
@@ -159,43 +166,44 @@ def configure_slaves(net, network, options: Options, *, source: str,
 
 def _configure_one(net, node, plan: dl.Plan, identity: dict[int, int], from_file: bool,
                    out: Outcome, options: Options, source: str) -> None:
-    sdo = dl.sdo_client(net, node.node_id, timeout=options.timeout, retries=options.retries)
     out.status = FAILED
-    try:
-        out.problems = identity_problems(sdo, node, identity, from_file)
-        if out.problems:
-            return
-        result = dl.execute(plan, sdo, keep_going=options.keep_going)
-        out.written, out.aborts = len(result.written), result.aborts
-        for a in result.aborts:
-            out.problems.append(Problem(_abort_line(a, node, out.total), a.write.where))
-        if result.aborts:
-            return
-        if options.verify:
-            diffs = dl.verify(result.written, sdo)
-            out.problems += [Problem(d.text, d.write.where) for d in diffs]
-            if diffs:
+    with dl.sdo_client(net, node.node_id, timeout=options.timeout,
+                       retries=options.retries) as ch:
+        try:
+            out.problems = identity_problems(ch, node, identity, from_file)
+            if out.problems:
                 return
-            out.verified = True
-        if options.save:
-            abort = dl.store(sdo, str(node.where) if node.where is not None else source)
-            if abort is not None:
-                out.problems.append(Problem(f"storing the parameters: {abort.text}",
-                                            abort.write.where))
+            if not _write(ch, node, plan, out, options, source):
                 return
-            out.saved = True
-    except dl.NoAnswer as exc:
-        out.written = max(out.written, exc.written_before)
-        tries = exc.tries
-        out.problems.append(Problem(
-            f"{exc.write.label}: node {node.node_id} did not answer (no SDO response within "
-            f"{exc.timeout:g} s, {tries} {'try' if tries == 1 else 'tries'})",
-            exc.write.where))
-        return
-    finally:
-        if node.node_id in net:
-            del net[node.node_id]
+        except dl.Stopped as exc:
+            out.written = max(out.written, exc.written_before)
+            out.problems.append(Problem(exc.text(out.total), exc.write.where))
+            return
     out.status = CONFIGURED
+
+
+def _write(ch, node, plan: dl.Plan, out: Outcome, options: Options, source: str) -> bool:
+    """The writes, the read-back and "save"; False when the node failed."""
+    result = dl.execute(plan, ch, keep_going=options.keep_going)
+    out.written, out.aborts = len(result.written), result.aborts
+    for a in result.aborts:
+        out.problems.append(Problem(_abort_line(a, node, out.total), a.write.where))
+    if result.aborts:
+        return False
+    if options.verify:
+        diffs = dl.verify(result.written, ch, max_upload=options.max_upload)
+        out.problems += [Problem(d.text, d.write.where) for d in diffs]
+        if diffs:
+            return False
+        out.verified = True
+    if options.save:
+        abort = dl.store(ch, str(node.where) if node.where is not None else source)
+        if abort is not None:
+            out.problems.append(Problem(f"storing the parameters: {abort.text}",
+                                        abort.write.where))
+            return False
+        out.saved = True
+    return True
 
 
 def _abort_line(a: dl.Abort, node, total: int) -> str:

@@ -36,6 +36,8 @@ SYNC_COB_ID = 0x080
 NMT_COB_ID = 0x000
 OPERATIONAL, PRE_OPERATIONAL, INITIALISING = 5, 127, 0
 RESET_NODE, RESET_COMM = 0x81, 0x82
+MAX_DOWNLOAD = 1 << 20          # the most one segmented download may bring (1 MiB)
+OUT_OF_MEMORY = 0x05040005      # CiA 301 abort: out of memory
 _TPDO_COMM, _RPDO_COMM = 0x1800, 0x1400
 # CiA 301 dummy entries (mappable data-type objects): index -> canopen data type code
 _DUMMIES = {1: 0x1, 2: 0x2, 3: 0x3, 4: 0x4, 5: 0x5, 6: 0x6, 7: 0x7}
@@ -95,8 +97,23 @@ class BenchNode(canopen.LocalNode):
         self.on_event: Callable[[str], None] | None = None
         self.nmt_state = INITIALISING
         self.pdos = Pdos(self)
+        self.warnings: list[str] = []     # what from_file had to make up or cannot answer
+        self.max_download = MAX_DOWNLOAD
+        self.sdo.segmented_download = self._bounded(self.sdo.segmented_download)
         self._saved: dict[int, dict[int, bytes]] = {}
         self._saved_image = bytes(image.data) if image is not None else b""
+        self.lss = None          # its LSS slave (bus/lss_slave.py), when it answers LSS
+
+    def _bounded(self, segmented_download):
+        """canopen's server collects a segmented download without a limit: a client that
+        never sends the last segment would grow the node's memory for as long as it runs.
+        Past ``max_download`` bytes the transfer is aborted (out of memory)."""
+        def bounded(command, request):
+            if len(self.sdo._buffer or b"") + 7 > self.max_download:
+                self.sdo._buffer = bytearray()
+                raise SdoAbortedError(OUT_OF_MEMORY)
+            segmented_download(command, request)
+        return bounded
 
     # -- data -------------------------------------------------------------------------------
     def get_data(self, index: int, subindex: int, check_readable: bool = False) -> bytes:
@@ -165,6 +182,8 @@ class BenchNode(canopen.LocalNode):
                 if 0x1000 <= index <= 0x1FFF:
                     self.data_store[index] = dict(subs)
         self.event("reset " + ("application" if command == RESET_NODE else "communication"))
+        if self.lss is not None:
+            self.lss.take_pending()          # a node-ID configured by LSS takes effect
         self.boot()
 
     def _state_changed(self) -> None:
@@ -184,6 +203,8 @@ class BenchNode(canopen.LocalNode):
 
     # -- life -------------------------------------------------------------------------------
     def attach(self, network, *, operational: bool = False) -> None:
+        if self.lss is not None and not self.lss.attach(network, operational):
+            return                           # no node-ID yet: it answers LSS only
         network.add_node(self)
         network.subscribe(NMT_COB_ID, self.on_nmt)
         network.subscribe(SYNC_COB_ID, self.pdos.on_sync)
@@ -193,6 +214,8 @@ class BenchNode(canopen.LocalNode):
 
     def detach(self) -> None:
         """Stop the heartbeat and the PDO timers (waiting for their threads), leave the bus."""
+        if self.lss is not None:
+            self.lss.detach()
         tasks = self.pdos.tasks() + [self.nmt._send_task]
         self.pdos.stop()
         self.nmt.stop_heartbeat()
@@ -378,15 +401,87 @@ def bench_node(node_id: int, od, image: ProcessImage | None = None) -> BenchNode
 
 def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
     """A node from an EDS/DCF: canopen's object dictionary built from the dcf2bin model
-    (values exactly as compile encodes them). Returns (node, model errors)."""
-    from dcf2bin import model
+    (values exactly as compile encodes them), the mandatory objects an EDS leaves without a
+    value filled as ``fill_mandatory`` says (its warnings in ``node.warnings``). Returns
+    (node, model errors)."""
+    from dcf2bin import formats
     from dcf2bin.diagnostics import Severity
-    dev = model.load(path, node_id=node_id, data=data)
+    dev = formats.load(path, node_id=node_id, data=data)
     nid = node_id if node_id is not None else dev.node_id
     if nid is None:
         raise NodeError("no node-ID: give --node-id N or set NodeID in [DeviceComissioning]")
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR]
-    return bench_node(nid, dev.to_canopen()), errors
+    od = dev.to_canopen()
+    warnings = fill_mandatory(od, _device_info(dev))
+    node = bench_node(nid, od)
+    node.warnings = warnings
+    return node, errors
+
+
+# -- the mandatory objects (CiA 301: 0x1000, 0x1001, 0x1018 sub 0 and 1) ---------------------
+
+_INFO_KEYS = {1: ("vendornumber", "VendorNumber", "vendor-ID"),
+              2: ("productnumber", "ProductNumber", "product code"),
+              3: ("revisionnumber", "RevisionNumber", "revision number")}
+_NO_VALUE = "SDO abort 0x060A0023 (resource not available)"
+
+
+def _device_info(dev) -> dict[str, int]:
+    """[DeviceInfo] VendorNumber, ProductNumber, RevisionNumber that read as numbers."""
+    from dcf2bin import values
+    info = dev.ini.section("deviceinfo") if dev.ini is not None else None
+    out = {}
+    for key, _, _ in _INFO_KEYS.values():
+        text = info.get(key) if info is not None else None
+        if text is None:
+            continue
+        try:
+            out[key] = values.parse_int(values.split_numeric_comment(text)[0])
+        except values.ValueProblem:
+            continue
+    return out
+
+
+def _unset(var) -> bool:
+    return var is not None and var.value is None and var.default is None
+
+
+def fill_mandatory(od, info: dict[str, int]) -> list[str]:
+    """An EDS often gives its identity in [DeviceInfo] only, and no value to 0x1000 or
+    0x1018: a real device answers them, so the node does too. Without a value in the file,
+    0x1018 sub 1-3 take [DeviceInfo] VendorNumber, ProductNumber and RevisionNumber, sub 0
+    the highest sub-index present, 0x1001 (error register) 0 (a software node has no
+    error) and 0x1000 (device type) 0x00000000; each value the node has to make up that
+    way, and each mandatory object it cannot answer, is one warning."""
+    warnings = []
+    for index, what in ((0x1000, "device type"), (0x1001, "error register"),
+                        (0x1018, "identity object")):
+        if index not in od:
+            warnings.append(f"the file has no 0x{index:04X} ({what}), which every CANopen "
+                            "device has: the node answers SDO abort 0x06020000 (object does "
+                            "not exist)")
+    if _unset(od.get_variable(0x1000)):
+        od.get_variable(0x1000).default = 0
+        warnings.append("0x1000 (device type) has no value in the file: the node answers "
+                        "0x00000000")
+    if _unset(od.get_variable(0x1001)):
+        od.get_variable(0x1001).default = 0
+    identity = od.get(0x1018)
+    if identity is None or not hasattr(identity, "subindices"):
+        return warnings
+    for sub, (key, shown, what) in _INFO_KEYS.items():
+        var = identity.get(sub)
+        if not _unset(var):
+            continue
+        if key in info:
+            var.default = info[key]
+        elif sub == 1:
+            warnings.append(f"0x1018 sub 1 ({what}) has no value in the file nor in "
+                            f"[DeviceInfo] {shown}: the node answers {_NO_VALUE}")
+    sub0 = identity.get(0)
+    if _unset(sub0):
+        sub0.default = max(identity.subindices)
+    return warnings
 
 
 # -- an emulated SYS TEC target -----------------------------------------------------------

@@ -7,28 +7,30 @@ again one request to every node at once and one sub-index after the other. A rou
 ends as soon as every node asked has answered, so a scan of a bus whose nodes answer
 is about as long as the listening window.
 
-Worst case (no node answers a round before its time-out):
+Worst case, whatever the nodes answer (no node answers a round before its time-out, or
+each answers what ends its upload only then):
 
     max(listen, (retries + 1) × timeout) + 4 × (retries + 1) × timeout
-    (+ (retries + 1) × timeout when a node answers 0x1000 segmented, which is not CiA 301's way)
 
 which with the defaults (listen 0.5 s, timeout 0.3 s, no retry) is 1.7 s, plus the
 time to send 127 requests at the bit rate (about 30 ms at 500 kbit/s, 120 ms at 125).
 
-The requests are SDO upload-initiate frames (CiA 301 §7.2.4.3.3): the one part of the SDO
-protocol spoken here, so that all 127 can be in flight at once; an answer that is not an
-expedited upload (a segmented one) is read again through canopen's SDO client. The
+Each node's answers go through its own ``sdo.Upload`` (bus/sdo.py), so that all 127
+uploads can be in flight at once: a segmented answer is read on within the same round,
+and every entry read is an UNSIGNED32, so a node that announces or sends more than 4
+bytes, toggles for ever, or answers a malformed frame or another entry's answer, has that
+answer recorded as what it did (``Answer.problem``) and the round goes on. The
 comparison with what the master enforces (0x1F84…0x1F88) is :func:`compare`; nothing
 here imports click.
 """
 from __future__ import annotations
 
-import struct
 import threading
 import time
 from dataclasses import dataclass, field
 
-from dcf2bin.bus.link import abort_text
+from dcf2bin.bus import sdo
+from dcf2bin.bus.link import abort_text, is_virtual
 
 LISTEN, TIMEOUT, RETRIES = 0.5, 0.3, 0
 NODE_IDS = range(1, 128)
@@ -46,17 +48,19 @@ _SEND_TRIES, _SEND_PAUSE = 200, 0.002   # a full transmit queue (socketcan's is 
 
 
 def worst_case(listen: float = LISTEN, timeout: float = TIMEOUT, retries: int = RETRIES) -> float:
-    """Seconds a scan takes at most when 0x1000 is answered expedited (see above)."""
+    """Seconds a scan takes at most, whatever the nodes answer (see above)."""
     per = (retries + 1) * timeout
     return max(listen, per) + len(IDENTITY_SUBS) * per
 
 
 @dataclass
 class Answer:
-    """What one node-ID gave for one entry: ``data``, an abort ``code``, or nothing."""
+    """What one node-ID gave for one entry: ``data``, an abort ``code``, an answer that is
+    none (``problem``: what the node did, "answered a 3-byte frame to ..."), or nothing."""
     data: bytes | None = None
     code: int | None = None
     segmented: bool = False
+    problem: str | None = None
 
     @property
     def value(self) -> int | None:
@@ -123,42 +127,51 @@ class Finding:
 class Scan:
     found: dict[int, Found]
     seconds: float
+    virtual: bool = False        # on python-can's virtual bus (the table says what it reaches)
 
 
 class _Round:
-    """One SDO upload request to every node-ID of ``ids`` at once; collects the answers."""
+    """One SDO upload of ``index``/``sub`` from every node-ID of ``ids`` at once, each
+    node's answers taken by its own ``sdo.Upload`` (a segmented answer is read on at once,
+    from the notifier thread); collects the answers. An answer for an entry asked in an
+    earlier round (``earlier``) is a late one and passed over."""
 
-    def __init__(self, net, ids, index: int, sub: int):
+    def __init__(self, net, ids, index: int, sub: int, earlier=()):
         self.net, self.ids, self.index, self.sub = net, list(ids), index, sub
+        self.earlier = {index.to_bytes(2, "little") + bytes([sub]) for index, sub in earlier}
         self.answers: dict[int, Answer] = {}
+        self.uploads: dict[int, object] = {}
         self.lock = threading.Lock()
         self.done = threading.Event()
-        self.mux = struct.pack("<HB", index, sub)
         self.callbacks = {}
 
     def _on(self, node_id: int):
         def callback(can_id, data, timestamp):
-            data = bytes(data)
-            if len(data) < 8 or data[1:4] != self.mux:
-                return               # a late answer of another round, or not ours
-            cmd = data[0]
-            if cmd == 0x80:
-                answer = Answer(code=int.from_bytes(data[4:8], "little"))
-            elif cmd & 0xE0 == 0x40:
-                if cmd & 0x02:       # expedited: the data are in the frame
-                    n = (cmd >> 2) & 3 if cmd & 0x01 else 0
-                    answer = Answer(data=data[4:8 - n])
-                else:
-                    answer = Answer(segmented=True)
-            else:
-                return
+            frame = bytes(data)
+            if len(frame) == 8 and frame[0] & 0xE0 in (0x40, 0x80) and frame[1:4] in self.earlier:
+                return               # a late answer to an earlier round
             with self.lock:
-                if node_id in self.answers:
+                m = self.uploads.get(node_id)
+                if m is None or node_id in self.answers:
                     return
-                self.answers[node_id] = answer
-                if len(self.answers) == len(self.ids):
-                    self.done.set()
+                try:
+                    request = m.take(frame)
+                except sdo.Aborted as exc:
+                    self._answer(node_id, Answer(code=exc.code))
+                except sdo.SdoError as exc:
+                    self._answer(node_id, Answer(problem=exc.what))
+                else:
+                    if request is None:
+                        self._answer(node_id, Answer(data=bytes(m.data),
+                                                     segmented=m.segmented))
+                    else:
+                        _send(self.net, SDO_RX + node_id, request)
         return callback
+
+    def _answer(self, node_id: int, answer: Answer) -> None:
+        self.answers[node_id] = answer
+        if len(self.answers) == len(self.ids):
+            self.done.set()
 
     def run(self, timeout: float, retries: int) -> dict[int, Answer]:
         for node_id in self.ids:
@@ -169,11 +182,12 @@ class _Round:
             for _ in range(retries + 1):
                 with self.lock:
                     waiting = [i for i in self.ids if i not in self.answers]
+                    for node_id in waiting:     # each try starts the upload again
+                        self.uploads[node_id] = sdo.Upload(self.index, self.sub, max_size=4)
                 if not waiting:
                     break
-                request = bytes([0x40]) + self.mux + bytes(4)
                 for node_id in waiting:
-                    _send(self.net, SDO_RX + node_id, request)
+                    _send(self.net, SDO_RX + node_id, self.uploads[node_id].request)
                 self.done.wait(timeout)
         finally:
             for node_id, cb in self.callbacks.items():
@@ -228,30 +242,14 @@ def scan(net, *, listen: float = LISTEN, timeout: float = TIMEOUT, retries: int 
             f.answered = True
             f.entries[(0x1000, 0)] = a
     present = sorted(i for i, f in found.items() if f.answered)
+    asked = [(0x1000, 0)]
     for sub in IDENTITY_SUBS:
-        got = _Round(net, present, 0x1018, sub).run(timeout, retries) if present else {}
+        got = (_Round(net, present, 0x1018, sub, asked).run(timeout, retries) if present
+               else {})
+        asked.append((0x1018, sub))
         for node_id in present:
             found[node_id].entries[(0x1018, sub)] = got.get(node_id, Answer())
-    _reread_segmented(net, found, timeout, retries)
-    return Scan(dict(sorted(found.items())), time.monotonic() - start)
-
-
-def _reread_segmented(net, found: dict[int, Found], timeout: float, retries: int) -> None:
-    """Entries answered as a segmented upload, read through canopen's SDO client."""
-    from canopen import SdoAbortedError, SdoCommunicationError
-
-    from dcf2bin.bus.download import sdo_client
-    for f in found.values():
-        for (index, sub), a in f.entries.items():
-            if not a.segmented:
-                continue
-            sdo = sdo_client(net, f.node_id, timeout=timeout, retries=retries)
-            try:
-                f.entries[(index, sub)] = Answer(data=sdo.upload(index, sub))
-            except SdoAbortedError as exc:
-                f.entries[(index, sub)] = Answer(code=exc.code)
-            except SdoCommunicationError:
-                f.entries[(index, sub)] = Answer()
+    return Scan(dict(sorted(found.items())), time.monotonic() - start, is_virtual(net))
 
 
 # -- the comparison -------------------------------------------------------------------------
@@ -298,6 +296,10 @@ def compare(scan_: Scan, expected: list[Expected]) -> list[Finding]:
                                    f"0x{a.code:08X}: {abort_text(a.code)}; "
                                    f"{e.expects(key, want)}", (index, sub), want, None,
                                    a.code))
+            elif a.problem is not None:
+                out.append(Finding("unread", node_id, e.name,
+                                   f"{label} {a.problem}; {e.expects(key, want)}",
+                                   (index, sub), want))
             elif a.value is None:
                 out.append(Finding("unread", node_id, e.name,
                                    f"{label}: {where} was not answered; "

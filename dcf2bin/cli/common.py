@@ -1,7 +1,9 @@
-"""Shared pieces of the command line: exiting, reading inputs, writing outputs.
+"""Shared pieces of the command line: exiting, the option vocabulary, and the thin layer
+over ``dcf2bin.fileio`` that turns its errors into one ``file: error:`` line and an exit
+code (``read_input``, ``check_output``, ``write_output``, ``guarded``).
 
 Every command module of this package uses these, so errors look and exit the same
-everywhere. Only click is imported here.
+everywhere. Only click is imported here at module level.
 """
 from __future__ import annotations
 
@@ -12,11 +14,11 @@ import io
 import os
 import re
 import signal
-import stat
 import sys
 
 import click
 
+from dcf2bin import argspec
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
@@ -83,30 +85,26 @@ class Failure(Exception):
         self.code = code
 
 
-class Interrupted(BaseException):
-    """A caught signal (SIGTERM, SIGHUP) while an output was being written."""
-
-    def __init__(self, signum: int):
-        self.signum = signum
-
-
 class _State:
     """What this invocation did so far (reset by ``guarded``)."""
     inputs: list[str] = []          # every input read or registered: never overwritten
     errors_emitted = False          # an error diagnostic was printed (a broken pipe's code)
-    temps: set[str] = set()         # temporary outputs to remove if the run is stopped
 
 
 def _reset() -> None:
     _State.inputs = []
     _State.errors_emitted = False
-    _State.temps = set()
 
 
 def register_input(path: str | None) -> None:
     """Name a file this command reads, so that no output is ever written over it."""
     if path and path != "-":
         _State.inputs.append(path)
+
+
+def registered_inputs() -> list[str]:
+    """Every input this run has read or registered so far."""
+    return list(_State.inputs)
 
 
 def _silence(fd: int) -> None:
@@ -192,9 +190,10 @@ def guarded(fn):
 
     A broken pipe never hides a failure: the run ends with the code it had earned so far
     (1 once an error was reported). A caught signal ends with 128 + its number, after the
-    temporary output file is removed."""
+    temporary output files are removed (``fileio.signals``)."""
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
+        from dcf2bin.fileio.signals import Interrupted, temporaries
         ctx = click.get_current_context()
         debug = (ctx.find_root().params or {}).get("debug", False) or ctx.params.get("debug")
         _reset()
@@ -205,11 +204,11 @@ def guarded(fn):
         except (click.exceptions.Exit, click.ClickException, click.Abort):
             raise
         except KeyboardInterrupt:
-            _cleanup_temps()
+            temporaries.remove_all()
             say("dcf2bin: interrupted")
             ctx.exit(128 + signal.SIGINT)
         except Interrupted as sig:
-            _cleanup_temps()
+            temporaries.remove_all()
             say(f"dcf2bin: stopped by signal {signal.Signals(sig.signum).name}")
             ctx.exit(128 + sig.signum)
         except BrokenPipeError:
@@ -224,7 +223,7 @@ def guarded(fn):
                 "(run with --debug for the traceback, and please report it)")
             ctx.exit(int(ExitCode.INTERNAL))
         finally:
-            _cleanup_temps()
+            temporaries.remove_all()
             _reset()
     return wrapper
 
@@ -251,19 +250,21 @@ def without_cyclic_gc(fn):
 
 
 def read_input(path: str) -> bytes:
-    """Read a file or '-' (stdin); an unreadable input (missing, a directory, no
-    permission) ends with exit 3. The file is registered as an input: no output of this
-    run may overwrite it."""
+    """Read a file or '-' (stdin) through the one bounded reader (``fileio.read_file``: a
+    regular file or an open descriptor, at most 64 MiB); an unreadable input (missing, a
+    directory, a FIFO or a device, too large, no permission) ends with exit 3. The file is
+    registered as an input: no output of this run may overwrite it."""
+    from dcf2bin.fileio import read_file, read_stream
     register_input(path)
     try:
         if path == "-":
-            if sys.stdin is None:
+            if sys.stdin is None or getattr(sys.stdin, "buffer", None) is None:
                 fail("cannot read: standard input is closed", "<stdin>", ExitCode.UNREADABLE)
-            return sys.stdin.buffer.read()
-        with open(path, "rb") as f:
-            return f.read()
+            return read_stream(sys.stdin.buffer, "<stdin>")
+        return read_file(path)
     except OSError as exc:
-        fail(f"cannot read: {exc.strerror or exc}", path, ExitCode.UNREADABLE)
+        fail(f"cannot read: {exc.strerror or exc}", "<stdin>" if path == "-" else path,
+             ExitCode.UNREADABLE)
 
 
 def check_input(path: str | None) -> None:
@@ -271,6 +272,38 @@ def check_input(path: str | None) -> None:
     missing, a directory or unreadable is exit 3 like the main input, not a usage error."""
     if path is not None and path != "-":
         read_input(path)
+
+
+def check_output(path: str, inputs=(), *, binary: bool = False) -> None:
+    """Say before any slow work (a bus scan, a download) whether ``path`` can be written:
+    '' is a usage error (exit 2), so is an output over an input; a directory there, a
+    missing or read-only folder, a closed standard output is exit 3. write_output checks
+    the same again when it writes."""
+    from dcf2bin.fileio import writing
+    if path == "":
+        fail("-o: an empty name is not a file (use '-' for standard output)",
+             code=ExitCode.USAGE)
+    if path == "-":
+        stream = sys.stdout
+        if stream is None or getattr(stream, "buffer", None) is None:
+            fail("cannot write: standard output is closed", "<stdout>", ExitCode.UNREADABLE)
+        if binary and _isatty(stream):
+            fail("refusing to write binary data to a terminal; use -o FILE or a pipe",
+                 code=ExitCode.USAGE)
+        return
+    try:
+        writing.check_output(path, list(inputs) + _State.inputs)
+    except writing.OutputIsInput as exc:
+        fail(exc.reason, path, ExitCode.USAGE)
+    except OSError as exc:
+        fail(f"cannot write: {exc.strerror or exc}", path, ExitCode.UNREADABLE)
+
+
+def _isatty(stream) -> bool:
+    try:
+        return stream.isatty()
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def _write_stdout(data: bytes, binary: bool) -> None:
@@ -292,166 +325,28 @@ def _write_stdout(data: bytes, binary: bool) -> None:
         fail(f"cannot write: {reason}", "<stdout>", ExitCode.UNREADABLE)
 
 
-def _same_file(a: str, b: str, b_stat) -> bool:
-    try:
-        st = os.stat(a)
-    except OSError:
-        return os.path.realpath(a) == os.path.realpath(b)
-    if b_stat is not None:
-        return (st.st_dev, st.st_ino) == (b_stat.st_dev, b_stat.st_ino)
-    return os.path.realpath(a) == os.path.realpath(b)
-
-
-def _umask() -> int:
-    old = os.umask(0o022)
-    os.umask(old)
-    return old
-
-
-def _raise_signal(signum, frame):
-    raise Interrupted(signum)
-
-
-_CAUGHT = ("SIGTERM", "SIGHUP", "SIGINT")
-
-
-def _install_handlers() -> dict:
-    old = {}
-    for name in _CAUGHT:
-        sig = getattr(signal, name, None)
-        if sig is None:
-            continue
-        try:
-            current = signal.getsignal(sig)
-            if sig == signal.SIGINT and current is signal.default_int_handler:
-                continue     # raises KeyboardInterrupt already
-            if current is signal.SIG_IGN:
-                continue     # nohup and friends: keep ignoring
-            old[sig] = signal.signal(sig, _raise_signal)
-        except (ValueError, OSError):   # not the main thread
-            pass
-    return old
-
-
-def _restore_handlers(old: dict) -> None:
-    for sig, handler in old.items():
-        try:
-            signal.signal(sig, handler)
-        except (ValueError, OSError):
-            pass
-
-
-def _cleanup_temps() -> None:
-    for tmp in list(_State.temps):
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        _State.temps.discard(tmp)
-
-
-def _fsync_dir(folder: str) -> None:
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
 def write_output(data: bytes | str, output: str, inputs: list[str], *, binary: bool) -> None:
-    """Write an output file, the one way every command does it.
-
-    * '-' is standard output (binary data refused on a terminal); a reader that goes away
-      is not an error, a full disk or closed stdout is exit 3.
-    * Never over an input: the paths given here and every file read through read_input
-      or named with register_input (same file = same device and inode, links included).
-    * A symlink is followed: the file it points to is replaced, the link stays.
-    * A character/block device or FIFO is written directly (no temporary file).
-    * A regular file is written atomically: a temporary file beside the real target,
-      fsync, rename, fsync of the folder; a new file gets 0666 & ~umask, an overwritten
-      one keeps its mode. The temporary file is removed on any error and on SIGTERM,
-      SIGHUP or SIGINT.
-    """
+    """Write an output file, the one way every command does it (``fileio.write_file``):
+    '-' is standard output (binary data refused on a terminal; a reader that goes away is
+    not an error, a full disk or a closed stdout is exit 3); a file is written atomically,
+    never over an input (``inputs`` and every file read through read_input or named with
+    register_input: exit 2); a device or FIFO directly. SIGTERM, SIGHUP or SIGINT while it
+    is written removes the temporary file and ends the run with 128 + N."""
+    from dcf2bin.fileio import signals, writing
     if isinstance(data, str):
         data = data.encode("utf-8", "surrogateescape")
     if output == "-":
         _write_stdout(data, binary)
         return
+    if output == "":
+        check_output(output)
     try:
-        st = os.stat(output)        # follows links, /dev/stdout and /proc/self/fd/N too
-    except OSError:
-        st = None
-    target = os.path.realpath(output)
-    for inp in list(inputs) + _State.inputs:
-        if inp and inp != "-" and _same_file(inp, target, st):
-            fail(f"output '{output}' is the input file; refusing to overwrite it",
-                 code=ExitCode.USAGE)
-    if st is not None and stat.S_ISDIR(st.st_mode):
-        fail("cannot write: Is a directory", output, ExitCode.UNREADABLE)
-    old = _install_handlers()
-    try:
-        if (st is not None and not stat.S_ISREG(st.st_mode)) or _names_a_descriptor(output):
-            _write_direct(data, output, output)
-        else:
-            _write_atomic(data, target, output, st)
-    finally:
-        _restore_handlers(old)
-
-
-def _names_a_descriptor(path: str) -> bool:
-    """/dev/stdout, /dev/fd/N, /proc/self/fd/N: an open file of this process, whatever
-    it is (a pipe, a terminal, a file the shell opened with '>'): written directly."""
-    return bool(re.fullmatch(r"/dev/(stdout|stderr|fd/\d+)|/proc/(self|\d+)/fd/\d+",
-                             os.path.normpath(path)))
-
-
-def _write_direct(data: bytes, target: str, output: str) -> None:
-    try:
-        with open(target, "wb") as f:
-            f.write(data)
-            f.flush()
+        with signals.raising():
+            writing.write_file(output, data, list(inputs) + _State.inputs)
+    except writing.OutputIsInput as exc:
+        fail(exc.reason, output, ExitCode.USAGE)
     except OSError as exc:
         fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
-
-
-def _write_atomic(data: bytes, target: str, output: str, st) -> None:
-    folder = os.path.dirname(target) or "."
-    mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
-    tmp = None
-    try:
-        for _ in range(100):
-            tmp = os.path.join(folder, f".dcf2bin-{os.urandom(6).hex()}.tmp")
-            _State.temps.add(tmp)
-            try:
-                fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-                break
-            except FileExistsError:
-                _State.temps.discard(tmp)
-        else:  # pragma: no cover - 100 random names taken
-            raise FileExistsError(17, "File exists")
-        with os.fdopen(fd, "wb") as f:
-            os.fchmod(f.fileno(), mode)
-            if st is not None and hasattr(os, "fchown"):
-                try:
-                    os.fchown(f.fileno(), st.st_uid, st.st_gid)
-                except OSError:
-                    pass   # not ours to give away: the new owner is us
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, target)
-        _State.temps.discard(tmp)
-        _fsync_dir(folder)
-    except OSError as exc:
-        _cleanup_temps()
-        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
-    finally:
-        _cleanup_temps()
 
 
 def read_container(path: str, quiet: bool, *, json_ok: bool = False, use=None):
@@ -480,12 +375,37 @@ def decode_container(data: bytes, name: str, quiet: bool, *, json_input: bool = 
     return c
 
 
+def read_binary(path: str, quiet: bool, *, use=None):
+    """Read a container or a concise DCF, each by its content: ``(kind, what, name)`` with
+    ``kind`` "bin" and a container, or "concise" and the concise DCF's entries; a bad one
+    ends with one line naming the byte offset, a file of another kind with one naming its
+    command."""
+    data = read_input(path)
+    name = "<stdin>" if path == "-" else path
+    kind = input_kind(path, data, ("bin", "concise"), quiet=quiet, use=use)
+    if kind == "concise":
+        return kind, decode_concise(data, name, quiet), name
+    return kind, decode_container(data, name, quiet), name
+
+
+def decode_concise(data: bytes, name: str, quiet: bool):
+    """A concise DCF's entries; its one error (an entry past the end, a count that
+    disagrees, ...) is printed and ends the command (exit 1)."""
+    from dcf2bin.concise import read_concise
+    entries, diags = read_concise(data, name)
+    emit(diags, quiet)
+    if entries is None:
+        raise Failure(ExitCode.FINDINGS)
+    return entries
+
+
 def read_eds(path: str | None, quiet: bool):
     if path is None:
         return None, None
     from dcf2bin.dump import eds_warnings, load_eds
     data = read_input(path)
-    input_kind(path, data, ("dcf",), quiet=quiet, use="--eds takes the device's EDS or DCF")
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet,
+               use="--eds takes the device's EDS or DCF")
     info, dev, errors = load_eds(path, data)
     emit(eds_warnings(path, errors), quiet)
     return info, dev
@@ -500,11 +420,14 @@ def read_eds(path: str | None, quiet: bool):
 class Integer(click.ParamType):
     """An integer option written as a DCF value is written: decimal, 0x hex or octal with a
     leading 0 (the DCF reader's own syntax, ``values.parse_int``), checked against
-    ``min``..``max`` (click's IntRange wording)."""
+    ``min``..``max`` or a ``spec`` of dcf2bin.argspec (the API's words; click's IntRange
+    wording)."""
     name = "integer"
 
-    def __init__(self, min: int | None = None, max: int | None = None):
-        self.min, self.max = min, max
+    def __init__(self, min: int | None = None, max: int | None = None, *,
+                 spec: argspec.Range | None = None):
+        self.spec = spec or argspec.Range(min, max)
+        self.min, self.max = self.spec.min, self.spec.max
 
     def convert(self, value, param, ctx):
         if isinstance(value, int) and not isinstance(value, bool):
@@ -516,23 +439,84 @@ class Integer(click.ParamType):
             except values.ValueProblem as exc:
                 self.fail(f"'{values.shorten(str(value))}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
                           "as in a DCF)", param, ctx)
-        if (self.min is not None and n < self.min) or (self.max is not None and n > self.max):
-            self.fail(f"{value} is not in the range {self._range()}", param, ctx)
+        problem = self.spec.problem(n, str(value))
+        if problem:
+            self.fail(problem, param, ctx)
         return n
-
-    def _range(self) -> str:
-        if self.max is None:
-            return f"x>={self.min}"
-        if self.min is None:
-            return f"x<={self.max}"
-        return f"{self.min}<=x<={self.max}"
 
     def __repr__(self) -> str:
         return f"Integer({self.min}, {self.max})"
 
 
-NODE_ID = Integer(1, 127)
-COUNT = Integer(0)
+class Choice(click.Choice):
+    """One of the values of a dcf2bin.argspec ``Choice``, returned as the spec's type ('8'
+    -> 8), a wrong one worded as the API words it."""
+
+    def __init__(self, spec: argspec.Choice):
+        self.spec = spec
+        super().__init__([str(v) for v in spec.values])
+
+    def convert(self, value, param, ctx):
+        if self.spec.type_problem(value) is None and value in self.spec.values:
+            return value
+        return self.spec.parse(super().convert(value, param, ctx))
+
+    def get_invalid_choice_message(self, value, ctx) -> str:
+        return self.spec.problem(self.spec.parse(value))
+
+
+class Number(click.FloatRange):
+    """A number in the range of a dcf2bin.argspec float ``Range``."""
+
+    def __init__(self, spec: argspec.Range):
+        self.spec = spec
+        super().__init__(spec.min, spec.max)
+
+
+NODE_ID = Integer(spec=argspec.NODE_ID)
+COUNT = Integer(spec=argspec.COUNT)
+
+
+_DECIMAL = re.compile(r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
+
+
+class Seconds(click.ParamType):
+    """A time in seconds, written as a decimal number (``0.3``, ``2``, ``1.5e-3``), at least
+    ``min`` and at most ``max`` (a day: longer is a typo, and would overflow a timer);
+    hex, ``inf`` and ``nan`` are refused, saying what a time accepts."""
+    name = "seconds"
+
+    def __init__(self, min: float = 0.0, max: float = 86400.0):
+        self.min, self.max = min, max
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            t = float(value)
+        else:
+            text = str(value).strip()
+            if len(text) > 40 or not _DECIMAL.fullmatch(text):
+                self.fail(f"'{value}' is not a time in seconds (a decimal number such as 0.5 "
+                          "or 2)", param, ctx)
+            t = float(text)
+        if not self.min <= t <= self.max:
+            self.fail(f"{value} is not in the range {self.min:g}<=x<={self.max:g} seconds",
+                      param, ctx)
+        return t
+
+    def __repr__(self) -> str:
+        return f"Seconds({self.min}, {self.max})"
+
+
+class OutputPath(click.Path):
+    """-o's value: a path, '-' for standard output where ``allow_dash``; an empty name is a
+    usage error here, before any work, not a file that cannot be written."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and value == "":
+            self.fail("an empty name is not a file (use '-' for standard output)"
+                      if self.allow_dash else "an empty name is not a folder (use '.' for "
+                      "this one)", param, ctx)
+        return super().convert(value, param, ctx)
 
 
 class Option(click.Option):
@@ -578,6 +562,9 @@ SHARED_HELP = {
     "ignore": "Skip these rules (codes, code prefixes or names).",
     "strict": "Warnings fail the run too (exit 1).",
 }
+
+#: --eds of dump, bin2dcf and validate (map's says what map takes it for)
+EDS_HELP = "EDS/DCF of the device: exact data types, access and names."
 
 
 def _help(key: str, more: str = "") -> str:
@@ -632,7 +619,7 @@ def debug_option(fn):
 
 def output_option(more: str = "", default: str | None = "-"):
     extra = {} if default is None else {"default": default}
-    return click.option("-o", "--output", type=click.Path(allow_dash=True), metavar="FILE",
+    return click.option("-o", "--output", type=OutputPath(allow_dash=True), metavar="FILE",
                         help=_help("output", more), **extra)
 
 
@@ -646,13 +633,18 @@ def entries_option(more: str = ""):
     """--entries auto|all (--select is its hidden old name on compile, simulate and map;
     validate's --select names rules)."""
     return click.option("--entries", "--select", "entries", cls=Option,
-                        hidden_names=("--select",), type=click.Choice(["auto", "all"]),
+                        hidden_names=("--select",), type=Choice(argspec.ENTRIES),
                         default="auto", show_default=True, help=_help("entries", more))
 
 
 def static_od_option(more: str = ""):
     return click.option("--static-od", type=click.Path(), metavar="EDS",
                         help=_help("static_od", more))
+
+
+def eds_option(more: str = ""):
+    return click.option("--eds", type=click.Path(), metavar="EDS",
+                        help=EDS_HELP + (" " + more if more else ""))
 
 
 def force_option(fn):
@@ -694,7 +686,7 @@ def load_static_od(path: str | None, quiet: bool, outcome: str):
     if path is None:
         return None
     data = read_input(path)
-    input_kind(path, data, ("dcf",), quiet=quiet,
+    input_kind(path, data, ("dcf", "xdd"), quiet=quiet,
                use="--static-od takes the EDS of the target's firmware")
     from dcf2bin.compiler import static_od_indexes
     _, errors = static_od_indexes(path)
@@ -715,8 +707,8 @@ def default_output(input: str, suffix: str, force: bool, why: str = "") -> str:
         fail("reading stdin needs -o OUTPUT (or -o - for stdout)", code=ExitCode.USAGE)
     output = os.path.splitext(input)[0] + suffix
     if not force and os.path.lexists(output):
-        fail(f"{output} exists{why}; name the output with -o to replace it, or give --force",
-             code=ExitCode.USAGE)
+        fail(f"the file exists{why}; name the output with -o to replace it, or give --force",
+             output, code=ExitCode.USAGE)
     return output
 
 
@@ -733,7 +725,7 @@ def target_stack_options(fn=None, *, prefix: str = ""):
         return prefix + help[0].lower() + help[1:]
     fn = click.option("--no-bit-mapping", is_flag=True,
                       help=text("The target cannot map a BOOLEAN as 1 bit."))(fn)
-    fn = click.option("--granularity", type=click.Choice(["8", "64"]), default="64",
+    fn = click.option("--granularity", type=Choice(argspec.GRANULARITY), default="64",
                       show_default=True, help=text("The target's PDO mapping granularity in "
                                                    "bits (8: whole bytes only)."))(fn)
     fn = click.option("--rx-cobs", type=COUNT, metavar="N",

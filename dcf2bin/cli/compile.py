@@ -9,8 +9,10 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Integer, check_input, debug_option,
-                                default_output, emit, entries_option, fail, force_option,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, Integer, check_input,
+                                debug_option, default_output, emit, entries_option, fail,
+                                force_option,
                                 format_option, from_option, guarded, input_kind,
                                 load_static_od, node_id_option, output_option, quiet_option,
                                 read_input, static_od_option, stop_on_errors,
@@ -20,13 +22,6 @@ from dcf2bin.diagnostics import ExitCode
 
 # -- compile ------------------------------------------------------------------------------------
 
-_SEQ = click.Choice(["cia301", "none"])
-
-
-def _profile_choice():
-    return click.Choice(["cia301", "dis2"])
-
-
 @click.command("compile", context_settings=CONTEXT)
 @click.argument("input", type=click.Path(allow_dash=True))
 @output_option("Default: INPUT with the suffix .bin (.c with --format c), never over an "
@@ -34,23 +29,24 @@ def _profile_choice():
 @force_option
 @node_id_option("Used for $NODEID values (overrides [DeviceComissioning] NodeID).")
 @entries_option()
-@click.option("--pdo-sequence", type=_SEQ, default="cia301", show_default=True,
+@click.option("--pdo-sequence", type=Choice(argspec.PDO_SEQUENCE), default="cia301",
+              show_default=True,
               help="How a PDO block is written: CiA 301 reconfiguration, or as configured.")
 @static_od_option("Objects absent from it are created.")
 @click.option("--no-process-image", is_flag=True,
               help="Omit the PI address and PI parameter segments.")
-@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+@click.option("--pi-align", type=Choice(argspec.PI_ALIGN), default="8",
               show_default=True,
               help="Alignment in bytes of the output area's start in the process image.")
 @click.option("--pi-size", type=COUNT, metavar="N", help="PI memory of the target in bytes.")
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="PI addresses count from the start of the whole "
               "process image, or from the start of the variable's area.")
-@click.option("--container-version", type=Integer(0, 0xFFFF), default=1, metavar="N",
-              show_default=True, help="Value of the container header's version field.")
+@click.option("--container-version", type=Integer(spec=argspec.CONTAINER_VERSION), default=1,
+              metavar="N", show_default=True, help="Value of the container header's version field.")
 @click.option("--allow-external-files", is_flag=True,
               help="Allow DownloadFile paths that are absolute or leave the DCF's folder.")
-@click.option("--profile", type=_profile_choice(), default="cia301", show_default=True,
+@click.option("--profile", type=Choice(argspec.PROFILE), default="cia301", show_default=True,
               help="Device profile for PDO writes (dis2: Metronix DIS-2).")
 @click.option("--append", "append", multiple=True, type=click.Path(),
               metavar="FILE", help="Extra-writes file added after all other entries "
@@ -58,8 +54,11 @@ def _profile_choice():
 @click.option("--no-target-check", is_flag=True,
               help="Report what the target's DynBuildOd() would refuse as a warning and "
               "write the container anyway.")
+@click.option("--limit-check", type=Choice(argspec.LIMIT_CHECK), default="warning",
+              show_default=True, help="A written value outside its LowLimit..HighLimit: a "
+              "warning (the value is written as it is), or an error (nothing is written).")
 @click.option("--no-limit-check", is_flag=True,
-              help="Report a written value outside its LowLimit..HighLimit as a warning.")
+              help="The same as --limit-check warning (the default), for older scripts.")
 @target_stack_options
 @from_option(["dcf", "json"], "json = lossless dump.")
 @quiet_option()
@@ -75,19 +74,20 @@ def _profile_choice():
 @without_cyclic_gc
 def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                 no_process_image, pi_align, pi_size, address_base, container_version,
-                allow_external_files, profile, append, no_target_check, no_limit_check, tx_cobs,
-                rx_cobs, granularity, no_bit_mapping, from_, quiet, verbose, fmt, c_name,
-                c_decl, debug):
+                allow_external_files, profile, append, no_target_check, limit_check,
+                no_limit_check, tx_cobs, rx_cobs, granularity, no_bit_mapping, from_, quiet,
+                verbose, fmt, c_name, c_decl, debug):
     """Compile a DCF/EDS file (or a lossless JSON dump) into a binary container."""
     from dcf2bin.compiler import CompileOptions, compile_path
     out_format = fmt
     data_in = read_input(input)
-    fmt = input_kind(input, data_in, ("dcf", "json"), from_, quiet=quiet)
+    fmt = input_kind(input, data_in, ("dcf", "xdd", "json", "concise-json"), from_,
+                     quiet=quiet)
     if output is None:
         output = default_output(input, ".c" if out_format == "c" else ".bin", force)
     write = _writer(out_format, c_name, c_decl, input)
     name = "<stdin>" if input == "-" else input
-    if fmt == "json":
+    if fmt in ("json", "concise-json"):      # the bytes of a container or a concise DCF
         from dcf2bin.dump import from_json_bytes
         data, diags = from_json_bytes(data_in, name)
         emit(diags, quiet)
@@ -102,7 +102,7 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
                           allow_external_files=allow_external_files, profile=profile,
                           append=tuple(append),
                           target_check="warning" if no_target_check else "error",
-                          limit_check="warning" if no_limit_check else "error",
+                          limit_check=_limit_check(limit_check, no_limit_check),
                           tx_cobs=tx_cobs, rx_cobs=rx_cobs, granularity=int(granularity),
                           bit_mapping=not no_bit_mapping)
     for path in append:
@@ -119,6 +119,15 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
             msg += (f", {len(c.addresses)} network variables, PI {c.pi[0]} bytes "
                     f"(in {c.pi[2]} @ {c.pi[1]}, out {c.pi[4]} @ {c.pi[3]})")
         click.echo(msg, err=True)
+
+
+def _limit_check(limit_check: str, no_limit_check: bool) -> str:
+    """--no-limit-check is the old spelling of --limit-check warning; with --limit-check
+    error it contradicts itself."""
+    if no_limit_check and limit_check == "error":
+        raise click.UsageError("--no-limit-check and --limit-check error contradict each "
+                               "other; give one")
+    return "warning" if no_limit_check else limit_check
 
 
 def _writer(out_format: str, c_name: str | None, c_decl: str, input: str):

@@ -6,7 +6,8 @@ import os
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, decode_container, emit,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, Choice, Failure, debug_option, decode_container, emit,
                                 entries_option, fail, format_option, from_option, guarded,
                                 input_kind, node_id_option, output_option, quiet_option,
                                 read_eds, read_input, stop_on_errors, without_cyclic_gc,
@@ -25,12 +26,12 @@ FORMATS = ["text", "csv", "json", "iec", "c", "svg", "html"]
 @click.option("--eds", type=click.Path(), metavar="EDS",
               help="Container input: the device's EDS/DCF for names, exact types and "
               "[DynamicChannels].")
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="Container input: how its PI addresses were written "
               "(compile --address-base).")
 @node_id_option("DCF input: used for $NODEID values.")
 @entries_option("DCF input.")
-@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+@click.option("--pi-align", type=Choice(argspec.PI_ALIGN), default="8",
               show_default=True, help="DCF input: alignment of the output area's start.")
 @click.option("--iec-addressing", type=click.Choice(["byte", "element"]), default="byte",
               show_default=True, help="iec: %I/%Q numbers count bytes, or units of the size "
@@ -55,9 +56,9 @@ def map_cmd(input, fmt, output, from_, eds, address_base, node_id, entries, pi_a
         fail(f"--prefix: {problem}", code=ExitCode.USAGE)
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    kind = input_kind(input, data, ("dcf", "bin", "json"), from_, quiet=quiet)
+    kind = input_kind(input, data, ("dcf", "xdd", "bin", "json"), from_, quiet=quiet)
     inputs = [input] + ([eds] if eds else [])
-    if kind == "dcf":
+    if kind in ("dcf", "xdd"):
         if eds:
             fail("--eds is for a container input; a DCF names its own variables",
                  code=ExitCode.USAGE)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, entries_option,
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, debug_option, emit, entries_option,
                                 format_option, from_option, guarded, input_kind,
                                 load_static_od, node_id_option, output_option, quiet_option,
                                 read_input, static_od_option, stop_on_errors,
@@ -25,7 +26,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.option("--pi-size", type=COUNT, metavar="N",
               help="PI memory the target gives, in bytes (default: unlimited).")
 @target_stack_options
-@click.option("--address-base", type=click.Choice(["image", "area"]), default="image",
+@click.option("--address-base", type=Choice(argspec.ADDRESS_BASE), default="image",
               show_default=True, help="PI addresses count from the image start or their area.")
 @format_option(["text", "json"], "text", "the report as text or JSON.")
 @output_option("Default: standard output.")
@@ -33,13 +34,13 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="Also write the object dictionary after DynBuildOd as a DCF.")
 @node_id_option("DCF input: used for $NODEID values.")
 @entries_option("DCF input.")
-@click.option("--pdo-sequence", type=click.Choice(["cia301", "none"]), default="cia301",
+@click.option("--pdo-sequence", type=Choice(argspec.PDO_SEQUENCE), default="cia301",
               show_default=True, help="DCF input: how compile writes a PDO block.")
 @click.option("--no-process-image", is_flag=True,
               help="DCF input: compile without the PI segments.")
-@click.option("--pi-align", type=click.Choice(["1", "2", "4", "8"]), default="8",
+@click.option("--pi-align", type=Choice(argspec.PI_ALIGN), default="8",
               show_default=True, help="DCF input: alignment of the output area's start.")
-@click.option("--profile", type=click.Choice(["cia301", "dis2"]), default="cia301",
+@click.option("--profile", type=Choice(argspec.PROFILE), default="cia301",
               show_default=True, help="DCF input: device profile for PDO writes.")
 @click.option("--append", "append", multiple=True, type=click.Path(),
               metavar="FILE", help="DCF input: extra-writes file added after all entries.")
@@ -65,13 +66,13 @@ def simulate_cmd(input, from_, static_od, pi_size, tx_cobs, rx_cobs, granularity
     from dcf2bin.dynod import StaticOD, TargetOptions, emulate, emulate_bytes, report
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    kind = input_kind(input, data, ("bin", "dcf", "json"), from_, quiet=quiet)
+    kind = input_kind(input, data, ("bin", "dcf", "xdd", "json"), from_, quiet=quiet)
     static_raw = load_static_od(static_od, quiet, "nothing simulated")
     topts = TargetOptions(pi_size=pi_size, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                           granularity=int(granularity), bit_mapping=not no_bit_mapping,
                           address_base=address_base)
     names = None
-    if kind == "dcf":
+    if kind in ("dcf", "xdd"):
         from dcf2bin.compiler import CompileOptions, compile_path
         from dcf2bin.dynod import check
         for path in append:

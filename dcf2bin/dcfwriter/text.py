@@ -4,12 +4,18 @@ One object section per index, in ascending order, with ``ParameterValue`` the la
 value written; earlier writes are comments above it. ``[DeviceInfo]`` and
 ``[DummyUsage]`` come from the EDS (``--eds``) where one is given, and
 ``[DynamicChannels]`` from the reconstructed segments. Nothing depends on the clock.
+
+The objects every device has and the entries the PDOs map are added where the container
+does not write them (``described``), so that the DCF is a complete one that validates,
+and compiles to the same bytes (SPEC §4).
 """
 from __future__ import annotations
 
 from operator import attrgetter
 
 from dcf2bin import datatypes as dt
+from dcf2bin import dcfparts
+from dcf2bin.dcfwriter.described import describe
 from dcf2bin.dcfwriter.spec import DcfSpec, ObjSpec, SubSpec, value_text
 from dcf2bin.layout import INPUT
 from dcf2bin.model import is_pdo_mapping as is_mapping
@@ -36,10 +42,15 @@ class _Renderer:
         out: list[str] = []
         w = out.append
         n = len(c.entries)
+        what = "a concise DCF, " if self.spec.concise else ""
         w(f"; DCF written by dcf2bin bin2dcf from {self.spec.name} "
-          f"({self.spec.header['total_size']} bytes, {n} entr{'y' if n == 1 else 'ies'}).")
+          f"({what}{self.spec.header['total_size']} bytes, "
+          f"{n} entr{'y' if n == 1 else 'ies'}).")
         w("; ParameterValue is the last value written to each entry; comments list earlier "
           "writes.")
+        if self.spec.concise:
+            w("; A DCF keeps no order of writes: dcf2bin dump lists the concise DCF's, and "
+              "types without --eds are CiA 301's or guessed from the size.")
         if self.options:
             w(f"; compile it with {' '.join(self.options)} to get the container's bytes back.")
         w("")
@@ -48,7 +59,8 @@ class _Renderer:
         w("FileVersion=1")
         w("FileRevision=0")
         w("EDSVersion=4.0")
-        w(f"Description=Converted from the binary DCF segment container {self.spec.name}")
+        source = "concise DCF" if self.spec.concise else "binary DCF segment container"
+        w(f"Description=Converted from the {source} {self.spec.name}")
         w("CreatedBy=dcf2bin bin2dcf")
         w("")
         self._device_info(w)
@@ -62,19 +74,25 @@ class _Renderer:
                 w(f"Range{k}=0x{ch.first:04X}-0x{ch.last:04X}")
                 w(f"PPOffset{k}={ch.pp}")
             w("")
-        idxs = sorted(i for i in self.objects if i >= 0x1000)
-        mandatory = [i for i in idxs if i in (0x1000, 0x1001, 0x1018)]
+        extra = describe(self.spec, self.eds_device)
+        self.extra = extra
+        added = extra.objects
+        idxs = sorted(i for i in (*self.objects, *added) if i >= 0x1000)
+        required = [i for i in idxs if i in dcfparts.MANDATORY]
         manufacturer = [i for i in idxs if 0x2000 <= i <= 0x5FFF]
-        optional = [i for i in idxs if i not in mandatory and i not in manufacturer]
-        for title, lst in (("MandatoryObjects", mandatory), ("OptionalObjects", optional),
+        optional = [i for i in idxs if i not in required and i not in manufacturer]
+        for title, lst in (("MandatoryObjects", required), ("OptionalObjects", optional),
                            ("ManufacturerObjects", manufacturer)):
             w(f"[{title}]")
             w(f"SupportedObjects={len(lst)}")
             for k, i in enumerate(lst, 1):
                 w(f"{k}=0x{i:04X}")
             w("")
-        for index in sorted(self.objects):
-            self._object(out, self.objects[index])
+        for index in sorted((*self.objects, *added)):
+            if index in added:
+                out.extend(added[index])
+            else:
+                self._object(out, self.objects[index])
         return "\n".join(out).rstrip("\n") + "\n"
 
     def _device_info(self, w) -> None:
@@ -121,9 +139,12 @@ class _Renderer:
             w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name or s.name)}\nObjectType=0x7")
             w(self._keys(s))
             return
-        w(f"[{obj.index:04X}]\nParameterName={_clean(obj.name)}\n"
-          f"ObjectType=0x{obj.object_type:X}\nSubNumber={len(obj.subs)}\n")
         index = obj.index
+        more = self.extra.subs.get(index, ())
+        w(f"[{index:04X}]\nParameterName={_clean(obj.name)}\n"
+          f"ObjectType=0x{obj.object_type:X}\n"
+          f"SubNumber={len(obj.subs) + self.extra.sub_count.get(index, 0)}\n")
+        out.extend(more)    # entries a PDO maps that the container does not write
         names = self._names
         subs = list(obj.subs.values())
         if len(subs) > 2 and _alike(subs[1:]):
@@ -151,7 +172,7 @@ class _Renderer:
         name = names.get(s.name)
         if name is None:
             name = names[s.name] = _clean(s.name)
-        if len(s.writes) == 1 and not s.default:   # _keys of one write, inline
+        if len(s.writes) == 1 and not s.default and not s.note:   # _keys of one write
             w(f"[{s.index:04X}sub{s.sub:X}]\nParameterName={name}\nObjectType=0x7\n"
               f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
               f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
@@ -160,12 +181,14 @@ class _Renderer:
         w(self._keys(s))
 
     def _keys(self, s: SubSpec) -> str:
-        if len(s.writes) == 1 and not s.default:
+        if len(s.writes) == 1 and not s.default and not s.note:
             return (f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
                     f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
         lines = self._earlier(s)
+        if s.note:
+            lines.append(s.note)
         if not s.writes:
-            lines.append("; not in the container: the sub 0 that compile implies")
+            lines.append(f"; not in the {self.spec.what}: the sub 0 that compile implies")
         lines.append(f"DataType=0x{s.dtype.code:04X}")
         lines.append(f"AccessType={s.access}")
         if s.default:
@@ -191,11 +214,11 @@ class _Renderer:
 
 _SUB, _NAME, _VALUE = attrgetter("sub"), attrgetter("name"), attrgetter("value")
 
-
 def _alike(subs: list[SubSpec]) -> bool:
     """Do ``subs`` all have one write (no DefaultValue) of one type, access and mapping?"""
-    return len({(s.dtype.code, s.access, s.pdo, len(s.writes), s.default)
-                for s in subs}) == 1 and len(subs[0].writes) == 1 and not subs[0].default
+    return len({(s.dtype.code, s.access, s.pdo, len(s.writes), s.default, s.note)
+                for s in subs}) == 1 and len(subs[0].writes) == 1 and not subs[0].default \
+        and not subs[0].note
 
 
 def _clean(text: str) -> str:

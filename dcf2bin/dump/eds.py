@@ -26,9 +26,10 @@ class EdsInfo:
 
 
 def load_eds(path: str, data: bytes | None = None) -> tuple[EdsInfo, object, int]:
-    """Load an EDS with ``model.load`` -> (EdsInfo, Device, number of errors in it)."""
-    from dcf2bin import model
-    dev = model.load(path, data=data)
+    """Load an EDS (or any description, ``formats.load``) -> (EdsInfo, Device, number of
+    errors in it)."""
+    from dcf2bin import formats
+    dev = formats.load(path, data=data)
     entries = {}
     for idx, obj in dev.objects.items():
         for sub, e in obj.entries.items():

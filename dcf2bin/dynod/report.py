@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 from dcf2bin import datatypes as dt
+from dcf2bin import dcfparts
 from dcf2bin.dynod.check import value_text
 from dcf2bin.dynod.emulate import Outcome
 
@@ -149,9 +150,13 @@ def emit_od(out: Outcome, name: str, static_names=None) -> str:
              "DynamicChannelsSupported=0", "GroupMessaging=0",
              f"NrOfRXPDO={sum(1 for i in od if 0x1400 <= i <= 0x15FF)}",
              f"NrOfTXPDO={sum(1 for i in od if 0x1800 <= i <= 0x19FF)}", "LSS_Supported=0", ""]
-    mandatory = [i for i in (0x1000, 0x1001, 0x1018) if i in od]
-    optional = [i for i in od if i not in mandatory and (0x1000 <= i <= 0x1FFF or i >= 0x6000)]
-    manufacturer = [i for i in od if 0x2000 <= i <= 0x5FFF]
+    extra, more_subs, dummies = _undescribed(od)
+    if dummies:
+        lines += ["[DummyUsage]"] + [f"Dummy{code:04X}=1" for code in sorted(dummies)] + [""]
+    every = sorted({*od, *extra})
+    mandatory = [i for i in every if i in dcfparts.MANDATORY]
+    optional = [i for i in every if i not in mandatory and (0x1000 <= i <= 0x1FFF or i >= 0x6000)]
+    manufacturer = [i for i in every if 0x2000 <= i <= 0x5FFF]
     for title, group in (("MandatoryObjects", mandatory), ("OptionalObjects", optional),
                          ("ManufacturerObjects", manufacturer)):
         lines.append(f"[{title}]")
@@ -159,9 +164,47 @@ def emit_od(out: Outcome, name: str, static_names=None) -> str:
         lines.extend(f"{k}=0x{i:04X}" for k, i in enumerate(group, 1))
         lines.append("")
     for index in mandatory + optional + manufacturer:
-        subs = od[index]
-        lines.extend(_object(index, subs, static_names))
+        if index in extra:
+            lines.extend(extra[index])
+        else:
+            lines.extend(_object(index, od[index], static_names, more_subs.get(index, ())))
     return "\n".join(lines) + "\n"
+
+
+_WHERE = "not in the simulated object dictionary (no --static-od)"
+
+
+def _undescribed(od):
+    """What the simulated OD lacks that the firmware has (issue 26 item 16; no --static-od
+    gives it): the objects every device has (no value: the firmware's), the entries its
+    PDOs map (from the mapping: dcf2bin.dcfparts) and the dummy types they map. Returns
+    (whole objects' lines by index, sub sections' lines by index, dummy types)."""
+    from dcf2bin.indexes import is_pdo_mapping
+    mapped, dummies = dcfparts.mapped_entries(
+        (i, {sub: e.data for sub, e in subs.items()}) for i, subs in od.items()
+        if is_pdo_mapping(i))
+    extra = {i: dcfparts.mandatory_sections(i, mappable={s for (j, s) in mapped if j == i},
+                                            comment=_NOT_SIMULATED)
+             for i in dcfparts.MANDATORY if i not in od}
+    wanted: dict[int, dict] = {}
+    for (index, sub), m in mapped.items():
+        subs = od.get(index)
+        if index in extra or (subs is not None and (sub in subs or list(subs) == [0])):
+            continue
+        s = dcfparts.stub(index, sub, m, _WHERE)
+        if s is not None:
+            wanted.setdefault(index, {})[sub] = s
+    more_subs = {}
+    for index, stubs in sorted(wanted.items()):
+        if index in od:
+            more_subs[index] = [line for sub, s in stubs.items()
+                                for line in dcfparts.stub_sub(index, sub, s, obj_flags=True)]
+        else:
+            extra[index] = dcfparts.stub_object(index, stubs, None, _WHERE)
+    return extra, more_subs, dummies
+
+
+_NOT_SIMULATED = f"; {_WHERE}: every CANopen device has it; its value is the firmware's"
 
 
 def _entry_name(index: int, sub: int, e, static_names) -> str:
@@ -187,7 +230,8 @@ def _entry_keys(e, name: str) -> list[str]:
     return keys
 
 
-def _object(index: int, subs: dict, static_names) -> list[str]:
+def _object(index: int, subs: dict, static_names, more=()) -> list[str]:
+    """An object of the OD; ``more``: the lines of mapped subs it lacks (``_undescribed``)."""
     only0 = list(subs) == [0]
     lines = [f"[{index:04X}]"]
     if only0:
@@ -195,12 +239,13 @@ def _object(index: int, subs: dict, static_names) -> list[str]:
         return lines + _entry_keys(e, _entry_name(index, 0, e, static_names)) + [""]
     ot = 0x8 if 0xA000 <= index <= 0xAFFF else 0x9
     name = static_names(index, None) if static_names is not None else None
+    n = len(subs) + sum(1 for line in more if line.startswith("["))
     lines += [f"ParameterName={name or f'Object 0x{index:04X}'}", f"ObjectType=0x{ot:X}",
-              f"SubNumber={len(subs)}", ""]
+              f"SubNumber={n}", ""]
     for sub, e in subs.items():
         lines.append(f"[{index:04X}sub{sub:X}]")
         lines += _entry_keys(e, _entry_name(index, sub, e, static_names)) + [""]
-    return lines
+    return lines + list(more)
 
 
 __all__ = ["emit_od", "text", "to_dict", "to_json", "verdict"]

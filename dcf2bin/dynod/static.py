@@ -27,8 +27,8 @@ class StaticOD:
     @classmethod
     def from_eds(cls, path: str, data: bytes | None = None) -> StaticOD:
         """Load an EDS/DCF as the static OD (its problems are the caller's to report)."""
-        from dcf2bin import model
-        return cls(model.load(path, data=data))
+        from dcf2bin import formats
+        return cls(formats.load(path, data=data))
 
     def has(self, index: int) -> bool:
         return index in self._objects and index not in self.exclude

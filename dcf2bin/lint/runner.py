@@ -14,14 +14,14 @@ from dataclasses import dataclass, field
 
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 from dcf2bin.lint import registry
-from dcf2bin.lint.context import BinContext, DcfContext, Options
-from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
+from dcf2bin.lint.context import BinContext, ConciseContext, DcfContext, Options
+from dcf2bin.lint.registry import BIN, CONCISE, DCF, RULES, Finding
 
-SUFFIXES = (".eds", ".dcf", ".bin")
+SUFFIXES = (".eds", ".dcf", ".xdd", ".xdc", ".xpd", ".bin")
 DCF_SUFFIXES = (".eds", ".dcf", ".ini")
 KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
-KIND_JSON = "json"
-NOTHING_FOUND = "no *.dcf, *.eds or *.bin file in this directory"
+KIND_JSON, KIND_CONCISE, KIND_CONCISE_JSON = "json", "concise", "concise-json"
+NOTHING_FOUND = "no *.dcf, *.eds, *.xdd, *.xdc, *.xpd or *.bin file in this directory"
 
 
 @dataclass
@@ -63,7 +63,8 @@ class RunResult:
 
 def discover(paths: list[str]) -> list[tuple[str, str | None]]:
     """(shown path, error or None) for every input: files as given, directories walked
-    for *.eds, *.dcf, *.bin (any case; hidden entries skipped), '-' for stdin."""
+    for *.eds, *.dcf, *.xdd, *.xdc, *.xpd, *.bin (any case; hidden entries skipped), '-' for
+    stdin."""
     out: list[tuple[str, str | None]] = []
     for p in paths:
         if p == "-" or not os.path.isdir(p):
@@ -89,10 +90,27 @@ def discover(paths: list[str]) -> list[tuple[str, str | None]]:
 
 def _kind_of(path: str, data: bytes) -> str:
     """The file's kind by content, as every command reads it (dcf2bin.filekind); the name
-    decides only for an empty or blank file."""
+    decides only for an empty or blank file. Every description format is KIND_DCF; a kind
+    validate does not check (a CSV list, a network file, an output of dcf2bin:
+    filekind.KINDS) is returned as filekind names it."""
+    return _lint_kind(_file_kind(path, data))
+
+
+def _file_kind(path: str, data: bytes) -> str:
     from dcf2bin import filekind
-    kind = filekind.detect(data, "" if path.startswith("<") else path)
-    return {filekind.CONTAINER: KIND_BIN, filekind.JSON: KIND_JSON}.get(kind, KIND_DCF)
+    return filekind.detect(data, "" if path.startswith("<") else path)
+
+
+def _lint_kind(file_kind: str) -> str:
+    from dcf2bin import filekind
+    if filekind.kind_of(file_kind) is not None:
+        return file_kind
+    return _KINDS.get(file_kind, KIND_DCF)
+
+
+# filekind's kinds; the rest: KIND_DCF
+_KINDS = {"bin": KIND_BIN, "json": KIND_JSON, "concise": KIND_CONCISE,
+          "concise-json": KIND_CONCISE_JSON}
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
@@ -124,9 +142,9 @@ def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
 def lint_path(path: str, shown: str, opts: Options) -> FileResult:
     """Read and lint the file ``path`` (named ``shown`` in the diagnostics); an unreadable
     file is one IO001 finding."""
+    from dcf2bin.fileio.reading import read_file   # bounded, never a FIFO or a device
     try:
-        with open(path, "rb") as f:
-            data = f.read()
+        data = read_file(path)
     except OSError as exc:
         return _unreadable(shown, exc.strerror or str(exc))
     return lint_bytes(shown, data, opts)
@@ -143,12 +161,18 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
                kind: str | None = None) -> FileResult:
     """Lint one input given as bytes; ``name`` is used in the diagnostics."""
     opts = opts or Options()
-    kind = kind or _kind_of(name, data)
+    file_kind = _file_kind(name, data)
+    kind = kind or _lint_kind(file_kind)
     res = FileResult(name, kind)
-    if kind == KIND_JSON:
-        res.diagnostics.append(_not_lintable(name))
+    if kind in (KIND_JSON, KIND_CONCISE_JSON):
+        res.diagnostics.append(_not_lintable(name, file_kind))
         return res
-    note = _misnamed(name, kind)
+    if kind not in (KIND_DCF, KIND_BIN, KIND_CONCISE):   # another kind: one sentence
+        res.kind = KIND_DCF
+        res.diagnostics.append(_other_kind(name, kind))
+        return res
+    note = _misnamed(name, "bin" if kind == KIND_BIN else
+                     "concise" if kind == KIND_CONCISE else file_kind)
     # As in a compile: a large file makes hundreds of thousands of small objects and no
     # reference cycles worth collecting; the cyclic GC would only rescan them, more often
     # the larger the file (a cost that grows faster than the file). The caller's setting
@@ -158,6 +182,8 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     try:
         if kind == KIND_BIN:
             _Run(res, opts).container(data)
+        elif kind == KIND_CONCISE:
+            _Run(res, opts).concise(data)
         else:
             _Run(res, opts).dcf(data)
     finally:
@@ -176,31 +202,44 @@ def lint_model(name: str, data: bytes, dev, opts: Options) -> FileResult:
         return lint_bytes(name, data, opts)
     res = FileResult(name, KIND_DCF)
     _Run(res, opts).dcf(data, dev)
-    note = _misnamed(name, KIND_DCF)
+    note = _misnamed(name, _file_kind(name, data))
     if note is not None and "IO002" in (opts.active if opts.active is not None else RULES):
         res.diagnostics.insert(0, note)
     return res
 
 
-def _misnamed(name: str, kind: str) -> Diagnostic | None:
-    """IO002: a file whose content is another kind than its name says (checked by content)."""
+def _misnamed(name: str, file_kind: str) -> Diagnostic | None:
+    """IO002: a file whose content is another kind than its name says (checked by content;
+    ``file_kind`` is filekind's)."""
     from dcf2bin import filekind
     if name.startswith("<"):
         return None
-    text = filekind.misnamed(name, filekind.CONTAINER if kind == KIND_BIN else filekind.DCF)
+    if file_kind not in (filekind.CONTAINER, filekind.XDD, filekind.CONCISE):
+        file_kind = filekind.DCF
+    text = filekind.misnamed(name, file_kind)
     if text is None:
         return None
     return Diagnostic(Severity.WARNING, text.replace("; read as", "; checked as"), name,
                       rule="IO002", hint=RULES["IO002"].hint)
 
 
-def _not_lintable(name: str) -> Diagnostic:
-    """The JSON form given to validate: what it is, and the command that makes a container
-    of it (DCF008: not EDS/DCF text)."""
+def _other_kind(name: str, kind: str) -> Diagnostic:
+    """A file of another kind (filekind.KINDS): what it looks like and who reads it, once
+    (DCF008: not EDS/DCF text), instead of a DCF002 for each of its lines."""
     from dcf2bin import filekind
     return Diagnostic(Severity.ERROR, filekind.mismatch(
-        name, filekind.JSON, (filekind.DCF, filekind.CONTAINER),
-        use="dcf2bin compile turns it back into the container, which validate checks"),
+        name, kind, (filekind.DCF, filekind.CONTAINER)), name, rule="DCF008",
+        hint=RULES["DCF008"].hint)
+
+
+def _not_lintable(name: str, kind: str) -> Diagnostic:
+    """A JSON form given to validate: what it is, and the command that makes a container
+    or a concise DCF of it (DCF008: not EDS/DCF text)."""
+    from dcf2bin import filekind
+    what = "the concise DCF" if kind == filekind.CONCISE_JSON else "the container"
+    return Diagnostic(Severity.ERROR, filekind.mismatch(
+        name, kind, (filekind.DCF, filekind.CONTAINER),
+        use=f"dcf2bin compile turns it back into {what}, which validate checks"),
         name, rule="DCF008", hint=RULES["DCF008"].hint)
 
 
@@ -249,13 +288,13 @@ class _Run:
                           r.id, f.hint or r.hint)
 
     def dcf(self, data: bytes, dev=None) -> None:
-        from dcf2bin import ini, layout, model
+        from dcf2bin import formats, layout, model
         from dcf2bin import select as select_mod
         from dcf2bin.profiles import get_profile
         opts, path = self.opts, self.res.path
         ok, dev = (True, dev) if dev is not None else self.guard(
-            "reading the file", lambda: model.build(
-                ini.parse_bytes(data, path), node_id=opts.node_id,
+            "reading the file", lambda: formats.build(
+                formats.read(data, path), node_id=opts.node_id,
                 allow_external_files=opts.allow_external_files))
         if not ok:
             return self.finish()
@@ -343,6 +382,17 @@ class _Run:
                      for d in self.diags)
         if self.target_wanted() and not broken:
             self.guard("the target emulation", self.target_container, data)
+        self.finish()
+
+    def concise(self, data: bytes) -> None:
+        """A concise DCF: the reader's finding (CON001-CON004), or the checks of one that
+        reads."""
+        ok, ctx = self.guard("reading the concise DCF",
+                             lambda: ConciseContext(self.res.path, data, self.opts))
+        if ok:
+            self.core.extend(self._core(d, d.rule) for d in ctx.diagnostics)
+            if ctx.entries is not None:
+                self.checks(CONCISE, ctx)
         self.finish()
 
     def finish(self) -> None:

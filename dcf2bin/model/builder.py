@@ -17,8 +17,8 @@ def load(path: str, *, node_id: int | None = None, allow_external_files: bool = 
          data: bytes | None = None) -> Device:
     """Read a DCF/EDS file into a Device. Problems are collected, never raised."""
     if data is None:
-        with open(path, "rb") as f:
-            data = f.read()
+        from dcf2bin.fileio.reading import read_file    # bounded; OSError as open's
+        data = read_file(path)
     parsed = ini_mod.parse_bytes(data, path)
     return build(parsed, node_id=node_id, allow_external_files=allow_external_files)
 

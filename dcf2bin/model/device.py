@@ -27,6 +27,10 @@ class Device(_Encoding, _ValueChecks):
     ini: ini_mod.IniFile | None = None
     allow_external_files: bool = False
     channels: list = field(default_factory=list)  # layout.Channel, parsed by layout
+    # what the file's format says beyond the model's fields, by (index, subindex or None
+    # for the object): a CiA 311 parameter's description, CANopenNode's CO_* properties
+    # (dcf2bin.formats.xdd.document.XddFile); kept for the writers of other formats
+    specifics: dict = field(default_factory=dict, repr=False)
     # (type code, value text) -> bytes: the encodings ``encode`` has made (a file repeats
     # few value texts per type, "0", "0x00"); select's hot loop reads it directly
     encoded: dict = field(default_factory=dict, repr=False)

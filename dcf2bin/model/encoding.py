@@ -4,7 +4,6 @@ DownloadFile) and reads it back as an integer.
 from __future__ import annotations
 
 import os
-import stat
 
 from dcf2bin import datatypes as dt, values
 from dcf2bin.diagnostics import DcfError
@@ -72,8 +71,9 @@ class _Encoding:
     def _download(self, entry: Entry) -> bytes:
         """The bytes of a DownloadFile (SPEC §1). Symlinks are resolved before the check
         that the file stays in the DCF's folder; only a regular file of at most
-        MAX_DOWNLOAD_FILE bytes is read (a FIFO, a device or a directory never is), and
-        it is opened without blocking, so a FIFO cannot hang the read."""
+        MAX_DOWNLOAD_FILE bytes is read (a FIFO, a device or a directory never is),
+        through the one bounded reader (``fileio.read_file``), which opens without
+        blocking, so a FIFO cannot hang the read."""
         where = entry.key_where("downloadfile")
         name = entry.download_file or ""
         shown = _clip(name, 80)
@@ -89,28 +89,20 @@ class _Encoding:
                 os.path.join(base, name))]) != base else "leads through a symbolic link out of"
             raise DcfError(f"DownloadFile '{shown}' {leaves} the DCF's folder", where,
                            rule="DCF202", hint="use --allow-external-files to permit it")
+        from dcf2bin.fileio.reading import InputTooLarge, NotARegularFile, read_file
         try:
-            fd = os.open(full, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
-                         | getattr(os, "O_BINARY", 0))
+            return read_file(full, limit=MAX_DOWNLOAD_FILE, descriptors=False)
+        except (NotARegularFile, IsADirectoryError):
+            raise DcfError(f"DownloadFile '{shown}' is not a regular file", where,
+                           rule="DCF202", hint="name a regular file, not a device, pipe "
+                           "or directory") from None
+        except InputTooLarge:
+            raise DcfError(f"DownloadFile '{shown}' is larger than {MAX_DOWNLOAD_FILE >> 20} MiB",
+                           where, rule="DCF202", hint="a DOMAIN value this large cannot be "
+                           "meant for a container") from None
         except OSError as exc:
             raise DcfError(f"cannot read DownloadFile '{shown}': {exc.strerror}", where,
                            rule="DCF202") from None
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            os.close(fd)
-            raise DcfError(f"DownloadFile '{shown}' is not a regular file", where,
-                           rule="DCF202", hint="name a regular file, not a device, pipe "
-                           "or directory")
-        with os.fdopen(fd, "rb") as f:
-            try:
-                data = f.read(MAX_DOWNLOAD_FILE + 1)
-            except OSError as exc:
-                raise DcfError(f"cannot read DownloadFile '{shown}': {exc.strerror}", where,
-                               rule="DCF202") from None
-        if len(data) > MAX_DOWNLOAD_FILE:
-            raise DcfError(f"DownloadFile '{shown}' is larger than {MAX_DOWNLOAD_FILE >> 20} MiB",
-                           where, rule="DCF202", hint="a DOMAIN value this large cannot be "
-                           "meant for a container")
-        return data
 
     def effective_int(self, entry: Entry) -> int:
         """The effective value of an integer entry as a Python int (raises DcfError)."""

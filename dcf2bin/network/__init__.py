@@ -27,10 +27,11 @@ def configure(network: Network) -> Network:
     return _configure(network)
 
 
-def build_network(path: str, outdir: str | None = None, *, data: bytes | None = None):
-    """Read, configure and build a network; see :mod:`dcf2bin.network.build`."""
+def build_network(path: str, outdir: str | None = None, *, data: bytes | None = None,
+                  master: str | None = None, select=None, ignore=None):
+    """Read, configure, check and build a network; see :mod:`dcf2bin.network.build`."""
     from dcf2bin.network.build import build_network as _build
-    return _build(path, outdir, data=data)
+    return _build(path, outdir, data=data, master=master, select=select, ignore=ignore)
 
 
 __all__ = ["Network", "build_network", "check_network", "configure", "load_network"]

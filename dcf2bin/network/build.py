@@ -10,13 +10,13 @@ when there is an error, there or here.
 from __future__ import annotations
 
 import gc
-import os
 import re
 from dataclasses import dataclass, field
 
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where
 from dcf2bin.network.model import Network
 
+from dcf2bin.network.configuration import LELY, PLC, master_kind  # noqa: F401 (re-exported)
 _BAD_NAME = re.compile(r"[/\\\x00-\x1f:*?\"<>|]")
 
 
@@ -27,18 +27,25 @@ class BuildResult:
     network: Network
     diagnostics: list[Diagnostic] = field(default_factory=list)
     outputs: dict[str, bytes] = field(default_factory=dict)
+    mode: str = PLC                    # the master built: PLC (its dcf:) or LELY (D-21)
 
     @property
     def ok(self) -> bool:
         return not any(d.severity is Severity.ERROR for d in self.diagnostics)
 
 
-def build_network(path: str, outdir: str | None = None, *,
-                  data: bytes | None = None) -> BuildResult:
+def build_network(path: str, outdir: str | None = None, *, data: bytes | None = None,
+                  master: str | None = None, select=None, ignore=None) -> BuildResult:
     """Read, configure, check and build the network file ``path`` (or ``data`` named
-    ``path``). With ``outdir``, the outputs are written there when there is no error:
-    each file is written to a temporary file first, then all are renamed. A network file
-    that cannot be read raises OSError."""
+    ``path``). ``master``: PLC or LELY forces the kind of master; by default a master
+    with ``dcf:`` is a PLC, one without a lely master (D-21). With ``outdir``, the
+    outputs are written there when there is no error, all or none (:func:`write_all`). A
+    network file that cannot be read, or an output that cannot be written, raises OSError;
+    an output over an input, ``OutputIsInput``.
+
+    The findings are ``network check``'s (``select``/``ignore`` as there), validate's
+    warnings about each node's file left out; an error of the network file, of the
+    configuration or of reading a node's file stops the build whatever they say."""
     # As compile does: a build makes many small objects and no reference cycles worth
     # collecting; the cyclic GC would only rescan them (a fifth of the time at 126
     # slaves, and the cost would grow faster than the network). The caller's setting
@@ -46,27 +53,36 @@ def build_network(path: str, outdir: str | None = None, *,
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        return _build(path, outdir, data)
+        return _build(path, outdir, data, master, select, ignore)
     finally:
         if was_enabled:
             gc.enable()
 
 
-def _build(path: str, outdir: str | None, data: bytes | None) -> BuildResult:
-    from dcf2bin.network.configuration import configure
-    from dcf2bin.network.yamlfile import load_network
-    net = configure(load_network(path, data))
-    res = BuildResult(net)
-    diags = net.diagnostics
+def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None = None,
+           select=None, ignore=None) -> BuildResult:
+    from dcf2bin.network.check import ERRORS, examine, is_cpj
+    if is_cpj(path):
+        res = BuildResult(Network(path, kind="cpj"))
+        res.diagnostics.append(Diagnostic(
+            Severity.ERROR, "build reads a YAML network file (lely's dcfgen, ros2_canopen's "
+            "bus.yml): a .cpj project has no master and nothing to build (network check, "
+            "show, download and scan read it)", path, rule="NET012"))
+        return res
+    if data is None:
+        from dcf2bin.network.files import read_node_file
+        data = read_node_file(path)          # the one bounded reader; OSError as promised
+    checked = examine(path, select=select, ignore=ignore, data=data, lint=ERRORS,
+                      binding=True, master=kind)
+    net = checked.network
     master = net.master
-    if master is not None and master.device is None and not diags.has_errors:
-        diags.error("build needs the PLC's EDS or DCF: give it as 'dcf:' under 'master:'",
-                    master.where, rule="NET119")
-    res.diagnostics = list(diags.items)
-    seen = {(d.rule, d.file, d.line, d.message) for d in res.diagnostics}
-    res.diagnostics += [d for d in network_rules(net)
-                        if (d.rule, d.file, d.line, d.message) not in seen]
-    if not res.ok or master is None:
+    mode = kind or (PLC if master is not None and master.file is not None else LELY)
+    res = BuildResult(net, list(checked.diagnostics), mode=mode)
+    if mode == PLC and master is not None and master.file is None and res.ok:
+        res.diagnostics.append(Diagnostic(
+            Severity.ERROR, "build needs the PLC's EDS or DCF: give it as 'dcf:' under "
+            "'master:'", master.where.file, master.where.line, rule="NET119"))
+    if not res.ok or master is None or not net.configured:
         return res
     out = Diagnostics()
     outputs = make_outputs(net, out, outdir or ".")
@@ -75,7 +91,8 @@ def _build(path: str, outdir: str | None, data: bytes | None) -> BuildResult:
         return res
     res.outputs = outputs
     if outdir is not None:
-        write_all(outdir, outputs)
+        report = write_all(outdir, outputs, [path, *net.files])
+        res.diagnostics += write_warnings(report, outdir)
     return res
 
 
@@ -115,6 +132,9 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     if names is None:
         return {}
     master = net.master
+    if master.device is None:           # a lely master (D-21)
+        from dcf2bin.network.lely import make_outputs as lely_outputs
+        return lely_outputs(net, names, diags)
     outputs: dict[str, bytes] = {}
     plc_name = names[master.name] + ".dcf"
     base = net.files[master.device.path]
@@ -139,25 +159,22 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     return outputs
 
 
-def write_all(outdir: str, outputs: dict[str, bytes]) -> None:
-    """Write every output to a temporary file in ``outdir``, then rename them all: an
-    error while writing leaves no output changed (OSError is raised)."""
-    os.makedirs(outdir, exist_ok=True)
-    temps: list[tuple[str, str]] = []
-    try:
-        for name, data in outputs.items():
-            tmp = os.path.join(outdir, f".{name}.{os.getpid()}.tmp")
-            with open(tmp, "wb") as f:
-                temps.append((tmp, os.path.join(outdir, name)))
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
-        for tmp, final in temps:
-            os.replace(tmp, final)
-        temps = []
-    finally:
-        for tmp, _ in temps:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+def write_all(outdir: str, outputs: dict[str, bytes], inputs=(), on_wait=None):
+    """Write every output into ``outdir`` all or none (``fileio.OutputSet``: each file
+    checked first, never over one of ``inputs``, written as a temporary file and renamed
+    only when all are complete, rolled back on any error or signal). Returns the
+    ``SetReport``; raises ``OSError`` or ``OutputIsInput`` (a ``ValueError``)."""
+    from dcf2bin.fileio import OutputSet
+    return OutputSet(outdir, outputs.items(), inputs=inputs, on_wait=on_wait).write()
+
+
+def write_warnings(report, outdir: str) -> list[Diagnostic]:
+    """What writing the set found in the folder: a build stopped there before that was
+    undone first, and a warning per file an earlier build wrote that this one does not (a
+    slave removed from the network): kept, never deleted."""
+    out = []
+    if report.recovered:
+        out.append(Diagnostic(Severity.WARNING, report.recovered, outdir))
+    return out + [Diagnostic(Severity.WARNING, "written by an earlier build, not an output of "
+                             "this network: kept (remove it if it is no longer needed)", path)
+                  for path in report.stale]

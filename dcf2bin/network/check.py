@@ -122,14 +122,20 @@ def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
     return active | set(ALWAYS)
 
 
-def read_network(path: str, *, net: int | None = None) -> Network:
+def is_cpj(path: str) -> bool:
+    """A CiA 306-3 nodelist project is told by its name, as every network command tells
+    it (a YAML file named .cpj would be read as INI)."""
+    return path.lower().endswith(".cpj")
+
+
+def read_network(path: str, *, net: int | None = None, data: bytes | None = None) -> Network:
     """A network file read (not configured): a .cpj project, else a YAML file. Raises
     OSError when the file cannot be read."""
-    if path.lower().endswith(".cpj"):
+    if is_cpj(path):
         from dcf2bin.network import cpj
-        return cpj.read(path, net)
+        return cpj.read(path, net, data=data)
     from dcf2bin.network.yamlfile import load_network
-    return load_network(path)
+    return load_network(path, data)
 
 
 def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0,
@@ -141,25 +147,102 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
     above ``max_load`` percent is a warning. Never raises for a problem in the inputs: a
     file that cannot be read is an ``IO001`` finding.
     """
+    return examine(path, select=select, ignore=ignore, max_load=max_load, net=net)
+
+
+# What every network command finds (issue 26: one verdict). ``check`` lints each node's
+# file with every rule of validate; build, show, download and scan with the rules that can
+# report an error (their warnings and infos are check's alone), so that an error check
+# reports is an error of every command, and their exit codes agree.
+ALL, ERRORS = "all", "errors"
+
+
+def examine(path: str, *, select=None, ignore=None, max_load: float = 80.0,
+            net: int | None = None, data: bytes | None = None, lint: str = ALL,
+            binding: bool = False, master: str | None = None) -> CheckResult:
+    """Read, configure and check a network as every ``network`` command does: the network
+    file's findings, the configuration's, each node's file (read as ``validate`` reads it:
+    its kind, syntax and model, and with ``lint`` ALL every rule of validate, with ERRORS
+    the rules that can report an error), the rules of the network as a whole and the bus
+    load. ``binding``: the errors that leave nothing sound to build (the network file's,
+    the configuration's, the reading of a node's file: its syntax, structure and values)
+    are kept whatever ``select``/``ignore`` say (``network build``). ``master``: the kind
+    of master, PLC or LELY, when the user forces it (D-21; by default it follows ``dcf:``)."""
     active = resolve(select, ignore)
     # As build does: a network makes many small objects and no reference cycles worth
     # collecting (a fifth of the time at 126 slaves); the caller's setting is restored.
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        return _check(path, active, max_load, net)
+        res = _check(path, active | (_reading_rules() if binding else set()), max_load,
+                     net, data, lint, master)
     finally:
         if was_enabled:
             gc.enable()
+    res.diagnostics = one_per_cause([d for d in res.diagnostics if not d.rule
+                                     or d.rule in active or binding and is_binding(d)])
+    return res
 
 
-def _check(path: str, active: set[str], max_load: float, net: int | None) -> CheckResult:
+# validate's rule that says, of a PDO mapping entry of a node's file, what the network's
+# rule says of the same entry at the same line: the network's finding is the one kept
+# (it knows whether the network uses that PDO)
+SAME_CAUSE = {"DCF404": ("NET102", "NET105"), "DCF406": ("NET103",)}
+
+
+def one_per_cause(diags: list[Diagnostic]) -> list[Diagnostic]:
+    """One finding per cause (issue 27): validate's DCF404/DCF406 at a line where the
+    network reports NET102, NET105 or NET103 are left out."""
+    said = {(d.rule, d.file, d.line) for d in diags if d.rule in ("NET102", "NET103", "NET105")}
+    if not said:
+        return diags
+    return [d for d in diags
+            if not any((r, d.file, d.line) in said for r in SAME_CAUSE.get(d.rule, ()))]
+
+
+def is_binding(d: Diagnostic) -> bool:
+    """An error that build cannot leave out (``--ignore``): the network file's and the
+    configuration's (NET0xx, NET1xx), an input that cannot be read, and the reading of a
+    node's file (validate's core rules of syntax, structure and values, DCF0xx-DCF3xx)."""
+    if d.severity is not Severity.ERROR:
+        return False
+    if d.rule.startswith(("NET0", "NET1")) or d.rule in ALWAYS:
+        return True
+    from dcf2bin.lint.registry import RULES
+    r = RULES.get(d.rule)
+    return r is not None and r.source == "core" and d.rule.startswith("DCF")
+
+
+def _reading_rules() -> set[str]:
+    """validate's core rules of reading a file (syntax, structure, values): ``binding``
+    reports their errors whatever ``select``/``ignore`` say (see :func:`is_binding`)."""
+    from dcf2bin.lint.registry import RULES
+    return {c for c, r in RULES.items() if r.source == "core" and c.startswith("DCF")}
+
+
+def _lint_rules(active: set[str], lint: str) -> set[str]:
+    """The validate rules a node's file is linted with (see ALL, ERRORS): with ERRORS the
+    rules whose findings can be errors -- those registered as errors, and the core's
+    (the reader and the model word each finding with its own severity)."""
+    if lint == ALL:
+        return active
+    from dcf2bin.lint.registry import RULES
+    return {c for c in active
+            if c not in RULES or RULES[c].severity is Severity.ERROR
+            or RULES[c].source == "core"}
+
+
+def _check(path: str, active: set[str], max_load: float, net: int | None,
+           data: bytes | None = None, lint: str = ALL, master: str | None = None) -> CheckResult:
     try:
-        network = read_network(path, net=net)
+        network = read_network(path, net=net, data=data)
     except OSError as exc:
         d = Diagnostic(Severity.ERROR, f"cannot read: {exc.strerror or exc}", path,
                        rule="IO001", hint="check the path and its permissions")
         return CheckResult(None, [d], [(path, "unreadable")])
+    if master is not None and network.kind == "yaml":
+        from dcf2bin.network.configuration import master_kind
+        master_kind(network, master)
     res = CheckResult(network, files=[(path, network.kind)])
     found = Diagnostics()
     configured = network.kind == "cpj"        # a .cpj's nodes are their files as they are
@@ -175,7 +258,7 @@ def _check(path: str, active: set[str], max_load: float, net: int | None) -> Che
         # checked (the other rules would report what configuration never did)
         node_ids(network, found)
     else:
-        _validate_files(network, found, res, active)
+        _validate_files(network, found, res, _lint_rules(active, lint), lint == ALL)
         if network.nodes:
             found.extend(run_rules(network))
             from dcf2bin.network.load import estimate
@@ -187,29 +270,40 @@ def _check(path: str, active: set[str], max_load: float, net: int | None) -> Che
                     f"{network.bitrate // 1000} kbit/s, above {max_load:g} %" + (
                         f" ({n} frame{'s' if n > 1 else ''} of unknown rate counted as 0)"
                         if n else ""), network_where(network))
-    res.diagnostics = [d for d in found if not d.rule or d.rule in active]
+    res.diagnostics = list(found)
     return res
 
 
 # -- every node's file, as validate reads it ---------------------------------------------
 
 def _validate_files(network: Network, out: Diagnostics, res: CheckResult,
-                    active: set[str]) -> None:
+                    active: set[str], full: bool = True) -> None:
     """Each node's file linted once, as ``validate`` lints it (a file that several nodes
     share: once, with the node-ID of the first; the COB-IDs each node-ID gives are the
     network rules' to check). An error is kept as an error when some node of that file
-    configures or maps its entry, else it becomes a warning."""
+    configures or maps its entry, else it becomes a warning. Not ``full``: only what is
+    an error before that (validate's warnings and infos are check's)."""
     from dcf2bin.lint.context import Options
-    from dcf2bin.lint.runner import lint_model
+    from dcf2bin.lint.runner import lint_bytes, lint_model
     linted: dict[str, tuple] = {}
     found: dict = {}
     for node in network.nodes:
-        if node.file is None or node.device is None:
+        if node.file is None:
             continue
         if node.file not in linted:
             data = network.files.get(node.file)
             if data is None:
                 continue             # the reader reported it
+            if node.device is None:
+                # read but not modelled (not text, no section): what validate says of it
+                result = lint_bytes(node.file, data, Options(node_id=node.node_id,
+                                                             active=active))
+                linted[node.file] = (result, lambda line: None)
+                res.files.append((node.file, result.kind))
+                for d in result.diagnostics:
+                    if full or d.severity is Severity.ERROR:
+                        found.setdefault((d.file, d.line, d.column, d.rule, d.message), d)
+                continue
             # the Device configure built from these bytes, with this node-ID (the first
             # node of a shared file owns the original, the others copies): linted as it
             # is, not read a second time; only the rules that will be reported run
@@ -218,9 +312,13 @@ def _validate_files(network: Network, out: Diagnostics, res: CheckResult,
                 active=active))
             linted[node.file] = (result, _line_owner(node))
             res.files.append((node.file, result.kind))
+        elif node.device is None:
+            continue
         result, lines = linted[node.file]
         touched = _touched(node)
         for d in result.diagnostics:
+            if not full and d.severity is not Severity.ERROR:
+                continue
             key = (d.file, d.line, d.column, d.rule, d.message)
             if d.severity is Severity.ERROR and d.line is not None and d.rule not in ALWAYS:
                 owner = lines(d.line)
@@ -240,7 +338,9 @@ def _touched(node: Node) -> set:
     for p in node.pdos:
         base = (0x1400 if p.kind == "rpdo" else 0x1800) + p.number - 1
         out.add((base, None))
-        if p.exists:
+        if p.exists and (p.config is not None or not p.broken):
+            # (a kept PDO the YAML does not list, broken by a zero entry, is neither
+            # configured nor linked: D-17 keeps it as its file has it)
             out.add((base + 0x200, None))
             out.update((m.index, m.sub) for m in p.mapping)
     out.update((w.index, w.sub) for w in node.writes)
@@ -276,5 +376,5 @@ def _line_owner(node: Node):
     return owner
 
 
-__all__ = ["CheckResult", "SelectorError", "check_network", "read_network", "resolve",
-           "rule_table", "run_rules"]
+__all__ = ["ALL", "ERRORS", "CheckResult", "SelectorError", "check_network", "examine",
+           "is_binding", "is_cpj", "read_network", "resolve", "rule_table", "run_rules"]

@@ -20,19 +20,27 @@ CODES: list[tuple[str, str, str]] = [
     ("NET007", INFO, "a key dcf2bin does not use (ros2_canopen's driver, lely's dcf_path, "
                      "...): ignored"),
     ("NET008", WARNING, "eds: is read as dcf:"),
-    ("NET009", WARNING, "a key given in both defaults: and the node: the node's is taken"),
+    ("NET009", WARNING, "a key given in both defaults: and the node: the node's is taken "
+                        "(ros2_canopen's generator takes the one of defaults:)"),
     ("NET010", ERROR, "a node's EDS/DCF cannot be read (missing, a directory, no "
                       "permission)"),
+    ("NET011", ERROR, "a node's file is not EDS/DCF text (a binary container, its JSON "
+                      "form): it is not read"),
+    ("NET012", ERROR, "build reads a YAML network file: a .cpj project has no master and "
+                      "nothing to build"),
     # -- the configuration (D-17, D-18) ---------------------------------------------------
     ("NET101", ERROR, "a YAML PDO that the node's file does not have"),
     ("NET102", ERROR, "a mapped object that the slave's file lacks"),
     ("NET103", ERROR, "an object not mappable in that direction (TPDO: readable and not "
                       "rww; RPDO: writable and not rwr)"),
     ("NET104", ERROR, "a linked object whose data type has no CiA 405 range"),
-    ("NET105", ERROR, "a PDO kept from a file maps a zero entry among its subs 1..n"),
+    ("NET105", ERROR, "a PDO kept from a file maps a zero entry among its subs 1..n: an "
+                      "error when the YAML lists that PDO, else a warning (the slave keeps "
+                      "it, nothing links it)"),
     ("NET106", ERROR, "a name: that is not an IEC 61131-3 identifier"),
     ("NET107", ERROR, "two names for one object, or one name for two objects"),
-    ("NET108", ERROR, "the PLC cannot take a link: no free PDO, no sub for the inhibit "
+    ("NET108", ERROR, "the PLC cannot take a link: no free PDO (one finding for all the "
+                      "links of one kind that find none), no sub for the inhibit "
                       "time/event timer, too few mapping subs"),
     ("NET109", ERROR, "no free COB-ID is left to assign"),
     ("NET110", WARNING, "the PLC's file lacks an NMT entry: it is not written"),
@@ -50,6 +58,11 @@ CODES: list[tuple[str, str, str]] = [
     ("NET120", ERROR, "an output cannot be made: a node name that cannot be a file name, "
                       "two nodes with one output file, an entry the file only implies "
                       "(CompactPDO) with no section to state its value in"),
+    ("NET121", WARNING, "a listed PDO with an empty mapping: (null or []) is enabled with no "
+                        "object: it exists on the device, but nothing links it"),
+    ("NET122", WARNING, "one object mapped twice in one PDO's mapping:"),
+    ("NET123", WARNING, "a names: entry for an object that no linked PDO of that slave "
+                        "maps: the name is not used"),
 ]
 
 BY_CODE = {c: (sev, text) for c, sev, text in CODES}

@@ -47,12 +47,18 @@ def configure(net: Network) -> Network:
             slaveconfig.configure_slave(net, node, diags)
         _node_facts(node)
     mirrors = links.make_mirrors(net, diags)
+    if master.device is None:          # a lely master (D-21): numbered as dcfgen does
+        from dcf2bin.network.lely import order
+        order.renumber(net, mirrors)
     variables.make_variables(net, mirrors, diags)
     if master.device is not None and not _errors_before_placing(diags):
         variables.place(net, diags)
     plc = nmt.PlcWriter(master, diags)
     _plc_pdos(mirrors, plc)
     nmt.nmt_entries(net, plc, diags)
+    if master.device is None:          # the identity a lely master checks (D-21)
+        from dcf2bin.network.lely import identity
+        identity.apply(net)
     if master.device is not None and 0x1F22 in master.device.objects:
         from dcf2bin.network.concise import concise_dcf
         for s in net.slaves:
@@ -73,7 +79,6 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
     get copies of its Device that differ in the node-ID ($NODEID values) only."""
     import copy
 
-    from dcf2bin import ini as ini_mod
     from dcf2bin import model
     parsed: dict[str, object] = {}
     built: dict[str, object] = {}
@@ -83,17 +88,10 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         where = node.config_where.get("dcf", node.where)
         path = node.file
         if path not in parsed:
-            try:
-                from dcf2bin.network.files import read_node_file  # not a FIFO, not /dev/zero
-                data = read_node_file(path)
-                parsed[path] = ini_mod.parse_bytes(data, path)
-                net.files[path] = data
-            except OSError as exc:
-                parsed[path] = None
-                diags.error(f"cannot read {path}: {exc.strerror or exc}", where,
-                            rule="NET010")
-        if parsed[path] is None:
-            continue
+            parsed[path] = _parse(net, path, where, diags)
+        if parsed[path] is None or parsed[path].rejected or not parsed[path].sections:
+            continue     # (not EDS/DCF text, no section: its findings say so, and nothing
+            #              is configured from it -- the node has no device)
         base = built.get(path)
         if base is None:
             base = built[path] = model.build(parsed[path], node_id=node.node_id)
@@ -104,6 +102,27 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         dev.encoded, dev._warned, dev._verdicts = {}, set(), {}
         dev.problems = list(base.problems)
         node.device = dev
+
+
+def _parse(net: Network, path: str, where, diags: Diagnostics):
+    """A node's file read as every network command reads it (issue 26): through the one
+    bounded reader (never a FIFO or /dev/zero), then its kind by content as every command
+    tells it (a container or its JSON form is refused: NET011), then the INI reader. The
+    syntax and model findings are the node file's findings (``check.node_files``); None
+    when the file cannot be read or is of another kind."""
+    from dcf2bin import ini as ini_mod
+    from dcf2bin.network.files import read_node_file, wrong_kind
+    try:
+        data = read_node_file(path)
+    except OSError as exc:
+        diags.error(f"cannot read {path}: {exc.strerror or exc}", where, rule="NET010")
+        return None
+    wrong = wrong_kind(path, data)
+    if wrong is not None:
+        diags.error(wrong, where, rule="NET011")
+        return None
+    net.files[path] = data
+    return ini_mod.parse_bytes(data, path)
 
 
 def _plc_pdos(mirrors, plc: nmt.PlcWriter) -> None:
@@ -176,3 +195,18 @@ def _master_facts(master: Node) -> None:
     master.sync_cob_id = 0x80
     master.emcy_cob_id = 0x80 + master.node_id
 
+
+PLC, LELY = "plc", "lely"
+
+
+def master_kind(net: Network, kind: str | None) -> str:
+    """PLC or LELY: ``kind`` when given, else PLC for a master with ``dcf:``. A lely
+    master built from a file whose master has ``dcf:`` does not read it (an info)."""
+    master = net.master
+    if kind is None:
+        return PLC if master is not None and master.file is not None else LELY
+    if kind == LELY and master is not None and master.file is not None:
+        net.diagnostics.info("the master's dcf: is not read: a lely master is built",
+                             master.config_where.get("dcf", master.where), rule="NET007")
+        master.file = None
+    return kind

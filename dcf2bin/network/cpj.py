@@ -83,7 +83,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     from dcf2bin import model
     from dcf2bin.network import pdos
     from dcf2bin.network.configuration import _node_facts as node_facts
-    from dcf2bin.network.files import read_node_file
+    from dcf2bin.network.files import read_node_file, wrong_kind
     if data is None:
         data = read_node_file(path)
     network = Network(path, kind="cpj", diagnostics=Summarised())   # issue 26: see there
@@ -157,12 +157,16 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         node.file = os.path.join(folder, dcf[0])
         try:
             node_data = read_node_file(node.file)
-            node.device = model.load(node.file, node_id=x, data=node_data)
-            network.files.setdefault(node.file, node_data)     # network check lints these
         except OSError as exc:
             _add(diags, "NET055", f"{dcf[2]}: cannot read '{shorten(dcf[0])}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
+        wrong = wrong_kind(node.file, node_data)
+        if wrong is not None:               # as a YAML network's node file (NET011)
+            diags.error(wrong, Where(path, dcf[1]), rule="NET011")
+            continue
+        node.device = model.load(node.file, node_id=x, data=node_data)
+        network.files.setdefault(node.file, node_data)     # every command lints these
         own = _own_node_id(node.device)
         if own is not None and own != x:
             _add(diags, "NET059", f"node {x}: its DCF '{shorten(dcf[0])}' sets NodeID {own}; the "

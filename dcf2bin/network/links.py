@@ -44,13 +44,12 @@ def make_mirrors(net: Network, diags: Diagnostics) -> list[Pdo]:
             if owner is not None and owner != master.node_id or _key(pdo) in plc_tpdo:
                 continue       # slave-to-slave (or the PLC's own TPDO): not mirrored
             wanted.append((node, pdo, TPDO))
+    left: dict[str, list[tuple[Node, Pdo]]] = {RPDO: [], TPDO: []}
     for node, pdo, kind in wanted:
         pool = pools[kind]
         if not pool:
-            have = _capacity(master, kind)
-            diags.error(f"the PLC has no free {kind.upper()} for {node.name} {pdo.label} "
-                        f"({have} {kind.upper()}s in its file, all in use)", pdo.where,
-                        rule="NET108")
+            left[kind].append((node, pdo))
+            pdo.unlinked = True
             continue
         number = pool.pop(0)
         m = Pdo(master.node_id, kind, number, pdo.cob_id & MIRROR_BITS,
@@ -58,10 +57,14 @@ def make_mirrors(net: Network, diags: Diagnostics) -> list[Pdo]:
         if kind == TPDO and pdo.config is not None:
             m.inhibit_time = pdo.config.inhibit_time or 0
             m.event_timer = pdo.config.event_timer or 0
-        pdo.mirrored_by = m
         if master.device is not None and not _fits(master, m, pdo, diags):
+            pdo.unlinked = True
             continue
+        pdo.mirrored_by = m
         mirrors.append(m)
+    for kind, links in left.items():
+        if links:
+            _no_free(master, kind, links, diags)
     # a mirror takes the place of the PLC file's PDO of its number (one that did not
     # exist): master.pdos holds each PDO once, the PLC's own ones first
     taken = {(m.kind, m.number): m for m in mirrors}
@@ -71,6 +74,20 @@ def make_mirrors(net: Network, diags: Diagnostics) -> list[Pdo]:
             m.file_cob_id = p.file_cob_id
     master.pdos[:] = [p for p in master.pdos if (p.kind, p.number) not in taken] + mirrors
     return mirrors
+
+
+def _no_free(master: Node, kind: str, links: list[tuple[Node, Pdo]],
+             diags: Diagnostics) -> None:
+    """One cause, one finding (issue 27): every link of one kind that finds no free PLC PDO,
+    named at the first of them."""
+    have = _capacity(master, kind)
+    shown = [f"{node.name} {pdo.label}" for node, pdo in links[:6]]
+    more = len(links) - len(shown)
+    what = ", ".join(shown) + (f" and {more} more" if more else "")
+    k = kind.upper()
+    diags.error(f"the PLC has no free {k} for {what} ({have} {k}s in its file, all in use; "
+                f"{len(links)} more link{'s' if len(links) != 1 else ''} than it can take)",
+                links[0][1].where, rule="NET108")
 
 
 def _capacity(master: Node, kind: str) -> int:

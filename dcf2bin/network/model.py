@@ -64,6 +64,8 @@ class Pdo:
     file_cob_id: int | None = None     # comm sub 1 as the node's file gives it
     broken: bool = False               # a kept mapping naming a zero entry: not linked
     mirrored_by: "Pdo | None" = None   # for a slave PDO: the PLC PDO that mirrors it
+    unlinked: bool = False             # a link the PLC cannot take (NET108 says why): the
+                                       # rules do not report it again as unconsumed
 
     @property
     def can_id(self) -> int:
@@ -145,6 +147,7 @@ class PdoConfig:
     sync_start: int | None = None
     mapping: list[MapConfig] | None = None
     wheres: dict[str, Where] = field(default_factory=dict)   # key -> its line
+    empty_mapping: bool = False         # `mapping:` given as null or [] (NET121)
 
 
 @dataclass
@@ -181,6 +184,8 @@ class Node:
     config_where: dict[str, Where] = field(default_factory=dict)   # YAML key -> its line
     pdo_config: dict[tuple[str, int], PdoConfig] = field(default_factory=dict)
     sdo_config: list[SdoConfig] = field(default_factory=list)
+    names: dict[tuple[int, int], tuple[str, Where]] = field(default_factory=dict)
+    # the slave's `names:` (D-17): (index, sub) -> the variable name and its line
     settings: dict[tuple[int, int], Write] = field(default_factory=dict)
     # the configured value of each (index, sub) this node's output DCF states as a
     # ParameterValue (slave: the last write of each entry; master: its PDOs, NMT entries)

@@ -1,4 +1,6 @@
-"""The PLC's NMT entries (SPEC §10.2, D-17), as lely's dcfgen makes them.
+"""The PLC's NMT entries (SPEC §10.2, D-17): the objects lely's dcfgen fills, with the
+values D-17 gives (docs/network.md lists where dcfgen's differ: 0x1F85-0x1F88 taken from
+the slave's file, 0x1F81 bits 6-7, 0x1F55 for a zero software_version, 0x1016 truncated).
 
 0x1F81, 0x1F84-0x1F86 and 0x1016 always; 0x1F87, 0x1F88, 0x1F55, 0x1017, 0x1006, 0x1007,
 0x1F80 and 0x1F89 only when the YAML gives a key they come from; 0x1005 with

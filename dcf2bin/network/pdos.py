@@ -141,15 +141,38 @@ def apply_yaml(node: Node, diags: Diagnostics) -> None:
             pdo.event_timer = pc.event_deadline
         if pc.mapping is not None:
             pdo.mapping = []
+            first: dict[tuple[int, int], Where] = {}
             for mc in pc.mapping:
                 m = yaml_mapped(node, kind, mc.index, mc.sub, mc.where, diags)
                 if m is not None:
                     m.name = mc.name
                     pdo.mapping.append(m)
+                    _once(node, pdo, m, first, diags)
+        if pc.empty_mapping and pc.enabled is not False:
+            diags.warning(f"{node.name} {pdo.label}: mapping: is empty, so the PDO is "
+                          "enabled with no object: it exists on the device but not in the "
+                          "network, and nothing links it (map an object, or write "
+                          "enabled: false)", pc.wheres.get("mapping", pc.where),
+                          rule="NET121")
         if pc.enabled is False:
             pdo.cob_id = (pdo.file_cob_id or 0) | COB_INVALID
         elif isinstance(pc.cob_id, int):
             pdo.cob_id = pc.cob_id
+
+
+def _once(node: Node, pdo: Pdo, m: Mapped, first: dict, diags: Diagnostics) -> None:
+    """NET122: one object twice in one YAML mapping (a dummy entry may repeat: it only
+    skips bits)."""
+    if m.is_dummy:
+        return
+    key = (m.index, m.sub)
+    if key not in first:
+        first[key] = m.where
+        return
+    what = ("sends it twice in every frame" if pdo.kind == TPDO
+            else "writes it twice from every frame, the later value last")
+    diags.warning(f"{node.name} {pdo.label} maps 0x{m.index:04X}sub{m.sub:X} twice (also "
+                  f"at line {first[key].line}): it {what}", m.where, rule="NET122")
 
 
 def needs_id(pdo: Pdo) -> bool:
@@ -213,17 +236,27 @@ def _direction_message(node: Node, kind: str, index: int, sub: int, access) -> s
 
 def check_kept(node: Node, diags: Diagnostics) -> None:
     """The mapping rules for a PDO kept from the file that exists in the network; a zero
-    entry among subs 1..n breaks it (neither mirrored nor counted)."""
+    entry among subs 1..n breaks it (neither mirrored nor counted): an error when the
+    YAML lists that PDO, else a warning -- a vendor file keeping such a PDO that nobody
+    uses does not stop the network (D-17)."""
     dev = node.device
     for pdo in node.pdos:
         if (pdo.config is not None and pdo.config.mapping is not None) or not pdo.exists:
             continue
         for m in pdo.mapping:
             if m.index == 0 and m.sub == 0 and m.bits == 0:
-                diags.error(f"{node.name} {pdo.label} maps a zero entry", m.where,
-                            rule="NET105")
+                if pdo.config is not None:
+                    diags.error(f"{node.name} {pdo.label} maps a zero entry (sub 0 counts "
+                                f"{len(pdo.mapping)} objects); the network file lists this "
+                                "PDO: give its mapping, or disable it", m.where,
+                                rule="NET105")
+                else:
+                    diags.warning(f"{node.name} {pdo.label} maps a zero entry (sub 0 counts "
+                                  f"{len(pdo.mapping)} objects): the PDO is kept as the "
+                                  "file has it, and nothing links it", m.where,
+                                  rule="NET105")
                 pdo.broken = True
-                continue
+                break
             if m.is_dummy:
                 continue
             e = dev.entry(m.index, m.sub)

@@ -103,6 +103,12 @@ def _sync_window(network: Network, node: Node) -> tuple[int | None, Where]:
     return value, where or where_of(network, node)
 
 
+def unread(node: Node) -> bool:
+    """A node whose file could not be read: its facts are unknown, and what its file would
+    say is not reported again as what it lacks (one cause, one finding)."""
+    return node.file is not None and node.device is None
+
+
 def heartbeats(network: Network, out: Diagnostics) -> None:
     by_id = {n.node_id: n for n in reversed(network.nodes)}
     for node in network.nodes:
@@ -114,6 +120,8 @@ def heartbeats(network: Network, out: Diagnostics) -> None:
             if them is None:
                 add(out, "NET252", f"{name(node)} monitors node {hb.node_id}, which is not in "
                     "the network", where)
+            elif unread(them):
+                continue
             elif them.heartbeat_producer == 0:
                 add(out, "NET251", f"{name(node)} monitors {name(them)}, which produces no "
                     "heartbeat (producer time 0)", where)
@@ -126,6 +134,7 @@ def heartbeats(network: Network, out: Diagnostics) -> None:
         return
     watched = {hb.node_id for hb in master.heartbeat_consumers if hb.time_ms}
     for node in network.nodes:
-        if node.role == SLAVE and node.mandatory and node.node_id not in watched:
+        if node.role == SLAVE and node.mandatory and node.node_id not in watched \
+                and not unread(node):
             add(out, "NET253", f"{name(node)} is mandatory but the master does not monitor "
                 "its heartbeat", where_of(network, node))

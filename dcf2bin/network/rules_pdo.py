@@ -16,12 +16,13 @@ def cob_ids(network: Network, links: Links, out: Diagnostics) -> None:
             add(out, "NET210", f"{name(node, pdo)} produces COB-ID {cob(pdo)}, as "
                 f"{name(n0, p0)} at {where_of(network, n0, p0)} does",
                 where_of(network, node, pdo))
+    # (a link the PLC cannot take is NET108's: one cause, one finding)
     for node, pdo in existing(network, RPDO):
-        if key(pdo) not in links.producers:
+        if key(pdo) not in links.producers and not pdo.unlinked:
             add(out, "NET211", f"{name(node, pdo)} listens to COB-ID {cob(pdo)}, which no "
                 "TPDO of the network produces", where_of(network, node, pdo))
     for node, pdo in existing(network, TPDO):
-        if key(pdo) not in links.consumers:
+        if key(pdo) not in links.consumers and not pdo.unlinked:
             add(out, "NET212", f"{name(node, pdo)} (COB-ID {cob(pdo)}) is consumed by no "
                 "RPDO of the network", where_of(network, node, pdo))
 
@@ -80,16 +81,25 @@ def mappings(network: Network, links: Links, out: Diagnostics) -> None:
                 f"({_type_name(p.datatype)})", where)
 
 
-def _sources(links: Links, pdo: Pdo) -> dict[tuple[int, int], tuple | None]:
-    """Each object an RPDO writes -> where its value comes from: the producer's node and
-    the object it sends at the same bits (None: no producer, or no field there)."""
+def _sources(links: Links, pdo: Pdo) -> dict[tuple, tuple]:
+    """Each object an RPDO writes -> (where its value comes from: the producer's node and
+    the object it sends at the same bits, None when there is no producer or no field
+    there; the object as findings name it). A PLC mirror's entry is its variable (the
+    slave object it stands for, whether it is placed yet or not: a PLC that could not
+    place its variables still maps the slaves' objects, of different slaves alike)."""
     found = links.producer_of(pdo)
     sent = {}
     if found is not None:
         pnode, prod = found
         sent = {(at, bits): (pnode.node_id, m.index, m.sub) for at, bits, m in _fields(prod)}
-    return {(m.index, m.sub): sent.get((at, bits)) for at, bits, m in _fields(pdo)
-            if not m.is_dummy}
+    out = {}
+    for at, bits, m in _fields(pdo):
+        if m.is_dummy:
+            continue
+        obj = ("var", m.name.casefold()) if pdo.mirror_of is not None and m.name \
+            else (m.index, m.sub)
+        out[obj] = (sent.get((at, bits)), (m.index, m.sub))
+    return out
 
 
 def written_twice(network: Network, links: Links, out: Diagnostics) -> None:
@@ -104,10 +114,10 @@ def written_twice(network: Network, links: Links, out: Diagnostics) -> None:
         for pdo in node.pdos:
             if not pdo.exists or pdo.broken or pdo.kind != RPDO:
                 continue
-            for obj, source in _sources(links, pdo).items():
+            for obj, (source, (index, sub)) in _sources(links, pdo).items():
                 other, was = first.setdefault(obj, (pdo, source))
                 if other is pdo or (source is not None and source == was):
                     continue
-                add(out, "NET224", f"{name(node, pdo)} maps 0x{obj[0]:04X}sub{obj[1]:X}, "
+                add(out, "NET224", f"{name(node, pdo)} maps 0x{index:04X}sub{sub:X}, "
                     f"as {other.label} at {where_of(network, node, other)} does: the "
                     "later frame overwrites it", where_of(network, node, pdo))

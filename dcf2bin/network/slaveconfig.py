@@ -4,7 +4,8 @@ For each configured PDO, RPDOs then TPDOs by number: comm sub 1 = COB-ID | 0x800
 the subs the YAML gives; only with ``mapping:``, mapping sub 0 = 0, subs 1..n, sub 0 = n;
 last comm sub 1 = COB-ID (left invalid for ``enabled: false``). Then guard_time (0x100C),
 life_time_factor (0x100D), heartbeat_producer (0x1017), the heartbeat consumer entry for
-the master (0x1016), and the ``sdo`` list in order.
+the master (0x1016) -- or, for a slave that does not monitor the master, its file's 0x1016
+entries that do, cleared as lely's dcfgen clears them --, and the ``sdo`` list in order.
 """
 from __future__ import annotations
 
@@ -73,8 +74,8 @@ def configure_slave(net: Network, node: Node, diags: Diagnostics) -> None:
                              ("heartbeat_producer", 0x1017, "producer heartbeat time")):
         if key in node.config:
             put(index, 0, node.config[key], what, cw.get(key))
-    if node.config.get("heartbeat_consumer"):
-        _consumer(net, node, put, diags)
+    if not (node.config.get("heartbeat_consumer") and _consumer(net, node, put, diags)):
+        _stop_watching(net, node, put)
     for item in node.sdo_config:
         w = sdo_write(dev, item.index, item.sub, item.value, item.where, node.name, diags)
         if w is not None:
@@ -83,16 +84,42 @@ def configure_slave(net: Network, node: Node, diags: Diagnostics) -> None:
         node.settings[(w.index, w.sub)] = w
 
 
-def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> None:
+def _stop_watching(net: Network, node: Node, put) -> None:
+    """A slave that does not monitor the master (``heartbeat_consumer`` false, the
+    default, or a master without heartbeat) keeps no 0x1016 entry of its file that
+    watches the master: a slave monitoring a master that sends no heartbeat, or that the
+    network does not mean it to monitor, faults. As lely's dcfgen does it: each sub whose
+    value names the master's node-ID with a nonzero time is written as that node-ID with
+    time 0 (unused, CiA 301)."""
+    master = net.master
+    dev = node.device
+    obj = dev.objects.get(0x1016) if master is not None else None
+    if obj is None:
+        return
+    why = ("heartbeat_consumer is false" if not node.config.get("heartbeat_consumer")
+           else "the master produces no heartbeat")
+    where = node.config_where.get("heartbeat_consumer", node.where)
+    for s in sorted(x for x in obj.entries if x):
+        value = entry_int(dev, 0x1016, s, 0) or 0
+        if (value >> 16) & 0xFF == master.node_id and value & 0xFFFF:
+            put(0x1016, s, master.node_id << 16,
+                f"consumer heartbeat time: stops monitoring the master (node "
+                f"{master.node_id}; {why})", where)
+
+
+def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> bool:
+    """The slave's 0x1016 entry that monitors the master; False when the master produces
+    no heartbeat (then the slave does not monitor it)."""
     master = net.master
     where = node.config_where.get("heartbeat_consumer")
     if master is None:
-        return
-    if not master.heartbeat_producer:
+        return True
+    if not master.heartbeat_producer or not times(master.heartbeat_producer,
+                                                 multiplier(net, master)):
         diags.warning(f"{node.name} is to monitor the master, but the master produces no "
                       "heartbeat (heartbeat_producer 0): nothing written", where,
                       rule="NET116")
-        return
+        return False
     dev = node.device
     obj = dev.objects.get(0x1016)
     subs = sorted(s for s in (obj.entries if obj else {}) if s)
@@ -108,12 +135,13 @@ def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> None:
                     f"({len(subs)} subs, all in use)" if obj else
                     f"{node.name}'s file has no 0x1016 (consumer heartbeat time)", where,
                     rule="NET115")
-        return
+        return True
     t = times(master.heartbeat_producer, multiplier(net, master))
     if t > 0xFFFF:
         diags.error(f"the master's heartbeat time {master.heartbeat_producer} ms x "
                     f"{multiplier(net, master):g} = {t} ms is over 65535 ms", where,
                     rule="NET112")
-        return
+        return True
     put(0x1016, chosen, (master.node_id << 16) | t,
         f"consumer heartbeat time: monitors the master (node {master.node_id}, {t} ms)", where)
+    return True

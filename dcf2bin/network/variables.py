@@ -2,10 +2,12 @@
 
 Each slave object mapped in a linked PDO becomes one PLC variable of its data type (an
 input from a slave TPDO, an output to a slave RPDO), mapped at the same position with the
-same length in the PLC PDO that mirrors it; an object mapped in several PDOs is one
-variable; a dummy entry stays the same dummy. Names: the first ``name:`` of the object,
-else ``<slave>_<INDEX>_<SUB>``. Placement is ``allocate --into``'s (D-15): inputs in link
-order, then outputs.
+same length in the PLC PDO that mirrors it; an object mapped in several PDOs of one
+direction is one variable, one mapped both ways two (an input and an output); a dummy
+entry stays the same dummy. Names: the first ``name:`` of the object, else the slave's
+``names:`` entry for it, else ``<slave>_<INDEX>_<SUB>`` -- the last two ending in ``_in``
+and ``_out`` for an object mapped both ways. Placement is ``allocate --into``'s (D-15):
+inputs in link order, then outputs.
 """
 from __future__ import annotations
 
@@ -31,12 +33,34 @@ def is_iec_identifier(name: str) -> bool:
     return base_ident(name, 0, 0) == name
 
 
+def both_ways(mirrors: list[Pdo]) -> set[tuple[int, int, int]]:
+    """(slave node-ID, index, sub) of every slave object that the PLC both reads (from a
+    slave TPDO) and writes (to a slave RPDO): two variables, whose names end in ``_in``
+    and ``_out`` (D-17; no other name changes)."""
+    seen: dict[tuple[int, int, int], set[str]] = {}
+    for mirror in mirrors:
+        src = mirror.mirror_of
+        for m in src.mapping:
+            if not m.is_dummy:
+                seen.setdefault((src.node_id, m.index, m.sub), set()).add(mirror.kind)
+    return {k for k, kinds in seen.items() if len(kinds) == 2}
+
+
+def suffix(key: tuple, both: set) -> str:
+    """``_in``/``_out`` for the variable ``key`` (node-ID, index, sub, direction) of an
+    object mapped both ways, else nothing."""
+    if key[:3] not in both:
+        return ""
+    return "_in" if key[3] == "input" else "_out"
+
+
 def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None:
     """net.variables and the mirrors' mappings (PLC objects filled in by ``place``)."""
     with_dcf = net.master.device is not None
     by_object: dict[tuple, Variable] = {}
     name_where: dict[tuple, Where] = {}
     by_name: dict[str, tuple[tuple, Where]] = {}
+    both = both_ways(mirrors)
     for mirror in mirrors:
         src = mirror.mirror_of
         slave = net.node(src.node_id)
@@ -49,7 +73,8 @@ def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None
             where = m.where
             var = by_object.get(key)
             if var is None:
-                var = _new(net, slave, m, direction, where, with_dcf, diags)
+                var = _new(net, slave, m, direction, where, with_dcf, diags,
+                           suffix(key, both))
                 by_object[key] = var
                 if m.name:
                     name_where[key] = where
@@ -69,6 +94,7 @@ def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None
                     _check_name(m.name, where, with_dcf, diags)
                     _claim(var.name, key, where, by_name, with_dcf, diags)
             mirror.mapping.append(Mapped(m.index, m.sub, m.bits, m.datatype, var.name, where))
+    _slave_names(net, by_object, name_where, by_name, both, with_dcf, diags)
     for mirror in mirrors:      # a later name: may have renamed a variable
         for m in mirror.mapping:
             if not m.is_dummy:
@@ -81,9 +107,41 @@ def _key(mirror: Pdo, m: Mapped) -> tuple:
             "input" if mirror.kind == RPDO else "output")
 
 
+def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
+                 both: set, with_dcf: bool, diags: Diagnostics) -> None:
+    """A slave's ``names:`` (D-17): the name of each variable of that object that no
+    ``name:`` of a mapping names (``_in``/``_out`` added for an object mapped both ways);
+    a mapping's ``name:`` that says otherwise is two names for one object (NET107); an
+    entry for an object no linked PDO maps is not used (NET123)."""
+    for slave in net.slaves:
+        for (index, sub), (text, where) in slave.names.items():
+            keys = [k for k in ((slave.node_id, index, sub, d) for d in ("input", "output"))
+                    if k in by_object]
+            if not keys:
+                if with_dcf:
+                    diags.warning(f"names: 0x{index:04X}sub{sub:X} of {slave.name} is mapped "
+                                  "by no PDO linked with the PLC: the name is not used",
+                                  where, rule="NET123")
+                continue
+            for key in keys:
+                var, want = by_object[key], text + suffix(key, both)
+                first = name_where.get(key)
+                if first is not None:
+                    if var.name != want and with_dcf:
+                        diags.error(f"0x{index:04X}sub{sub:X} of {slave.name} is named "
+                                    f"'{want}' here and '{var.name}' at line {first.line}",
+                                    where, rule="NET107")
+                    continue
+                by_name.pop(var.name.casefold(), None)
+                var.name = want
+                name_where[key] = where
+                _check_name(want, where, with_dcf, diags)
+                _claim(want, key, where, by_name, with_dcf, diags)
+
+
 def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
-         with_dcf: bool, diags: Diagnostics) -> Variable:
-    var = Variable(m.name or default_name(slave.name, m.index, m.sub), direction,
+         with_dcf: bool, diags: Diagnostics, end: str = "") -> Variable:
+    var = Variable(m.name or default_name(slave.name, m.index, m.sub) + end, direction,
                    m.datatype or 0, slave.node_id, m.index, m.sub, where=where)
     net.variables.append(var)
     if with_dcf:
@@ -125,8 +183,8 @@ def place(net: Network, diags: Diagnostics) -> None:
     yaml_path = net.path
     base = net.files.get(dev.path)
     if base is None:
-        with open(dev.path, "rb") as f:
-            base = f.read()
+        from dcf2bin.fileio.reading import read_file
+        base = read_file(dev.path)
     order = ([v for v in net.variables if v.direction == "input"]
              + [v for v in net.variables if v.direction == "output"])
     fallback = net.node(order[0].node_id).where.line if order else None

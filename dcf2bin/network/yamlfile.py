@@ -9,11 +9,12 @@ Every value is checked where it is read, and every finding names its ``file:line
 from __future__ import annotations
 
 import os
+import re
 
 from dcf2bin.diagnostics import Summarised, Where, shorten
 from dcf2bin.network.model import MASTER, SLAVE, Network, Node
 from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
-                                      kind_of)
+                                      _Bad, as_int, kind_of)
 from dcf2bin.network.yamltree import MAX_NODES, YamlError, YMap, read_tree
 
 
@@ -24,8 +25,8 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     """Read a YAML network file. Problems are collected in ``network.diagnostics``; a
     file that cannot be read raises OSError."""
     if data is None:
-        with open(path, "rb") as f:
-            data = f.read(MAX_FILE + 1)
+        from dcf2bin.fileio.reading import read_file    # never a FIFO or /dev/zero
+        data = read_file(path, limit=MAX_FILE)
     # a finding in defaults: or a template is reported once, not once per node, and one
     # mistake repeated 100,000 times five times and then counted (issue 26)
     net = Network(path=path, kind="yaml", diagnostics=Summarised())
@@ -46,6 +47,26 @@ def load_network(path: str, data: bytes | None = None) -> Network:
         return net
     _Reader(net, os.path.dirname(path)).run(root)
     return net
+
+
+_OBJECT = re.compile(r"(.+?)sub([0-9a-fA-F]{1,2}|0[xX][0-9a-fA-F]{1,2})", re.IGNORECASE)
+
+
+def object_key(key) -> tuple[int, int] | None:
+    """(index, sub) of a ``names:`` key: an integer index (sub 0), or a text
+    ``<index>sub<sub>`` whose index is an integer as D-16 reads one and whose sub-index
+    is hex as dcf2bin's messages and DCF section names write it; None when it is neither
+    (or out of range)."""
+    text, sub = key, 0
+    if isinstance(key, str):
+        m = _OBJECT.fullmatch(key.strip())
+        if m is not None:
+            text, sub = m.group(1), int(m.group(2), 16)
+    try:
+        index = as_int(text)
+    except _Bad:
+        return None
+    return (index, sub) if 0 <= index <= 0xFFFF and 0 <= sub <= 0xFF else None
 
 
 class _Reader(Items):
@@ -111,6 +132,33 @@ class _Reader(Items):
             self.node(str(key), value, slaves.lines[key], SLAVE, defaults)
         self.net.nodes.sort(key=lambda n: (n.role != MASTER, n.node_id))
 
+    # -- a slave's names: ------------------------------------------------------------------
+    def names(self, node: Node, value, line: int) -> None:
+        """``names: {0x6040: controlword, "0x6041sub0": statusword}`` (D-17): the PLC
+        variable of each object, for PDOs the file configures (no ``mapping:`` to carry a
+        ``name:``). A key is an index (sub 0) or ``<index>sub<sub>``, the sub-index in hex
+        as dcf2bin writes it (``0x6411subA``); a value is a text."""
+        if not isinstance(value, YMap):
+            self.err(f"names must be a mapping of objects to variable names, found "
+                     f"{kind_of(value)}", line)
+            return
+        for key, v in value.items():
+            kline = value.lines[key]
+            obj = object_key(key)
+            if obj is None:
+                self.err(f"names: '{key}' is not an object (an index such as 0x6040, or "
+                         "\"0x6041sub0\" with the sub-index in hex)", kline)
+                continue
+            index, sub = obj
+            got = self.scalar(f"names: 0x{index:04X}sub{sub:X}", "str", v, kline)
+            if got is None:
+                continue
+            if obj in node.names:
+                self.err(f"names: 0x{index:04X}sub{sub:X} is named twice (first at line "
+                         f"{node.names[obj][1].line})", kline, "NET002")
+                continue
+            node.names[obj] = (got, self.w(kline))
+
     # -- options ---------------------------------------------------------------------------
     def options(self, value, line: int) -> None:
         if not isinstance(value, YMap):
@@ -118,9 +166,12 @@ class _Reader(Items):
             return
         for key, v in value.items():
             kline = value.lines[key]
-            if key == "dcf_path":
-                self.diags.info("options: dcf_path is not used: the outputs go where -o "
-                                "says", self.w(kline), rule="NET007")
+            if key == "dcf_path":       # a lely master's 0x1F22 names the .bin under it
+                self.diags.info("options: dcf_path is used only in a lely master's "
+                                "UploadFile= names; the outputs go where -o says",
+                                self.w(kline), rule="NET007")
+                if isinstance(v, str):
+                    self.net.options["dcf_path"] = v
                 continue
             kind = OPTION_KEYS.get(key)
             if kind is None:
@@ -146,8 +197,9 @@ class _Reader(Items):
                 if k in defaults:
                     self.diags.warning(
                         f"'{shorten(k)}' of {shorten(name)} is also in defaults: "
-                        f"(line {defaults.lines[k]}); "
-                        "the node's value is taken", self.w(value.lines[k]), rule="NET009")
+                        f"(line {defaults.lines[k]}); the node's value is taken "
+                        "(ros2_canopen's generator takes the one of defaults:)",
+                        self.w(value.lines[k]), rule="NET009")
                 merged[k] = v
                 merged.lines[k] = value.lines[k]
         node = Node(name=name, node_id=0, role=role, where=self.w(line))
@@ -172,6 +224,8 @@ class _Reader(Items):
                 self.sdos(node, v, kline)
             elif kind == "consumer":
                 self.consumer(node, v, kline)
+            elif kind == "names":
+                self.names(node, v, kline)
             elif kind == "path":
                 got = self.scalar(key, "str", v, kline)
                 if got is not None:

@@ -29,7 +29,7 @@ SLAVE_KEYS = {
     "boot": "bool", "mandatory": "bool", "reset_communication": "bool", "retry_factor": "int",
     "guard_time": "int", "life_time_factor": "int", "vendor_id": "int", "product_code": "int",
     "revision_number": "int", "serial_number": "int", "software_version": "int",
-    "sdo": "sdo",
+    "sdo": "sdo", "names": "names",
 }
 PDO_KEYS = {"enabled": "bool", "cob_id": "cob", "transmission": "int", "inhibit_time": "int",
             "event_timer": "int", "event_deadline": "int", "sync_start": "int",
@@ -275,6 +275,7 @@ class Items(_Values):
                 pc.wheres[k] = self.w(iline)
                 if pkind == "mapping":
                     pc.mapping = self.mapping(item, iline)
+                    pc.empty_mapping = item is None or isinstance(item, YSeq) and not item
                 elif pkind == "cob":
                     if isinstance(item, str) and item.lower() == "auto":
                         pc.cob_id = "auto"

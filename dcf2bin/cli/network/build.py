@@ -2,62 +2,117 @@
 file (README "Networks", man/dcf2bin-network-build.1)."""
 from __future__ import annotations
 
-import os
-
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, fail, guarded, quiet_option,
-                                read_input, register_input, say, stop_on_errors,
-                                verbose_option, write_output)
-from dcf2bin.diagnostics import ExitCode, Severity
+from dcf2bin.cli.common import (CONTEXT, Failure, OutputPath, debug_option, emit, fail, guarded,
+                                quiet_option, read_input, register_input, registered_inputs,
+                                rule_options, say, verbose_option)
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
 @click.command("build", context_settings=CONTEXT)
 @click.argument("network", metavar="NETWORK.yml", type=click.Path())
-@click.option("-o", "--output", "output", required=True, metavar="DIR", type=click.Path(),
-              help="Output folder (made when missing); its files are written atomically, "
-                   "never over an input.")
+@click.option("-o", "--output", "output", required=True, metavar="DIR",
+              type=OutputPath(), help="Output folder (made when missing); its files are "
+              "written all or none, never over an input.")
+@click.option("--master", "master_kind", type=click.Choice(["plc", "lely"]), default=None,
+              help="The kind of master to build: plc (the master's dcf: is the PLC's file) "
+                   "or lely (master.dcf as lely's dcfgen -r writes it). Default: plc when "
+                   "the master has dcf:, else lely.")
+@rule_options
 @verbose_option("every link and every PLC variable, on standard error.")
 @quiet_option()
 @debug_option
 @guarded
-def build_cmd(network, output, verbose, quiet, debug):
-    """Configure the network of NETWORK.yml and write, in DIR, the PLC's DCF
-    (<master>.dcf) and per slave its concise DCF (<slave>.bin) and its DCF (<slave>.dcf).
+def build_cmd(network, output, master_kind, select_, ignore, strict, verbose, quiet, debug):
+    """Configure the network of NETWORK.yml and write, in DIR, the master's DCF
+    (<master>.dcf) and per slave its concise DCF (<slave>.bin).
 
-    The PLC mirrors every slave PDO that exists, its network variables are placed as
-    'allocate --into' places them, COB-IDs marked auto are assigned, and the PLC gets its
-    NMT master entries. Nothing is written when there is an error.
+    A PLC master (one with dcf:) mirrors every slave PDO that exists, its network
+    variables are placed as 'allocate --into' places them, it gets its NMT master
+    entries, and each slave also gets its DCF (<slave>.dcf). A lely master (one without
+    dcf:) gets the master.dcf, and master.bin, that lely's 'dcfgen -r' writes. COB-IDs
+    marked auto are assigned. The findings are those of 'network check' (validate's
+    warnings about the node files left out): nothing is written when there is an error.
+    --ignore cannot leave out an error of the network file, of the configuration or of
+    reading a node's file (NET0xx, NET1xx, DCF0xx-DCF3xx). NETWORK is YAML (a .cpj
+    project has nothing to build).
+
+    The files are written all or none: nothing is written when there is an error, and
+    an error, Ctrl-C or SIGTERM while they are written leaves the folder as it was.
     """
     from dcf2bin.network import build_network
-    data = read_input(network)
-    if os.path.exists(output) and not os.path.isdir(output):
-        fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
-    res = build_network(network, data=data)
-    emit(res.diagnostics, quiet)
+    from dcf2bin.network.check import SelectorError, resolve
     try:
-        stop_on_errors(res, "network build", "nothing written")
-    except Failure:
+        resolve(select_, ignore)
+    except SelectorError as exc:
+        raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
+    data = read_input(network)
+    _check_folder(output)
+    res = build_network(network, data=data, master=master_kind, select=select_,
+                        ignore=ignore)
+    emit(res.diagnostics, quiet)
+    errors = [d for d in res.diagnostics if d.severity is Severity.ERROR]
+    warnings = [d for d in res.diagnostics if strict and d.severity is Severity.WARNING]
+    if errors or warnings:
         from dcf2bin.cli.network.show import exit_code
-        raise Failure(exit_code(d for d in res.diagnostics if d.severity is Severity.ERROR))
+        counts = [f"{len(errors)} error{'s' if len(errors) != 1 else ''}"]
+        if warnings:
+            counts.append(f"{len(warnings)} warning{'s' if len(warnings) != 1 else ''} "
+                          "(--strict)")
+        click.echo(f"network build: {', '.join(counts)}, nothing written", err=True)
+        raise Failure(exit_code(errors or warnings))
     net = res.network
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file
-    try:
-        os.makedirs(output, exist_ok=True)
-    except OSError as exc:
-        fail(f"cannot write: {exc.strerror or exc}", output, ExitCode.UNREADABLE)
-    for name, blob in res.outputs.items():
-        write_output(blob, os.path.join(output, name), [network], binary=True)
+    report = _write(output, res.outputs, quiet)
+    from dcf2bin.network.build import write_warnings
+    emit(write_warnings(report, output), quiet)
     if verbose and not quiet:
         for line in describe(net):
             say(line)
     if not quiet:
         slaves = len(net.slaves)
-        say(f"network build: {len(res.outputs)} files in {output}: "
-            f"{net.master.name}.dcf and {slaves} slave{'s' if slaves != 1 else ''}, "
-            f"{sum(1 for p in net.master.pdos if p.mirror_of)} links, "
-            f"{len(net.variables)} variables")
+        links = sum(1 for p in net.master.pdos if p.mirror_of)
+        files = f"network build: {len(res.outputs)} files in {output}: {net.master.name}.dcf"
+        if res.mode == "lely":
+            own = f"{net.master.name}.bin"
+            say(f"{files}{', ' + own if own in res.outputs else ''} and {slaves} "
+                f"slave{'s' if slaves != 1 else ''} for a lely master, {links} links")
+        else:
+            say(f"{files} and {slaves} slave{'s' if slaves != 1 else ''} for a PLC master, "
+                f"{links} links, {len(net.variables)} variables")
+
+
+def _check_folder(output: str) -> None:
+    """-o is a folder, or nothing yet: a file there is exit 3 before any work."""
+    import os
+    if os.path.exists(output) and not os.path.isdir(output):
+        fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
+
+
+def _write(output: str, outputs: dict[str, bytes], quiet: bool):
+    """Every output, all or none (fileio.OutputSet); a problem with any of them is one
+    line naming that file and exit 2 (over an input) or 3, with nothing written."""
+    from dcf2bin.fileio import OutputIsInput, OutputSet, signals
+    from dcf2bin.network.build import write_all
+
+    def waiting() -> None:
+        if not quiet:
+            say(f"network build: waiting for another build writing in {output}")
+    try:
+        OutputSet(output, outputs.items(), inputs=registered_inputs()).check()
+        with signals.raising():
+            return write_all(output, outputs, registered_inputs(), on_wait=waiting)
+    except OutputIsInput as exc:
+        emit([Diagnostic(Severity.ERROR, exc.reason, exc.path)])
+        code = ExitCode.USAGE
+    except OSError as exc:
+        emit([Diagnostic(Severity.ERROR, f"cannot write: {exc.strerror or exc}",
+                         exc.filename or output)])
+        code = ExitCode.UNREADABLE
+    say(f"network build: nothing written (the files in {output} are as they were)")
+    raise Failure(code)
 
 
 def describe(net) -> list[str]:

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, format_option,
-                                guarded, lint_report, output_option, quiet_option, rule_options,
-                                write_output)
+from dcf2bin import argspec
+from dcf2bin.cli.common import (CONTEXT, Failure, Integer, Number, check_output, debug_option,
+                                format_option, guarded, lint_report, output_option,
+                                quiet_option, rule_options, write_output)
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -21,9 +22,9 @@ FORMATS = ("text", "json", "sarif", "github")
 @format_option(FORMATS, "text", "the report as text, JSON, SARIF or GitHub annotations.")
 @output_option("Default: standard output.")
 @rule_options
-@click.option("--max-load", type=click.FloatRange(0, 100), default=80.0, show_default=True,
+@click.option("--max-load", type=Number(argspec.MAX_LOAD), default=80.0, show_default=True,
               metavar="PERCENT", help="Warn when the estimated bus load is above this.")
-@click.option("--net", "net", type=Integer(1), metavar="N",
+@click.option("--net", "net", type=Integer(spec=argspec.NET), metavar="N",
               help="For a .cpj project: check its N-th network ([TopologyN]; default the "
                    "first, [Topology]).")
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
@@ -57,6 +58,7 @@ def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list
         return
     if network is None:
         raise click.UsageError("give the NETWORK file (a bus.yml or a .cpj project)")
+    check_output(output, [network])     # before every node's file is read and checked
     if net is not None and not network.lower().endswith(".cpj"):
         raise click.BadParameter("only a .cpj project has several networks",
                                  param_hint="'--net'")

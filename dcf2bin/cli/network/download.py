@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Failure, debug_option, emit, guarded,
+from dcf2bin.cli.common import (CONTEXT, Failure, check_output, debug_option, emit, guarded,
                                 quiet_option, write_output)
 from dcf2bin.cli.download import bus_options, open_bus, sdo_options
 from dcf2bin.cli.network.show import configured_network, net_option
@@ -28,8 +28,8 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @quiet_option("No progress lines and no summary.")
 @debug_option
 @guarded
-def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dry_run, verify,
-                 keep_going, save, net, quiet, debug):
+def download_cmd(network_file, interface, channel, bitrate, timeout, retries, max_upload,
+                 dry_run, verify, keep_going, save, net, quiet, debug):
     """Configure every slave of a network by SDO, in node-ID order.
 
     Each slave's identity is checked first: its device type (0x1000) and 0x1018 sub 1...4
@@ -45,6 +45,7 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
     is not written.
     """
     from dcf2bin.bus import netconf
+    check_output("-")           # the summary's way out, before any bus work
     network = configured_network(network_file, quiet, "nothing sent", net)
     plans = _plans(network, network_file, quiet)
     if dry_run:
@@ -52,7 +53,7 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, dr
         return
     from dcf2bin.bus import link
     bus = open_bus(interface, channel, bitrate)
-    options = netconf.Options(timeout, retries, verify, keep_going, save)
+    options = netconf.Options(timeout, retries, verify, keep_going, save, max_upload)
 
     def progress(out: netconf.Outcome) -> None:
         emit([Diagnostic(Severity.ERROR, f"{out.label}: {p.message}", p.where or network_file)

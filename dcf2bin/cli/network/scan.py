@@ -6,8 +6,9 @@ import json
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, debug_option, emit, format_option,
-                                guarded, output_option, quiet_option, write_output)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Seconds, check_output, debug_option,
+                                emit, format_option, guarded, output_option, quiet_option,
+                                write_output)
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.cli.network.show import configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, Where
@@ -20,11 +21,11 @@ COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
 @click.command("scan", context_settings=CONTEXT)
 @click.argument("network_file", metavar="NETWORK", type=click.Path())
 @bus_options
-@click.option("--listen", type=click.FloatRange(0), default=0.5, show_default=True,
+@click.option("--listen", type=Seconds(0), default=0.5, show_default=True,
               metavar="SECONDS",
               help="Seconds to listen for boot-up and heartbeat messages (the SDO requests "
               "go out at the same time).")
-@click.option("--timeout", type=click.FloatRange(0.001), default=0.3, show_default=True,
+@click.option("--timeout", type=Seconds(0.001), default=0.3, show_default=True,
               metavar="SECONDS", help="Seconds to wait for the SDO responses of one round.")
 @click.option("--retries", type=COUNT, default=0, show_default=True, metavar="N",
               help="Times an unanswered SDO request is sent again.")
@@ -55,6 +56,7 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     from dcf2bin.bus import link
     from dcf2bin.bus import scan as sc
     from dcf2bin.network.show import identity_of
+    check_output(output, [network_file])    # before the bus is opened
     network = configured_network(network_file, quiet, "nothing scanned", net)
     expected = [sc.Expected(n.node_id, n.name, identity_of(network, n),
                             master=n.role == "master", from_file=network.kind == "cpj")
@@ -96,6 +98,8 @@ def _cell(found, key) -> str:
         return "(none)"
     if a.code is not None:
         return f"abort {a.code:08X}"
+    if a.problem is not None:
+        return "bad answer"
     return f"0x{a.value:08X}" if a.value is not None else "no answer"
 
 
@@ -125,6 +129,9 @@ def _text(path, result, expected, findings, bound) -> str:
     rows = [[str(nid), e.name if e else "?", _status(e, f), *(_cell(f, k) for k, _ in COLUMNS)]
             for nid, e, f in _rows(result, expected)]
     out += table(["node", "name", "on the bus", *(h for _, h in COLUMNS)], rows)
+    if result.virtual and any(f.kind == "missing" for f in findings):
+        from dcf2bin.bus.link import VIRTUAL_NOTE
+        out.append(f"(missing: {VIRTUAL_NOTE})")
     return "\n".join(out) + "\n"
 
 

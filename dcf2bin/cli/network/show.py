@@ -1,39 +1,42 @@
-"""dcf2bin network show: the links of a network as text, JSON, an SVG picture or HTML."""
+"""dcf2bin network show: the links of a network as text, JSON, an SVG picture, HTML or a
+CAN database (DBC)."""
 from __future__ import annotations
 
 import click
 
+from dcf2bin import argspec
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, check_input, debug_option, emit,
                                 fail, format_option, guarded, output_option, quiet_option, say,
                                 write_output)
 from dcf2bin.diagnostics import ExitCode
 
 
-def configured_network(path: str, quiet: bool, outcome: str, net: int | None = None):
-    """Read ``path`` (a YAML network, configured in memory, or a .cpj project, whose nodes
-    are their DCFs as they are; ``net`` picks its network) ; its findings are printed and
-    an error ends the command (exit 1) saying ``outcome``."""
+def examined(path: str, quiet: bool, net: int | None = None):
+    """``network check``'s findings of ``path`` (a YAML network, configured in memory, or a
+    .cpj project, whose nodes are their DCFs as they are; ``net`` picks its network), with
+    validate's warnings about each node's file left out: printed, and returned with the
+    network (``CheckResult``). Every network command reads a network through this, so
+    that they all find the same errors and exit alike (issue 26)."""
     check_input(path)
-    from dcf2bin.network.check import read_network
-    try:
-        network = read_network(path, net=net)
-    except OSError as exc:
-        fail(f"cannot read: {exc.strerror or exc}", path, code=ExitCode.UNREADABLE)
-    if len(network.nodes) > 127:
-        # more nodes than node-IDs: not one network (as network check says, naming the
-        # node-IDs that repeat); nothing is configured
-        from dcf2bin.network.rules import node_ids
-        node_ids(network, network.diagnostics)
-    elif network.kind != "cpj" and not network.diagnostics.has_errors:
-        from dcf2bin.network import configure
-        configure(network)
-    emit(network.diagnostics, quiet)
-    errors = network.diagnostics.errors
+    from dcf2bin.network.check import ERRORS, examine
+    res = examine(path, net=net, lint=ERRORS)
+    if res.network is None:          # the network file itself could not be read
+        d = res.diagnostics[0]
+        fail(d.message, path, code=ExitCode.UNREADABLE)
+    emit(res.diagnostics, quiet)
+    return res
+
+
+def configured_network(path: str, quiet: bool, outcome: str, net: int | None = None):
+    """The network of ``path`` read as :func:`examined` reads it; an error ends the command
+    (exit 1, or 3 when an input cannot be read) saying ``outcome``."""
+    res = examined(path, quiet, net)
+    errors = [d for d in res.diagnostics if d.severity.value == "error"]
     if errors:
         n = len(errors)
         say(f"{path}: {n} error{'s' if n != 1 else ''}, {outcome}")
         raise Failure(exit_code(errors))
-    return network
+    return res.network
 
 
 def exit_code(errors) -> ExitCode:
@@ -46,20 +49,53 @@ def exit_code(errors) -> ExitCode:
 
 def net_option(fn):
     """--net N: the network of a .cpj project."""
-    return click.option("--net", "net", type=Integer(1), metavar="N",
+    return click.option("--net", "net", type=Integer(spec=argspec.NET), metavar="N",
                         help="For a .cpj project: its N-th network ([TopologyN]; default "
                         "the first, [Topology]).")(fn)
 
 
-@click.command("show", context_settings=CONTEXT)
+class ShowCommand(click.Command):
+    """``--writes`` takes a value only when it is attached, ``--writes=NODE`` (issue 26: an
+    optional value must never swallow the NETWORK argument, as ``--writes net/bus.yml``
+    did). Before click parses them, ``--writes=NODE`` becomes ``--writes`` and NODE is
+    kept aside; everything after ``--`` is left as it is."""
+
+    def parse_args(self, ctx, args):
+        rest, node = [], None
+        for k, arg in enumerate(args):
+            if arg == "--":
+                rest += args[k:]
+                break
+            if arg.startswith("--writes="):
+                node = arg[len("--writes="):]
+                if not node:
+                    raise click.BadParameter("give the node after '=' (--writes=NODE), or "
+                                             "--writes alone for every slave",
+                                             ctx=ctx, param_hint="'--writes'")
+                arg = "--writes"
+            rest.append(arg)
+        ctx.meta["dcf2bin.writes_node"] = node
+        return super().parse_args(ctx, rest)
+
+
+class WritesOption(click.Option):
+    """``--writes[=NODE]`` in the help (see ShowCommand)."""
+
+    def get_help_record(self, ctx):
+        record = super().get_help_record(ctx)
+        return ("--writes[=NODE]", record[1]) if record else record
+
+
+@click.command("show", cls=ShowCommand, context_settings=CONTEXT)
 @click.argument("network_file", metavar="NETWORK", type=click.Path())
-@format_option(["text", "json", "svg", "html"], "text",
-               "text or json (the tables), svg (the picture) or html (both).")
+@format_option(["text", "json", "svg", "html", "dbc"], "text",
+               "text or json (the tables), svg (the picture), html (both) or dbc (the PDOs "
+               "as a CAN database for loggers; needs cantools).")
 @output_option()
-@click.option("--writes", "writes", is_flag=False, flag_value="all", default=None,
-              metavar="[NODE]",
-              help="Also the SDO writes that configure each slave (or only NODE, a name or "
-              "node-ID): index, sub, name, value and why.")
+@click.option("--writes", "writes", cls=WritesOption, is_flag=True,
+              help="Also the SDO writes that configure each slave; --writes=NODE (with '=') "
+              "those of one slave, NODE its name or node-ID: index, sub, name, value and "
+              "why.")
 @net_option
 @quiet_option("No warnings about the network file.")
 @debug_option
@@ -70,16 +106,45 @@ def show_cmd(network_file, fmt, output, writes, net, quiet, debug):
     Per COB-ID the producer, consumers, bytes, rate and share of the estimated bus load;
     per PLC variable the node and object it comes from; per slave the identity the
     master will enforce. The svg format draws each node as a box and each PDO as a lane
-    from its producer to its consumers; html adds the tables.
+    from its producer to its consumers; html adds the tables. The dbc format writes the
+    PDOs as a CAN database: a message per COB-ID, a signal per mapped object.
+
+    The findings are those of 'network check' (validate's warnings about the node files
+    left out), on standard error; a network with errors is shown as it is configured,
+    and the exit status is 1 (3 when a node's file cannot be read). A network file that
+    cannot be configured (errors in it) is not shown.
     """
     from dcf2bin.network import show, svg
-    network = configured_network(network_file, quiet, "nothing shown", net)
+    if fmt == "dbc":
+        from dcf2bin.network import dbc
+        try:
+            dbc.require()                  # before the network is read: at once
+        except dbc.CantoolsMissing:
+            fail(dbc.MISSING, code=ExitCode.USAGE)
+    ctx = click.get_current_context()
+    node = ctx.meta.get("dcf2bin.writes_node")
+    writes = node if node is not None else ("all" if writes else None)
+    res = examined(network_file, quiet, net)
+    network = res.network
+    errors = [d for d in res.diagnostics if d.severity.value == "error"]
+    drawable = network.configured or network.kind == "cpj"
+    if errors and not drawable:
+        n = len(errors)
+        say(f"{network_file}: {n} error{'s' if n != 1 else ''}, nothing shown (the network "
+            "file cannot be configured)")
+        raise Failure(exit_code(errors))
     if writes not in (None, "all") and show.find_node(network, writes) is None:
         names = ", ".join(f"{n.name} ({n.node_id})" for n in network.slaves)
-        fail(f"--writes {writes}: no such node in {network_file} (slaves: {names})",
+        fail(f"--writes={writes}: no such node in {network_file} (slaves: {names})",
              code=ExitCode.USAGE)
     view = show.build(network, writes)
-    data = {"text": show.text, "json": show.as_json, "svg": svg.to_svg,
-            "html": svg.to_html}[fmt](view)
+    if fmt == "dbc":
+        data = dbc.dump(network, view)
+    else:
+        data = {"text": show.text, "json": show.as_json, "svg": svg.to_svg,
+                "html": svg.to_html}[fmt](view)
     write_output(data, output, [network_file], binary=False)
-
+    if errors:
+        n = len(errors)
+        say(f"{network_file}: {n} error{'s' if n != 1 else ''}; shown as configured")
+        raise Failure(exit_code(errors))
