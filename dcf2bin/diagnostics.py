@@ -203,10 +203,11 @@ class Summarised(Diagnostics):
     def items(self) -> list[Diagnostic]:
         for group in self._stale:
             file, rule, severity = group
-            at, n, line = self._more[group]
-            self._items[at] = Diagnostic(
-                severity, f"... and {n:,} more {rule} finding{'' if n == 1 else 's'} like "
-                "this", file, line, rule=rule)
+            at, n, line, first = self._more[group]
+            # one left out is shown as it is: a summary of one would say less in as much
+            self._items[at] = first if n == 1 else Diagnostic(
+                severity, f"... and {n:,} more {rule} findings like this", file, line,
+                rule=rule)
         self._stale.clear()
         return self._items
 
@@ -233,7 +234,8 @@ class Summarised(Diagnostics):
             self._counted.add(digest)
             more = self._more.get(group)
             if more is None:
-                self._more[group] = [len(self._items), 1, line]
+                first = Diagnostic(severity, message, file, line, column, offset, rule, hint)
+                self._more[group] = [len(self._items), 1, line, first]
                 self._items.append(None)   # the summary's place: filled by ``items``
             else:
                 more[1] += 1
