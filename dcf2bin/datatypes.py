@@ -1,6 +1,6 @@
 """CANopen data types (SPEC.md §1) and the attribute bits of SPEC.md §3.3.
 
-The codes match ``canopen.objectdictionary.datatypes`` (tests/test_datatypes.py
+The codes match ``canopen.objectdictionary.datatypes`` (tests/test_values.py
 checks that); they are kept here as plain data so that importing this module
 does not import canopen.
 """

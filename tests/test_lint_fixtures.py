@@ -28,7 +28,7 @@ EXEMPT = {
               "tests/test_concise.py, tests/test_concise_commands.py",
     "INT001": "needs a crashing rule: tests/test_lint_cli.py monkeypatches one",
     "TGT0A0": "needs --pi-size, which container fixtures cannot give, and on a DCF the layout "
-              "check (DCF305) stops compile first: tests/test_target.py",
+              "check (DCF305) stops compile first: tests/test_simulate.py",
 }
 # CiA 311 XML: the fixtures here are CiA 306 text; each XDD rule's failing case (exact text)
 # is in tests/test_xdd.py or tests/test_xdd_corpus.py, and tests/fixtures/xdd/vendor_v10.xdc

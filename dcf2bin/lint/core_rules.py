@@ -32,7 +32,7 @@ core("DCF056", "no-sections", ERROR,
      "The file has no section at all (empty, or not an EDS/DCF); compile refuses it too.",
      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")
 
-# -- structure: dcf2bin/model.py -------------------------------------------------------------
+# -- structure: dcf2bin/model/ ----------------------------------------------------------------
 core("DCF005", "subindex-too-large", ERROR,
      "A sub-object section names a subindex above 0xFF.",
      hint="subindexes are 0x00..0xFF; check the section name")
