@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 
 class ExitCode(enum.IntEnum):
-    """The one table of exit codes (README "Exit codes", man pages), for every command."""
+    """The one table of exit codes (docs/options.md, "Exit codes"; man pages), for every command."""
     OK = 0
     FINDINGS = 1      # the input has errors (compile: nothing written); a broken pipe after
                       # errors were reported

@@ -174,11 +174,12 @@ def test_a_missing_side_input_is_exit_3_like_the_main_input(tmp_path, option):
     assert not (tmp_path / "x.bin").exists()
 
 
-def test_the_exit_code_table_is_the_same_in_code_readme_and_man_pages():
-    readme = (ROOT / "README.md").read_text()
-    table = readme.split("### Exit codes", 1)[1].split("\n#", 1)[0]
-    codes = [int(m) for m in re.findall(r"^\| (\d+) \|", table, re.MULTILINE)]
-    assert codes == [int(c) for c in ExitCode]
+def test_the_exit_code_table_is_the_same_in_code_docs_readme_and_man_pages():
+    for page, heading in ((ROOT / "docs" / "options.md", "\n## Exit codes\n"),
+                          (ROOT / "README.md", "\n## Exit codes\n")):
+        table = page.read_text().split(heading, 1)[1].split("\n#", 1)[0]
+        codes = [int(m) for m in re.findall(r"^\| (\d+) \|", table, re.MULTILINE)]
+        assert codes == [int(c) for c in ExitCode], page.name
     man = (ROOT / "man" / "dcf2bin.1").read_text()
     for c in ExitCode:
         assert f"\n.B {int(c)}\n" in man, c

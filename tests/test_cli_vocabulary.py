@@ -200,10 +200,15 @@ def test_quiet_on_allocate_and_tunnel(tmp_path):
     assert (r.exit_code, r.stderr) == (0, "")
 
 
-def test_readme_option_table_names_every_shared_option():
-    text = (ROOT / "README.md").read_text()
-    table = text[text.index("### Options every command shares"):]
-    table = table[:table.index("\n### ", 5)]
+def _option_table() -> str:
+    """The table of docs/options.md, "Options every command shares"."""
+    text = (ROOT / "docs" / "options.md").read_text()
+    table = text[text.index("\n## Options every command shares\n"):]
+    return table[:table.index("\n## ", 5)]
+
+
+def test_option_table_names_every_shared_option():
+    table = _option_table()
     for names, _ in SHARED.values():
         assert f"`{', '.join(names)}" in table, names
     assert "`--select`" in table and "`--node`" in table
@@ -225,7 +230,7 @@ def test_readme_opens_with_the_two_commands_and_ci_runs_the_second_verbatim():
 
 
 def _table_commands(cell: str) -> set[str]:
-    """The README's "commands" cell as command names: "a, b", "every command",
+    """The option table's "commands" cell as command names: "a, b", "every command",
     "every command but a, b and c", "network check/show/scan"."""
     every = {n for n in COMMANDS if n != "bin2dcf (program)"}
     if cell.startswith("every command"):
@@ -238,10 +243,8 @@ def _table_commands(cell: str) -> set[str]:
     return names
 
 
-def test_readme_option_table_lists_the_commands_that_have_each_option():
-    text = (ROOT / "README.md").read_text()
-    table = text[text.index("### Options every command shares"):]
-    table = table[:table.index("\n### ", 5)]
+def test_option_table_lists_the_commands_that_have_each_option():
+    table = _option_table()
     rows = {}
     for line in table.splitlines():
         cells = [c.strip() for c in line.replace("\\|", "/").strip("|").split("|")]

@@ -518,7 +518,7 @@ def test_large_container_is_linear():
     assert time.perf_counter() - t < 10   # generous: catches quadratic behaviour only
 
 
-# -- old documents still compile (README "JSON outputs") ------------------------------------
+# -- old documents still compile (docs/options.md, "JSON outputs") ----------------------
 
 OLD_FORMAT = ROOT / "tests" / "fixtures" / "json" / "plc.old-format.dump.json"
 

@@ -1,5 +1,5 @@
-"""Issue 19: the README's exit-code table, command by command (70 is in test_cli_vocabulary:
---debug and the one-line internal error on every command).
+"""Issue 19: the exit-code table (docs/options.md), command by command (70 is in
+test_cli_vocabulary: --debug and the one-line internal error on every command).
 
 0 success, 1 the input has errors (or is of a kind the command does not read), 2 usage
 error, 3 an input could not be read (missing, a directory) or an output could not be
@@ -180,7 +180,7 @@ def test_validate_an_empty_directory_counts_no_file(folder):
         "1 error, 0 warnings, 0 infos in 0 files\n"))
 
 
-# -- default output names never replace a file (README "Output files") ----------------------
+# -- default output names never replace a file (docs/options.md, "Output files") ------
 
 def test_compile_default_output_never_replaces_a_file(tmp_path):
     src = tmp_path / "plc.dcf"

@@ -1,6 +1,6 @@
-"""Every JSON output of every command follows one convention (README "JSON outputs") and
-validates against its JSON Schema shipped in dcf2bin/schemas/, on the samples and on a few
-corpus files. The schemas must fail on a document that breaks the convention, too."""
+"""Every JSON output of every command follows one convention (docs/options.md, "JSON
+outputs") and validates against its JSON Schema shipped in dcf2bin/schemas/, on the samples
+and on a few corpus files. The schemas must fail on a document that breaks the convention, too."""
 from __future__ import annotations
 
 import json
@@ -132,9 +132,9 @@ def test_schemas_are_package_data():
         assert schemas.load(name)["properties"]["format"] == {"const": schemas.FORMATS[name]}
 
 
-def test_readme_lists_every_json_output():
-    readme = (ROOT / "README.md").read_text()
-    section = readme.split("### JSON outputs", 1)[1].split("\n### ", 1)[0]
+def test_docs_list_every_json_output():
+    doc = (ROOT / "docs" / "options.md").read_text()
+    section = doc.split("\n## JSON outputs\n", 1)[1].split("\n## ", 1)[0]
     for name, fmt in schemas.FORMATS.items():
         assert f"| `{fmt}` | `dcf2bin/schemas/{name}.json` |" in section, name
 

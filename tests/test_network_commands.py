@@ -203,7 +203,7 @@ def test_scan_json(bench):
                                                                   ("missing", 5)]
     jsonschema = pytest.importorskip("jsonschema")
     from dcf2bin import schemas
-    jsonschema.validate(d, schemas.load("network-scan"))     # README "JSON outputs"
+    jsonschema.validate(d, schemas.load("network-scan"))     # docs/options.md, "JSON outputs"
 
 
 def test_scan_an_interface_that_cannot_be_opened():
@@ -331,7 +331,7 @@ def test_cpj_scan_and_download(bench):
                                      ("download", "--dry-run"), ("build", "-o", "OUT")])
 @pytest.mark.parametrize("dcf", ["nope.eds", "folder.eds"])
 def test_a_node_file_that_cannot_be_read_is_exit_3(tmp_path, command, dcf):
-    """README's exit-code table: 3 when an input cannot be read (missing, a directory),
+    """The exit-code table (docs/options.md): 3 when an input cannot be read (missing, a directory),
     for a node's file as for the network file; one file:line line, no traceback."""
     (tmp_path / "folder.eds").mkdir()
     bus_yml = tmp_path / "bus.yml"
@@ -349,7 +349,7 @@ def test_a_node_file_that_cannot_be_read_is_exit_3(tmp_path, command, dcf):
 @pytest.mark.parametrize("command", [("check",), ("show",), ("download", "--dry-run"),
                                      ("build", "-o", "OUT")])
 def test_a_directory_as_the_network_file_is_exit_3(tmp_path, command):
-    """README's table: a directory given as an input is exit 3 (build said 2, a usage
+    """The exit-code table: a directory given as an input is exit 3 (build said 2, a usage
     error, where the other network commands said 3)."""
     args = [a.replace("OUT", str(tmp_path / "out")) for a in command]
     r = run("network", args[0], str(tmp_path), *args[1:])

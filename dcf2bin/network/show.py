@@ -310,8 +310,8 @@ def _hex16(v: int | None) -> str | None:
 
 
 def as_dict(view: View) -> dict:
-    """The JSON document (README "JSON outputs"): indexes ``"0x1800"``, COB-IDs, CAN-IDs and
-    identity values ``"0x%08X"``, every other number a JSON integer."""
+    """The JSON document (docs/options.md, "JSON outputs"): indexes ``"0x1800"``, COB-IDs,
+    CAN-IDs and identity values ``"0x%08X"``, every other number a JSON integer."""
     return {
         "format": FORMAT,
         "version": VERSION,

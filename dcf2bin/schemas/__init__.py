@@ -7,7 +7,7 @@ data: ``dump.json`` (``dump -f json``, also compile's JSON input), ``dump-concis
 
 Every document starts with ``"format": "dcf2bin-<what>"`` and ``"version": <int>``; CANopen
 object indexes are ``"0x%04X"`` strings, COB-IDs ``"0x%08X"`` strings, and sub-indexes,
-sizes, offsets, addresses and counts JSON integers (README "JSON outputs").
+sizes, offsets, addresses and counts JSON integers (docs/options.md, "JSON outputs").
 
     >>> load("map")["properties"]["format"]
     {'const': 'dcf2bin-map'}

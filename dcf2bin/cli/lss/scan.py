@@ -70,7 +70,7 @@ def _text(census, seconds: float, bound: float) -> str:
 
 
 def _json(census, seconds: float, bound: float) -> str:
-    """The JSON document (dcf2bin/schemas/lss-scan.json; README "JSON outputs")."""
+    """The JSON document (dcf2bin/schemas/lss-scan.json; docs/options.md, "JSON outputs")."""
     keys = ("vendor_id", "product_code", "revision_number", "serial_number")
     nodes = [{k: f"0x{v:08X}" for k, v in zip(keys, i.parts)} for i in census.identities]
     return json.dumps({"format": "dcf2bin-lss-scan", "version": 1,

@@ -188,7 +188,7 @@ def _hex(v: int | None) -> str | None:
 
 
 def to_json(result, file: str | None, bitrate: int | None) -> str:
-    """The JSON document (dcf2bin/schemas/lss.json; README "JSON outputs")."""
+    """The JSON document (dcf2bin/schemas/lss.json; docs/options.md, "JSON outputs")."""
     nodes = []
     for r in result.rows:
         i = r.identity

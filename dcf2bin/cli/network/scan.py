@@ -140,7 +140,7 @@ def _hex32(v):
 
 
 def _json(path, result, expected, findings, bound) -> str:
-    """The JSON document (README "JSON outputs"; dcf2bin/schemas/network-scan.json):
+    """The JSON document (docs/options.md, "JSON outputs"; dcf2bin/schemas/network-scan.json):
     identity values and SDO abort codes "0x%08X", indexes "0x1018"."""
     nodes = []
     for nid, e, f in _rows(result, expected):

@@ -40,8 +40,8 @@ def configured_network(path: str, quiet: bool, outcome: str, net: int | None = N
 
 
 def exit_code(errors) -> ExitCode:
-    """3 when a node's file could not be read (README's table: an input that cannot be
-    read), else 1."""
+    """3 when a node's file could not be read (docs/options.md, "Exit codes": an input that
+    cannot be read), else 1."""
     from dcf2bin.network.check import UNREADABLE
     return (ExitCode.UNREADABLE if any(d.rule in UNREADABLE for d in errors)
             else ExitCode.FINDINGS)
