@@ -28,7 +28,7 @@ from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severit
 
 @dataclass
 class CompileOptions:
-    """The options of ``dcf2bin compile``, by field name (README, man/dcf2bin.1).
+    """The options of ``dcf2bin compile``, by field name (docs/compile.md, man/dcf2bin.1).
 
     Every field is checked as the command line checks its option (``ARGS``, from
     ``argspec``): a value of the wrong type raises TypeError, one the command would refuse

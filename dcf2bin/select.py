@@ -271,7 +271,7 @@ class _Selector:
                 self.write(e)
         # c) d) e) mapping
         unstated = unstated_mapping_count(mapping)
-        if unstated is not None:   # the count would be a guess (README, choices)
+        if unstated is not None:   # a guess (docs/compile.md, choice 9)
             self.error(unstated[1], unstated[0], "DCF419")
             return
         sub0 = mapping.entries.get(0)

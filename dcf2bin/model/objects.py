@@ -141,7 +141,7 @@ def unstated_mapping_count(obj: Obj) -> tuple[Where, str] | None:
     or one without DefaultValue/ParameterValue: Elmo EDS files write only HighLimit=8)
     does not say how many objects it maps; the model's sub 0 is then the highest subindex
     present (SPEC §1). Returns where to say so and the message (DCF419), else None.
-    ``compile`` refuses to write a PDO block from such a count (README, choices)."""
+    ``compile`` refuses to write a PDO block from such a count (docs/compile.md, choice 9)."""
     if not is_pdo_mapping(obj.index) or obj.implicit or obj.compact or len(obj.entries) < 2:
         return None
     e0 = obj.entries.get(0)
