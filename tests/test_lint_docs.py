@@ -69,13 +69,18 @@ def test_pre_commit_hooks():
 
 def test_ci_examples_install_dcf2bin_from_a_checkout_not_from_pypi():
     # dcf2bin is not on PyPI: "pip install dcf2bin" would fail in the user's first job
-    readme = (ROOT / "README.md").read_text()
-    for text in (DOC, readme):
-        assert "pip install dcf2bin" not in text
-        block = next(b for b in re.findall(r"```yaml\n(.*?)```", text, re.S)
-                     if "upload-sarif" in b)
-        doc = yaml.safe_load(block)
-        steps = (doc.get("jobs") or doc)["validate"]["steps"]
-        path = next(s["with"]["path"] for s in steps
-                    if s.get("with", {}).get("repository") == "YOUR-ORG/dcf2bin")
-        assert {"run": f"python -m pip install ./{path}"} in steps
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    jobs = 0
+    for page in pages:
+        text = page.read_text()
+        assert "pip install dcf2bin" not in text, page.name
+        for block in re.findall(r"```yaml\n(.*?)```", text, re.S):
+            if "upload-sarif" not in block:
+                continue
+            doc = yaml.safe_load(block)
+            steps = (doc.get("jobs") or doc)["validate"]["steps"]
+            path = next(s["with"]["path"] for s in steps
+                        if s.get("with", {}).get("repository") == "YOUR-ORG/dcf2bin")
+            assert {"run": f"python -m pip install ./{path}"} in steps, page.name
+            jobs += 1
+    assert "upload-sarif" in DOC and jobs >= 1
