@@ -120,8 +120,8 @@ def test_html_is_svg_plus_table():
             '<td class="n">4</td><td class="n">0x0004</td><td class="n">2</td></tr>') in html
 
 
-def test_readme_picture_is_current(tmp_path):
-    """docs/bild8.png in the README is the picture of samples/bild8.dcf."""
+def test_docs_picture_is_current(tmp_path):
+    """docs/bild8.png (docs/plc.md) is the picture of samples/bild8.dcf."""
     svg = run("map", SAMPLES / "bild8.dcf", "-f", "svg").stdout
     assert svg == (ROOT / "tests" / "golden" / "plc" / "bild8.map.svg").read_text()
     assert (ROOT / "docs" / "bild8.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,5 +1,5 @@
 """dcf2bin network build: the PLC's DCF and each slave's configuration from a network
-file (README "Networks", man/dcf2bin-network-build.1)."""
+file (docs/network.md, man/dcf2bin-network-build.1)."""
 from __future__ import annotations
 
 import click
