@@ -137,7 +137,7 @@ TEXT_FILES = sorted(
                       "man/*.1", "dcf2bin/**/*.py", "tests/*.py", "tests/**/README*",
                       "samples/*.dcf", "pyproject.toml", ".ci/run")
     for p in ROOT.glob(pattern) if p.is_file() and p.name != "test_docs_links.py")
-PAGE_NAME = r"(README(?:\.md)?|(?:docs/)?[a-z][\w-]*\.md)"
+PAGE_NAME = r"((?:benchmarks/)?README(?:\.md)?|(?:docs/)?[a-z][\w-]*\.md)"
 SECTION_AFTER = re.compile(PAGE_NAME + r"(?:\s*[,:]\s*|\s+)\(?(?:section\s+)?\"([^\"\n]+)\"")
 SECTION_BEFORE = re.compile(r"the\s+\"([^\"\n]+)\"\s+section\s+of\s+" + PAGE_NAME)
 PATH = re.compile(r"(?<![\w/.-])((?:docs|man|samples|tests|benchmarks|dcf2bin)/[\w./-]*"
@@ -150,7 +150,7 @@ def _page_of(mention: str, where: Path) -> Path | None:
     """The page a mention names: README is the top one; `x.md` in docs/ is its sibling."""
     if mention.startswith("README"):
         return ROOT / "README.md" if where.parent != ROOT / "benchmarks" else where
-    if mention.startswith("docs/"):
+    if mention.startswith(("docs/", "benchmarks/")):
         return ROOT / mention
     for folder in (where.parent, ROOT / "docs"):
         if (folder / mention).exists():
@@ -225,6 +225,8 @@ def test_mentions_are_read_in_text_and_roff(tmp_path):
                  'the "Bench" section of README.md.\n', encoding="utf-8")
     assert mentions(f) == [("docs/network.md", "Codes"), ("README", "JSON- outputs"),
                            ("README.md", "Bench")]
+    f.write_text('in benchmarks/README.md ("The long runs")', encoding="utf-8")
+    assert mentions(f) == [("benchmarks/README.md", "The long runs")]
     assert PATH.findall("see man/dcf2bin-node.1, `samples/plc.dcf`; tests/test_x.py: "
                         "man/dcf2bin-<name>.1 dcf2bin/model/ x/docs/a.md") \
         == ["man/dcf2bin-node.1", "samples/plc.dcf", "tests/test_x.py"]

@@ -3,7 +3,7 @@ compile (bin and C), validate, export, dump, bin2dcf, simulate and map, and muta
 allocate CSVs through allocate (alone and --into samples/plc.dcf), end without an internal
 error or a hang.
 
-The long run and its figures are in README.md ("Hostile input"); rerun it with
+The long runs and their figures are in benchmarks/README.md ("The long runs"); rerun with
 ``python benchmarks/fuzz.py --seed 7 --iterations 12000``.
 """
 from __future__ import annotations
