@@ -225,9 +225,16 @@ def test_man_pages_name_no_internal_document_and_share_one_header(page):
     assert len(dates) == 1, dates
 
 
-@pytest.mark.parametrize("doc", sorted(p.name for p in (ROOT / "docs").glob("*.md")))
+# docs/developing.md is the page for those who change dcf2bin, which follows SPEC.md: it
+# says where the code cites the specification. Every page a user reads says the rule itself.
+DEVELOPERS_PAGE = ROOT / "docs" / "developing.md"
+
+
+@pytest.mark.parametrize("doc", sorted(p.relative_to(ROOT).as_posix() for p in
+                                       [ROOT / "README.md", *(ROOT / "docs").glob("*.md")]
+                                       if p != DEVELOPERS_PAGE))
 def test_docs_name_no_internal_document(doc):
-    assert INTERNAL_REFERENCE.findall((ROOT / "docs" / doc).read_text()) == []
+    assert INTERNAL_REFERENCE.findall((ROOT / doc).read_text()) == []
 
 
 def test_readme_says_how_to_install_the_man_pages():

@@ -230,3 +230,38 @@ def test_mentions_are_read_in_text_and_roff(tmp_path):
     assert PATH.findall("see man/dcf2bin-node.1, `samples/plc.dcf`; tests/test_x.py: "
                         "man/dcf2bin-<name>.1 dcf2bin/model/ x/docs/a.md") \
         == ["man/dcf2bin-node.1", "samples/plc.dcf", "tests/test_x.py"]
+
+
+# -- README's command table ------------------------------------------------------------------
+
+def _command_names() -> set[str]:
+    """Every command and subcommand of dcf2bin, as a user types it after `dcf2bin`."""
+    import click
+    from dcf2bin.cli import main
+    names = set()
+    for name, cmd in main.commands.items():
+        if isinstance(cmd, click.Group):
+            names |= {f"{name} {sub}" for sub in cmd.commands}
+        else:
+            names.add(name)
+    return names
+
+
+def test_readme_command_table_has_one_row_per_command_with_its_man_page_and_docs_page():
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    table = text.split("\n## Commands\n", 1)[1].split("\n## ", 1)[0]
+    rows = {}
+    names = _command_names()
+    for line in table.splitlines():
+        m = re.match(r"\| `dcf2bin ([^`]*)` \|", line)
+        if not m:
+            continue
+        words = m.group(1).split()
+        name = " ".join(words[:2]) if " ".join(words[:2]) in names else words[0]
+        assert name not in rows, f"two rows for {name}"
+        rows[name] = line
+    assert set(rows) == names
+    for name, line in rows.items():
+        man = "man/dcf2bin.1" if name == "compile" else f"man/dcf2bin-{name.replace(' ', '-')}.1"
+        assert f"[man]({man})" in line, name
+        assert re.search(r"\[docs\]\(docs/[\w-]+\.md(#[\w-]+)?\)", line), name
