@@ -121,7 +121,7 @@ def object_name(index: int, a: Side, b: Side) -> str:
 def facts(item: Item, facets=None) -> str:
     """The data type, access and PDO mapping flag (``facets``: only those named), as
     ``UNSIGNED8, rw, mappable``; a container's attribute byte as ``attribute 0x70
-    (NUM|R|W)``."""
+    NUM|R|W``."""
     parts = []
     want = (lambda f: True) if facets is None else (lambda f: f in facets)
     if item.dtype is not None and want("datatype"):
@@ -131,5 +131,5 @@ def facts(item: Item, facets=None) -> str:
     if item.pdo_mapping is not None and want("pdo_mapping"):
         parts.append("mappable" if item.pdo_mapping else "not mappable")
     if item.attr is not None and want("attribute"):
-        parts.append(f"attribute 0x{item.attr:02X} ({dt.attr_flags(item.attr)})")
+        parts.append(f"attribute 0x{item.attr:02X} {dt.attr_flags(item.attr)}")
     return ", ".join(parts)

@@ -1,7 +1,8 @@
 """The JSON Schemas (draft 2020-12) of every JSON document dcf2bin writes, shipped as package
 data: ``dump.json`` (``dump -f json``, also compile's JSON input), ``map.json``,
 ``simulate.json``, ``validate.json`` (also ``network check -f json``), ``rules.json``
-(``validate --list-rules -f json``), ``network-show.json``, ``network-scan.json``.
+(``validate --list-rules -f json``), ``network-show.json``, ``network-scan.json``,
+``diff.json`` (``diff -f json``).
 
 Every document starts with ``"format": "dcf2bin-<what>"`` and ``"version": <int>``; CANopen
 object indexes are ``"0x%04X"`` strings, COB-IDs ``"0x%08X"`` strings, and sub-indexes,
@@ -27,6 +28,7 @@ FORMATS = {
     "rules": "dcf2bin-rules",
     "network-show": "dcf2bin-network-show",
     "network-scan": "dcf2bin-network-scan",
+    "diff": "dcf2bin-diff",
 }
 
 
