@@ -85,8 +85,8 @@ def diff_cmd(a, b, node_id, interface, channel, bitrate, timeout, retries, all_,
             _usage("-n names one node: with two folders each file's own node-ID is taken")
         result = _folders(a, b, scope, quiet)
     else:
-        result = compare.Result(a, b)
-        result.files.append(_files(a, b, node_id, scope, quiet))
+        diff = _files(a, b, node_id, scope, quiet)
+        result = compare.Result(diff.a.label, diff.b.label, [diff])
     _report(result, scope, fmt, output, quiet)
     if not result.equal:
         raise Failure(ExitCode.FINDINGS)

@@ -30,7 +30,8 @@ def wanted(other: Side, scope: Scope) -> tuple[list[Item], set]:
     """The entries of ``other`` to read from the node, and those left unread."""
     read, unread = [], set()
     for key, it in sorted(other.items.items()):
-        if scope.ignored(key) or it.readable is False or not it.value.stated or (
+        if scope.ignored(key) or it.readable is False or not it.value.stated \
+                or it.value.implied or (
                 scope.state and state_reason(key, (it,), other.is_complex(key[0]))):
             unread.add(key)
         else:

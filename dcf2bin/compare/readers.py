@@ -8,7 +8,7 @@ What each kind holds:
 
 * a description (DCF/EDS, CiA 311 XML): every entry of every object from 0x1000 on,
   with its effective value (ParameterValue, else the DownloadFile's bytes, else
-  DefaultValue; none when it states none), data type, access, PDO mapping flag and
+  DefaultValue, else the type's zero, SPEC §1: ``Value.implied``), data type, access, PDO mapping flag and
   whether compile would write it (``Item.configured``: a ParameterValue or DownloadFile
   on a writable entry whose ObjFlags bit 0 is clear);
 * a write list -- a container, its JSON form, a concise DCF -- the last write of each
@@ -163,8 +163,11 @@ def _value(dev, e) -> tuple[Value, Diagnostic | None]:
         text = e.download_file
     else:
         text = e.value_text
-        if text is None:
-            return NO_VALUE, None
+        if text is None:             # the type's zero (SPEC §1), as compile writes it
+            if e.dtype is None:
+                return NO_VALUE, None
+            from dcf2bin import values
+            return Value(values.zero(e.dtype), implied=True), None
     if e.dtype is None:
         return Value(text=text, problem="no valid DataType"), None
     try:
@@ -175,7 +178,8 @@ def _value(dev, e) -> tuple[Value, Diagnostic | None]:
             formula = _formula(e.dtype, text)
             if formula is not None:
                 return Value(text=text, formula=formula), None
-        return Value(text=text, problem=d.message), Diagnostic(
+        problem = d.message.removeprefix(f"{e.label}: ")
+        return Value(text=text, problem=problem), Diagnostic(
             Severity.WARNING, f"{d.message}; compared as written", d.file, d.line,
             rule=d.rule)
 

@@ -16,8 +16,31 @@ from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 LONG = 32        # bytes of a long OCTET_STRING/DOMAIN shown before "..."
 
 
+# The data types CiA 301/302 give the communication objects, for a value whose side and
+# other side know none (two concise DCFs): used only where the size is the type's.
+_U8, _U16, _U32 = dt.UNSIGNED8, dt.UNSIGNED16, dt.UNSIGNED32
+_STANDARD = {0x1000: _U32, 0x1001: _U8, 0x1005: _U32, 0x1006: _U32, 0x1007: _U32,
+             0x100C: _U16, 0x100D: _U8, 0x1012: _U32, 0x1014: _U32, 0x1015: _U16,
+             0x1016: _U32, 0x1017: _U16, 0x1019: _U8, 0x1F80: _U32, 0x1F81: _U32,
+             0x1F84: _U32, 0x1F85: _U32, 0x1F86: _U32, 0x1F87: _U32, 0x1F88: _U32,
+             0x1F89: _U32}
+_PDO_COMM_SUBS = {0: _U8, 1: _U32, 2: _U8, 3: _U16, 4: _U8, 5: _U16, 6: _U8}
+
+
+def standard_type(index: int, sub: int) -> dt.DataType | None:
+    """The type CiA 301 gives an entry of the communication profile, or None."""
+    if is_pdo_comm(index):
+        return _PDO_COMM_SUBS.get(sub)
+    if is_pdo_mapping(index):
+        return _U8 if sub == 0 else _U32
+    if sub == 0 and index in (0x1016, 0x1F81, 0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88):
+        return _U8                          # ARRAYs: sub 0 counts their entries
+    return _STANDARD.get(index)
+
+
 def type_of(item: Item, other: Item | None) -> dt.DataType | None:
-    """The type a value is read as: its own, the other side's, or the attribute's."""
+    """The type a value is read as: its own, the other side's, the attribute's, or the one
+    CiA 301 gives a communication object (each only where the size fits it)."""
     size = len(item.value.data) if item.value.data is not None else None
     for t in (item.dtype, other.dtype if other is not None else None):
         if t is not None and (t.size is None or size is None or t.size == size):
@@ -30,7 +53,8 @@ def type_of(item: Item, other: Item | None) -> dt.DataType | None:
             return dt.VISIBLE_STRING
         if kinds == dt.ATTR_NUMERIC:
             return dt.UNSIGNED_BY_SIZE.get(size)
-    return None
+    t = standard_type(item.index, item.sub)
+    return t if t is not None and t.size == size else None
 
 
 def value_text(item: Item, other: Item | None = None) -> str:
@@ -38,16 +62,18 @@ def value_text(item: Item, other: Item | None = None) -> str:
     v = item.value
     if v.data is None:
         if v.problem is not None:
-            return f"{v.text} (cannot be read: {v.problem})" if v.text else v.problem
+            return f"{v.text} (invalid: {v.problem})" if v.text else v.problem
         if v.text is not None:
             return v.text                       # a $NODEID formula without a node-ID
         return "(no value)"
-    return typed(v.data, type_of(item, other))
+    text = typed(v.data, type_of(item, other))
+    return f"{text} (no value given)" if v.implied else text
 
 
 def typed(data: bytes, t: dt.DataType | None) -> str:
     if t is None or (t.size is not None and t.size != len(data)):
-        return _hex(data)
+        n = len(data)            # bytes of no known type: the hex and how many they are
+        return f"{_hex(data)} ({n} byte{'' if n == 1 else 's'})" if n <= LONG else _hex(data)
     if t.kind == dt.BOOL:
         return {b"\x00": "0", b"\x01": "1"}.get(data, _hex(data))
     if t.kind in (dt.UINT, dt.TIME):

@@ -23,12 +23,14 @@ class Value:
     value where no node-ID is known, as the bytes it has at node-IDs 1 and 127 (two such
     values are equal for every node-ID exactly when they are equal at both: each is the
     node-ID plus a constant, or a constant); else ``problem``: why the text as written
-    (``text``) has no bytes (a value out of range, an SDO abort). All None: the input
-    states no value."""
+    (``text``) has no bytes (a value out of range, an SDO abort). ``implied``: the input
+    states no value, and ``data`` is the type's zero that stands for it (SPEC §1). All
+    None: no value and no type to give it one."""
     data: bytes | None = None
     text: str | None = None
     formula: tuple[bytes, bytes] | None = None
     problem: str | None = None
+    implied: bool = False
 
     @property
     def stated(self) -> bool:
