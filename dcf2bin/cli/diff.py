@@ -104,6 +104,8 @@ def _load(path: str, node_id, quiet: bool, *, label: str | None = None):
     data = read_input(path)
     name = label or ("<stdin>" if path == "-" else path)
     kind = filekind.detect(data, "" if path == "-" else path)
+    if kind == "bin" and compare.is_empty_concise(data):
+        kind = "concise"
     problem = filekind.mismatch(name, kind, KINDS, use="dcf2bin diff compares DCF/EDS "
                                 "text, CiA 311 XML, containers, their JSON form and concise "
                                 "DCFs")

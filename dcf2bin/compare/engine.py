@@ -74,7 +74,8 @@ class Result:
 
 def keys(a: Side, b: Side) -> tuple[set, set]:
     """The entries of each side that take part (see the module's docstring)."""
-    ka, kb = set(a.items) - a.unread - b.unread, set(b.items) - a.unread - b.unread
+    unread = a.unread.keys() | b.unread.keys()
+    ka, kb = set(a.items) - unread, set(b.items) - unread
     if a.source == WRITES and b.source != WRITES:
         kb = {k for k in kb if k in ka or b.items[k].configured}
     elif b.source == WRITES and a.source != WRITES:
@@ -86,6 +87,9 @@ def compare(a: Side, b: Side, scope: Scope | None = None) -> FileDiff:
     scope = scope or Scope()
     out = FileDiff(a, b)
     ka, kb = keys(a, b)
+    for why in (*a.unread.values(), *b.unread.values()):   # left out before a node was read
+        if why in ("state", "ignored"):
+            out.left_out[why] = out.left_out.get(why, 0) + 1
     shown_a, shown_b = set(), set()
     for key in sorted(ka | kb):
         ia, ib = (a.items[key] if key in ka else None), (b.items[key] if key in kb else None)

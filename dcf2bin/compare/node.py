@@ -26,14 +26,18 @@ class NodeStopped(Exception):
     """The node did not answer, or not as SDO allows; the message names the entry."""
 
 
-def wanted(other: Side, scope: Scope) -> tuple[list[Item], set]:
-    """The entries of ``other`` to read from the node, and those left unread."""
-    read, unread = [], set()
+def wanted(other: Side, scope: Scope) -> tuple[list[Item], dict]:
+    """The entries of ``other`` to read from the node, and those left unread (-> why)."""
+    read, unread = [], {}
     for key, it in sorted(other.items.items()):
-        if scope.ignored(key) or it.readable is False or not it.value.stated \
-                or it.value.implied or (
-                scope.state and state_reason(key, (it,), other.is_complex(key[0]))):
-            unread.add(key)
+        if scope.ignored(key):
+            unread[key] = "ignored"
+        elif scope.state and state_reason(key, (it,), other.is_complex(key[0])):
+            unread[key] = "state"
+        elif it.readable is False:
+            unread[key] = "write-only"
+        elif not it.value.stated or it.value.implied:
+            unread[key] = "no value"
         else:
             read.append(it)
     return read, unread

@@ -84,6 +84,13 @@ def read_concise(data: bytes, name: str) -> list[tuple[int, int, bytes]]:
                                      offset=exc.offset)]) from None
 
 
+def is_empty_concise(data: bytes) -> bool:
+    """A concise DCF of no entry (the DWORD count 0 alone: ``network build`` writes one
+    for a slave without writes), which ``filekind`` does not tell from a damaged
+    container; nothing else is four zero bytes."""
+    return data == b"\0\0\0\0"
+
+
 def _container(data: bytes, label: str, kind: str) -> Source:
     from dcf2bin.dump import entry_offsets, from_json_bytes, read_bytes
     warnings: list[Diagnostic] = []

@@ -107,7 +107,9 @@ class Side:
     items: dict[tuple[int, int], Item] = field(default_factory=dict)
     objects: dict[int, ObjInfo] = field(default_factory=dict)
     node_id: int | None = None
-    unread: set = field(default_factory=set)   # entries a node was not asked for
+    # entries a node was not asked for -> why: "state", "ignored" (counted as left out),
+    # "write-only", "no value" (the file gives none)
+    unread: dict = field(default_factory=dict)
 
     def object_name(self, index: int) -> str:
         o = self.objects.get(index)
