@@ -475,12 +475,40 @@ def test_a_concise_dcf_and_the_builds_dcf_are_equal():
                                          "-0x6060sub0: 08 (1 byte)"]
 
 
-def test_a_damaged_concise_dcf_is_unreadable(tmp_path):
+def test_a_concise_dcf_of_no_entry(tmp_path):
+    """Four zero bytes: network build's <slave>.bin for a slave without writes. Against a
+    DCF it is every entry the DCF configures, missing."""
+    empty = tmp_path / "x.bin"
+    empty.write_bytes(bytes(4))
+    r = run(empty, SAMPLES / "device.eds")
+    assert (r.exit_code, r.stdout) == (0, "")
+    r = run(empty, SAMPLES / "device.dcf", "--ignore", "0x1016,0x1800-0x2FFF", "-q")
+    assert r.stdout == (f"--- {empty}\n+++ {SAMPLES}/device.dcf\n"
+                        f"@@ 0x1017 Producer heartbeat time: only in {SAMPLES}/device.dcf @@\n"
+                        "+0x1017sub0 Producer heartbeat time: 500 (UNSIGNED16, rw, not "
+                        "mappable)\n")
+
+
+def test_a_misnamed_file_is_read_by_its_content_with_a_warning(tmp_path):
+    fake = tmp_path / "plc.dcf"
+    fake.write_bytes((SAMPLES / "plc.bin").read_bytes())
+    r = run(fake, SAMPLES / "plc.dcf")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert r.stderr.splitlines()[0] == (f"{fake}: warning: {fake} is a binary container, not "
+                                        "DCF/EDS text as its name says; read as a binary "
+                                        "container")
+    assert run(fake, SAMPLES / "plc.dcf", "-q").stderr == ""
+
+
+def test_a_truncated_concise_dcf_is_unreadable(tmp_path):
+    """Its content no longer says concise DCF, so its name decides (a .bin: a container),
+    as in every command (filekind); it cannot be read as one: exit 3."""
     bad = tmp_path / "x.bin"
-    data = (FLAT / "drive.bin").read_bytes()
-    bad.write_bytes(data[:4] + data[4:-1])
+    bad.write_bytes((FLAT / "drive.bin").read_bytes()[:-1])
     r = run(bad, FLAT / "drive.dcf")
-    assert r.exit_code == 3
+    assert (r.exit_code, r.stdout) == (3, "")
+    assert r.stderr == f"{bad}:0x0: error: header says 22 bytes, less than the header itself " \
+                       "[CNT002]\n"
 
 
 # -- what cannot be compared ----------------------------------------------------------------

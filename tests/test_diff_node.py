@@ -99,8 +99,9 @@ def test_a_build_states_the_identity_the_node_must_have(bench, tmp_path):
     file; a node made from it holds them (equal), one made from the plain EDS (which gives
     them no value: the software node answers an abort) differs in exactly those entries."""
     bus = tmp_path / "bus.yml"
-    bus.write_text(f"master:\n  node_id: 1\n  sync_period: 10000\ndrive:\n  dcf: {NET / 'technosoft.eds'}\n"
-                   "  node_id: 2\n  product_code: 0x1234\n  revision_number: 0x00010002\n"
+    bus.write_text("master:\n  node_id: 1\n  sync_period: 10000\n"
+                   f"drive:\n  dcf: {NET / 'technosoft.eds'}\n  node_id: 2\n"
+                   "  product_code: 0x1234\n  revision_number: 0x00010002\n"
                    "  serial_number: 1234\n")
     r = run("network", "build", str(bus), "-o", str(tmp_path / "out"), "-q")
     assert r.exit_code == 0, r.stderr

@@ -10,7 +10,7 @@ from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Seconds, check_output, 
                                 emit, fail, format_option, guarded, node_id_option,
                                 output_option, quiet_option, read_input, say, write_output)
 from dcf2bin.cli.download import bus_options, open_bus
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 KINDS = ("dcf", "xdd", "bin", "json", "concise")   # = compare.KINDS (not imported: --help)
 
@@ -111,6 +111,9 @@ def _load(path: str, node_id, quiet: bool, *, label: str | None = None):
                                 "DCFs")
     if problem:
         fail(problem, name, ExitCode.UNREADABLE)
+    note = filekind.misnamed(name, kind) if path != "-" else None
+    if note:                 # the content wins, as in every command
+        emit([Diagnostic(Severity.WARNING, note, name)], quiet)
     try:
         return compare.load(data, name, kind, node_id=node_id)
     except compare.Unreadable as exc:

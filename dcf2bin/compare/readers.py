@@ -8,9 +8,9 @@ What each kind holds:
 
 * a description (DCF/EDS, CiA 311 XML): every entry of every object from 0x1000 on,
   with its effective value (ParameterValue, else the DownloadFile's bytes, else
-  DefaultValue, else the type's zero, SPEC §1: ``Value.implied``), data type, access, PDO mapping flag and
-  whether compile would write it (``Item.configured``: a ParameterValue or DownloadFile
-  on a writable entry whose ObjFlags bit 0 is clear);
+  DefaultValue, else the type's zero, SPEC §1: ``Value.implied``), data type, access,
+  PDO mapping flag and whether compile would write it (``Item.configured``: a
+  ParameterValue or DownloadFile on a writable entry whose ObjFlags bit 0 is clear);
 * a write list -- a container, its JSON form, a concise DCF -- the last write of each
   entry (what the target holds after it), with a container's attribute byte.
 
