@@ -447,6 +447,31 @@ def test_a_container_against_a_dcf_it_was_not_compiled_from(tmp_path):
                        "+0x1017sub0 Producer heartbeat time: 500"]
 
 
+def test_a_write_list_against_a_description_assumes_a_node_at_its_defaults(cd):
+    """Entries the container does not write hold their DefaultValue on a node at its
+    defaults: a ParameterValue equal to it, one on a ro entry (a record of what was read)
+    or under ObjFlags=1 (not to be written) needs no write; one that changes a writable
+    entry does ("only in" the DCF when the container lacks it)."""
+    configured = ("DefaultValue=255", "DefaultValue=255\nParameterValue=1")
+    dcf(cd, "a.dcf", configured)
+    r = CliRunner().invoke(main, ["compile", "a.dcf", "-o", "a.bin"])
+    assert r.exit_code == 0, r.stderr
+    dcf(cd, "b.dcf", configured,
+        ("DefaultValue=0x60410010", "DefaultValue=0x60410010\nParameterValue=0x60410010"),
+        ("DefaultValue=0x00000191", "DefaultValue=0x00000191\nParameterValue=0x192"),
+        ("AccessType=rw\nDefaultValue=0x10", "AccessType=rw\nObjFlags=1\nDefaultValue=0x10\n"
+         "ParameterValue=99"))
+    r = run("a.bin", "b.dcf")
+    assert (r.exit_code, r.stdout) == (0, ""), r.stdout
+    dcf(cd, "c.dcf", configured, ("PDOMapping=1\nDefaultValue=0\n\n[6041]",
+                                  "PDOMapping=1\nDefaultValue=0\nParameterValue=0x1234\n\n"
+                                  "[6041]"))
+    r = run("a.bin", "c.dcf", "-q")
+    assert r.stdout.splitlines()[2:] == [
+        "@@ 0x6040 Controlword: only in c.dcf @@",
+        "+0x6040sub0 Controlword: 4660 (UNSIGNED16, rww, mappable)"]
+
+
 def test_two_containers_compare_attribute_bytes_too():
     r = run(SAMPLES / "dis2.bin", SAMPLES / "dis2_cobid.bin", "-q")
     assert r.exit_code == 1

@@ -111,8 +111,10 @@ def _load(path: str, node_id, quiet: bool, *, label: str | None = None):
                                 "DCFs")
     if problem:
         fail(problem, name, ExitCode.UNREADABLE)
-    note = filekind.misnamed(name, kind) if path != "-" else None
-    if note:                 # the content wins, as in every command
+    # the content wins, as in every command; a concise DCF is a .bin as network build
+    # and dcfgen name it, not a misnamed container
+    note = filekind.misnamed(name, kind) if path != "-" and kind != "concise" else None
+    if note:
         emit([Diagnostic(Severity.WARNING, note, name)], quiet)
     try:
         return compare.load(data, name, kind, node_id=node_id)

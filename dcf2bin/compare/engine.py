@@ -4,9 +4,10 @@ Entries compared (docs/diff.md, "What is compared"):
 
 * two descriptions, or two write lists: every entry either holds;
 * a write list (container, JSON form, concise DCF) and a description: the entries the
-  write list writes, and the description's entries that compile would write (a
-  ParameterValue or DownloadFile on a writable entry, ObjFlags bit 0 clear) -- the rest
-  of a description is what the target already holds, and a write list says nothing of it;
+  write list writes, and the description's entries that a node at its defaults holds only
+  when they are written (a ParameterValue or DownloadFile other than the DefaultValue, on
+  a writable entry, ObjFlags bit 0 clear) -- every other entry of the description is
+  what such a node holds already, and a write list says nothing of it;
 * a node and a file: the entries the file lists that were read (``Side.unread`` holds
   those that were not: write-only, no value in the file, left out).
 

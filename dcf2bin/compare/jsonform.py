@@ -75,5 +75,5 @@ def _item(it: Item | None, other: Item | None, f: FileDiff) -> dict | None:
         "access": it.access,
         "pdo_mapping": it.pdo_mapping,
         "attribute": f"0x{it.attr:02X}" if it.attr is not None else None,
-        "where": it.where or None,
+        "where": it.place or None,
     }

@@ -9,8 +9,9 @@ What each kind holds:
 * a description (DCF/EDS, CiA 311 XML): every entry of every object from 0x1000 on,
   with its effective value (ParameterValue, else the DownloadFile's bytes, else
   DefaultValue, else the type's zero, SPEC §1: ``Value.implied``), data type, access,
-  PDO mapping flag and whether compile would write it (``Item.configured``: a
-  ParameterValue or DownloadFile on a writable entry whose ObjFlags bit 0 is clear);
+  PDO mapping flag and whether a write list must write it (``Item.configured``: a
+  ParameterValue or DownloadFile other than its DefaultValue on a writable entry whose
+  ObjFlags bit 0 is clear);
 * a write list -- a container, its JSON form, a concise DCF -- the last write of each
   entry (what the target holds after it), with a container's attribute byte.
 
@@ -158,9 +159,25 @@ def _description_side(src: Source, node_id: int | None) -> tuple[Side, list[Diag
                 warnings.append(problem)
             out.items[(e.index, e.sub)] = Item(
                 e.index, e.sub, value, e.dtype, e.access, e.pdo_mapping, name=e.name,
-                configured=e.configured and e.access in _WRITABLE and not e.obj_flags & 1,
-                where=str(e.value_where))
+                configured=_changes_default(dev, e, value), entry=e)
     return out, warnings
+
+
+def _changes_default(dev, e, value: Value) -> bool:
+    """A write list must write this entry for a node at its defaults to hold the
+    description's value: a ParameterValue or DownloadFile on a writable entry whose
+    ObjFlags bit 0 is clear, other than its DefaultValue (the type's zero without one)."""
+    if not e.configured or e.access not in _WRITABLE or e.obj_flags & 1:
+        return False
+    if value.data is None:
+        return True
+    if e.default is None:
+        from dcf2bin import values
+        return value.data != values.zero(e.dtype)
+    try:
+        return value.data != dev.encode(e, e.default)
+    except DcfError:
+        return True
 
 
 def _value(dev, e) -> tuple[Value, Diagnostic | None]:

@@ -63,8 +63,18 @@ class Item:
     pdo_mapping: bool | None = None
     attr: int | None = None           # a container's attribute byte
     name: str = ""                    # ParameterName
-    configured: bool = False          # a description's entry that compile writes
-    where: str = ""                   # file:line, file:0x1C, "node 5"
+    configured: bool = False          # a description's value a write list must write
+                                      # (readers._changes_default)
+    where: str = ""                   # file:0x1C, "node 5" (a description: see ``place``)
+    entry: object = None              # a description's model Entry
+
+    @property
+    def place(self) -> str:
+        """Where the value stands: file:line of a description's value (worked out when
+        asked: a large file's 60,000 entries need it only for what differs)."""
+        if not self.where and self.entry is not None:
+            self.where = str(self.entry.value_where)
+        return self.where
 
     @property
     def label(self) -> str:
