@@ -14,7 +14,7 @@ import sys
 import pytest
 from click.testing import CliRunner
 
-from conftest import ROOT, SAMPLES
+from conftest import ROOT, SAMPLES, compile_corpus_file, corpus_files, needs_corpus
 from dcf2bin import schemas
 from dcf2bin.cli import main
 
@@ -415,6 +415,26 @@ def test_a_container_and_the_dcf_it_was_compiled_from_are_equal(sample):
     assert (r.exit_code, r.stdout) == (0, ""), r.stdout
 
 
+@needs_corpus
+def test_every_compiling_corpus_file_equals_its_container():
+    """Every corpus DCF/EDS that compiles (node-ID 1 where it needs one, as
+    compile_corpus_file does) is equal to its container, the node's state included."""
+    from dcf2bin import compare
+    checked = 0
+    for p in corpus_files(".dcf", ".eds"):
+        res = compile_corpus_file(p)
+        if not res.ok:
+            continue
+        a = compare.load(p.read_bytes(), str(p), "dcf")
+        if a.node_id is None:
+            a = compare.load(p.read_bytes(), str(p), "dcf", node_id=1)
+        b = compare.load(res.data, "x.bin", "bin")
+        diff, _ = compare.compare_sources(a, b, compare.Scope(state=False))
+        assert diff.equal, (p, [(hex(c.key[0]), c.key[1], c.kind) for c in diff.changes])
+        checked += 1
+    assert checked > 50
+
+
 def test_a_container_its_json_form_and_stdin(tmp_path):
     dumped = CliRunner().invoke(main, ["dump", "-f", "json", str(SAMPLES / "plc.bin")]).stdout
     (tmp_path / "plc.json").write_text(dumped)
@@ -470,6 +490,20 @@ def test_a_write_list_against_a_description_assumes_a_node_at_its_defaults(cd):
     assert r.stdout.splitlines()[2:] == [
         "@@ 0x6040 Controlword: only in c.dcf @@",
         "+0x6040sub0 Controlword: 4660 (UNSIGNED16, rww, mappable)"]
+    # a mapping's sub above its count (sub 0 = 1) is unused: no PDO block writes it
+    unused = ("[2000]", "[1A00sub2]\nParameterName=Mapped object 2\nDataType=0x0007\n"
+              "AccessType=rw\nDefaultValue=0\nParameterValue=0x60400010\n\n[2000]")
+    dcf(cd, "d.dcf", configured, unused)
+    assert run("a.bin", "d.dcf").exit_code == 0
+    dcf(cd, "e.dcf", configured, unused, ("DefaultValue=1\n\n[1A00sub1]",
+                                          "DefaultValue=1\nParameterValue=2\n\n[1A00sub1]"))
+    r = run("a.bin", "e.dcf", "-q")
+    assert r.stdout.splitlines()[2:] == [
+        "@@ 0x1A00 TPDO1 mapping parameter @@",
+        "-0x1A00sub0 Number of mapped objects: 1",
+        "+0x1A00sub0 Number of mapped objects: 2",
+        "+0x1A00sub2 Mapped object 2: 0x60400010 = 0x6040sub0 Controlword, 16 bits "
+        "(UNSIGNED32, rw, not mappable)"]
 
 
 def test_two_containers_compare_attribute_bytes_too():

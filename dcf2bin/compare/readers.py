@@ -25,6 +25,7 @@ from dcf2bin import datatypes as dt
 from dcf2bin.compare.side import (DESCRIPTION, NO_VALUE, WRITES, Item, ObjInfo, Side, Value,
                                   objects_of)
 from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
+from dcf2bin.indexes import is_pdo_mapping
 
 DESCRIPTIONS = ("dcf", "xdd")
 WRITE_LISTS = ("bin", "json", "concise")
@@ -153,20 +154,26 @@ def _description_side(src: Source, node_id: int | None) -> tuple[Side, list[Diag
         if obj.index < 0x1000:       # data type definitions hold no entries (SPEC §1)
             continue
         out.objects[obj.index] = ObjInfo(obj.name, obj.complex)
+        count = None
         for e in obj.sorted_entries():
             value, problem = _value(dev, e)
             if problem is not None:
                 warnings.append(problem)
+            if e.sub == 0 and is_pdo_mapping(obj.index) and value.data is not None:
+                count = int.from_bytes(value.data, "little")
+            # a mapping's subs above its count are unused: compile writes 1..n (SPEC §3.2)
+            unused = count is not None and e.sub > count
             out.items[(e.index, e.sub)] = Item(
                 e.index, e.sub, value, e.dtype, e.access, e.pdo_mapping, name=e.name,
-                configured=_changes_default(dev, e, value), entry=e)
+                configured=not unused and _changes_default(dev, e, value), entry=e)
     return out, warnings
 
 
 def _changes_default(dev, e, value: Value) -> bool:
     """A write list must write this entry for a node at its defaults to hold the
     description's value: a ParameterValue or DownloadFile on a writable entry whose
-    ObjFlags bit 0 is clear, other than its DefaultValue (the type's zero without one)."""
+    ObjFlags bit 0 is clear, other than its DefaultValue (the type's zero without one);
+    not a PDO mapping's sub above its count, which no PDO block writes."""
     if not e.configured or e.access not in _WRITABLE or e.obj_flags & 1:
         return False
     if value.data is None:
