@@ -97,12 +97,12 @@ def _usage(message: str) -> None:
     raise click.UsageError(message, ctx)
 
 
-def _load(path: str, node_id, quiet: bool, *, label: str | None = None):
+def _load(path: str, node_id, quiet: bool):
     """An input read for comparing; one that cannot be (missing, another kind, damaged)
     ends the command with exit 3."""
     from dcf2bin import compare, filekind
     data = read_input(path)
-    name = label or ("<stdin>" if path == "-" else path)
+    name = "<stdin>" if path == "-" else path
     kind = filekind.detect(data, "" if path == "-" else path)
     if kind == "bin" and compare.is_empty_concise(data):
         kind = "concise"
@@ -123,11 +123,10 @@ def _load(path: str, node_id, quiet: bool, *, label: str | None = None):
         raise Failure(ExitCode.UNREADABLE) from None
 
 
-def _files(a: str, b: str, node_id, scope, quiet: bool, labels=(None, None)):
+def _files(a: str, b: str, node_id, scope, quiet: bool):
     from dcf2bin import compare
-    diff, warnings = compare.compare_sources(_load(a, node_id, quiet, label=labels[0]),
-                                             _load(b, node_id, quiet, label=labels[1]),
-                                             scope)
+    diff, warnings = compare.compare_sources(_load(a, node_id, quiet),
+                                             _load(b, node_id, quiet), scope)
     emit(warnings, quiet)
     return diff
 
