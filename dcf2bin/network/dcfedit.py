@@ -7,8 +7,8 @@ object's value section, e.g. ``[1016Value]`` (made at the end of the file when m
 ``[DeviceComissioning] NodeID`` likewise. An entry the file only implies (made from
 CompactPDO, an implied sub 0) has no section to write into: that is an error.
 
-A slave's DCF also states the identity the network file gives it (``identity``): 0x1018
-sub 1-4 as ParameterValue, so that the DCF of a build and the DCF read back from the
+A slave's DCF also states the identity the network file gives it (``identity``; beyond
+D-17's configured values and NodeID, README choice 17): 0x1018 sub 1-4 as ParameterValue, so that the DCF of a build and the DCF read back from the
 node (``network upload``) hold the same identity and ``diff`` compares them.
 """
 from __future__ import annotations
