@@ -11,7 +11,7 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass, field
 
-from dcf2bin import schema
+from dcf2bin import concise, schema
 from dcf2bin.diagnostics import Diagnostic, Severity
 
 
@@ -42,14 +42,8 @@ class BinContainer:
 
     # -- segments ---------------------------------------------------------------------------
     def index_bytes(self) -> bytes:
-        # one growing buffer: b"".join of 120,000 parts would hold a buffer descriptor
-        # for each part at once (about 10 MiB at 60,000 entries, the peak of a compile)
-        pack = schema.ENTRY_HEAD.pack
-        out = bytearray(schema.COUNT.pack(len(self.entries)))
-        for index, sub, data in self.entries:
-            out += pack(index, sub, len(data))
-            out += data
-        return bytes(out)
+        """The index segment: the entries as a CiA 302 concise DCF (its one writer)."""
+        return concise.to_bytes(self.entries)
 
     def address_bytes(self) -> bytes:
         if not self.addresses:

@@ -1,9 +1,11 @@
 """What kind of file an input is: a device description (DCF/EDS text, CiA 311 XML), a binary
-container, the lossless JSON form -- or one of the other files dcf2bin reads or writes,
-given where it does not belong.
+container, a CiA 302-3 concise DCF (what ``network build`` writes for a slave), the lossless
+JSON form of either -- or one of the other files dcf2bin reads or writes, given where it
+does not belong.
 
 One rule for every command (issue 19): the content decides where it is clear -- the JSON
 form starts with ``{`` and names its format, a container's first DWORD is its own size, a
+concise DCF's is the number of the entries that fill it to its last byte, a
 description format passes its own content test (the registry of formats,
 ``dcf2bin.formats.registry``: XML starts with ``<``, CiA 306 text has ``[section]`` lines
 and passes the DCF reader's text test ``ini.not_text``) -- and the file name only where the
@@ -34,10 +36,14 @@ DCF = "dcf"
 XDD = "xdd"
 CONTAINER = "bin"
 JSON = "json"
+CONCISE = "concise"
+CONCISE_JSON = "concise-json"
 
-#: what each kind dcf2bin compiles, or reads as a container, is called in a sentence
+#: what each kind dcf2bin compiles, or reads as a container or a concise DCF, is called in a
+#: sentence
 NAMES = {DCF: "DCF/EDS text", XDD: "CiA 311 XML (XDD/XDC)", CONTAINER: "a binary container",
-         JSON: "the JSON form of a container"}
+         JSON: "the JSON form of a container", CONCISE: "a concise DCF (CiA 302-3)",
+         CONCISE_JSON: "the JSON form of a concise DCF"}
 
 # the description formats' suffixes come from their registry (dcf2bin.formats.registry)
 _BY_SUFFIX = {".bin": CONTAINER, ".json": JSON, **registry.kinds_by_suffix()}
@@ -89,7 +95,7 @@ _CSV_FIELD = re.compile(r"\s*[A-Za-z_][\w .()/-]*\s*")
 _IEC = re.compile(r"(?im)^\s*(VAR_GLOBAL|VAR_EXTERNAL|VAR|TYPE|PROGRAM|FUNCTION_BLOCK)\b")
 _IEC_END = re.compile(r"(?i)\bEND_(VAR|TYPE|PROGRAM|FUNCTION_BLOCK)\b")
 _C = re.compile(r"(?m)^[ \t]*#[ \t]*(include|define|ifndef|ifdef|pragma)\b")
-_JSON_OUT = re.compile(rb'"format"\s*:\s*"dcf2bin-(?!container")[a-z-]+"')
+_JSON_OUT = re.compile(rb'"format"\s*:\s*"dcf2bin-(?!container"|concise")[a-z-]+"')
 
 
 def _is_cpj(data: bytes) -> bool:
@@ -166,27 +172,9 @@ def _is_lenze_bin(data: bytes) -> bool:
     return True
 
 
-def _is_concise(data: bytes) -> bool:
-    """A concise DCF (CiA 302-3; network build's <slave>.bin): a DWORD count, then that
-    many (WORD index, BYTE sub, DWORD size, data) ending exactly at the file's end."""
-    n = len(data)
-    if n < 11:
-        return False
-    count = int.from_bytes(data[:4], "little")
-    if not 1 <= count <= (n - 4) // 7:
-        return False
-    at = 4
-    for _ in range(count):
-        if at + 7 > n:
-            return False
-        size = int.from_bytes(data[at + 3:at + 7], "little")
-        at += 7 + size
-    return at == n
-
-
-#: The other kinds, tested in this order after the two clear ones (the JSON form, a
-#: container) and before the description formats, so that a .cpj's [Topology] sections, a
-#: YAML flow list or an SVG picture are not taken for a DCF or an XDD.
+#: The other kinds, tested in this order after the clear ones (the JSON forms, a container,
+#: a whole concise DCF) and before the description formats, so that a .cpj's [Topology]
+#: sections, a YAML flow list or an SVG picture are not taken for a DCF or an XDD.
 KINDS: list[Kind] = [
     Kind("json-output", "a JSON report of dcf2bin", _OUTPUT, _is_json_output),
     Kind("cpj", "a CiA 306-3 network project",
@@ -206,8 +194,6 @@ KINDS: list[Kind] = [
          (".yml", ".yaml")),
     Kind("lenze-bin", "Lenze PLC Designer records",
          "dcf2bin export --format lenze-bin writes this; it is not an input", _is_lenze_bin),
-    Kind("concise", "a concise DCF (CiA 302-3)",
-         "dcf2bin network build writes this for a slave; it is not an input", _is_concise),
 ]
 
 
@@ -219,7 +205,7 @@ def register(kind: Kind, *, first: bool = False) -> None:
 
 
 def kind_of(name: str) -> Kind | None:
-    """The table's entry of a kind (None for the three of NAMES)."""
+    """The table's entry of a kind (None for the kinds of NAMES)."""
     return next((k for k in KINDS if k.name == name), None)
 
 
@@ -245,13 +231,22 @@ def detect(data: bytes, path: str = "") -> str:
     """The kind of ``data``: by content where the content is clear, else by ``path``'s
     suffix, else by the content's best guess.
 
-    Clear: a ``{`` first and the JSON form's ``"dcf2bin-container"`` mark; a complete
-    container header (its first DWORD is the file's size, 40 bytes or more); a kind of
-    ``KINDS`` whose test the content passes; a description format's own content test (CiA
-    306 text: the DCF reader's text test and a ``[section]`` line). Anything else -- an
-    empty file, a truncated or damaged container, a text without sections, UTF-16 -- is
-    decided by the name, and without a known suffix a binary file is a container and text
-    is DCF."""
+    Clear: a ``{`` first and a JSON form's ``"dcf2bin-container"`` or ``"dcf2bin-concise"``
+    mark; a complete container header (its first DWORD is the file's size, 40 bytes or
+    more); a whole concise DCF (a DWORD count, then exactly that many entries up to the
+    file's last byte: ``concise.fills``); a kind of ``KINDS`` whose test the content
+    passes; a damaged concise DCF (``concise.damaged``: a first DWORD smaller than the file
+    and a first entry whole inside it that writes an object, 0x1000 or above); a description
+    format's own content test (CiA 306 text: the DCF reader's text test and a ``[section]``
+    line). Anything else -- an empty file, a truncated or damaged container, a text without
+    sections, UTF-16 -- is decided by the name, and without a known suffix a binary file is
+    a container and text is DCF.
+
+    A file cannot be both a whole container and a whole concise DCF: a container's first
+    DWORD is its own size, a concise DCF's the number of its entries, each 7 bytes or more
+    (SPEC §3.2), so it is always less than the file's size. ``00 00 00 00`` is an empty
+    concise DCF; a file shorter than a container's header whose first DWORD is its size
+    (a container cut short) is read as its name says."""
     kind = _clear(data)
     if kind is not None:
         return kind
@@ -273,22 +268,35 @@ def _body(data: bytes) -> bytes:
 
 
 def _clear(data: bytes) -> str | None:
-    if _body(data)[:1] == b"{" and b'"dcf2bin-container"' in data[:65536]:
-        return JSON
+    from dcf2bin import concise
+    if _body(data)[:1] == b"{":
+        if b'"dcf2bin-container"' in data[:65536]:
+            return JSON
+        if b'"dcf2bin-concise"' in data[:65536]:
+            return CONCISE_JSON
     if len(data) >= 40 and int.from_bytes(data[:4], "little") == len(data):
         return CONTAINER
+    if concise.fills(data):             # walks the entries' heads: the whole file
+        return CONCISE
     head = data[:65536]
     for k in KINDS:
         if k.detect(head):
             return k.name
+    if concise.damaged(data):
+        return CONCISE
     fmt = registry.sniff(data)          # a description format's own content test
     return fmt.kind if fmt is not None else None
 
 
+# a name that promises one kind promises these too: a concise DCF is a .bin as a container is
+_SAME_NAME = {CONTAINER: (CONCISE,), JSON: (CONCISE_JSON,)}
+
+
 def contradicts_name(kind: str, path: str) -> bool:
-    """True when the content's kind is not the one the file's suffix promises."""
+    """True when the content's kind is not the one the file's suffix promises (``.bin``
+    promises a container or a concise DCF, ``.json`` the JSON form of either)."""
     named = by_name(path)
-    return named is not None and named != kind
+    return named is not None and named != kind and kind not in _SAME_NAME.get(named, ())
 
 
 def what_it_is(path: str, kind: str) -> str:
@@ -302,6 +310,9 @@ _USE = {
     XDD: "use dcf2bin compile to make a container of it (dcf2bin validate checks it)",
     CONTAINER: "use dcf2bin dump to read it (dcf2bin bin2dcf turns it into a DCF)",
     JSON: "use dcf2bin compile to turn it back into the container",
+    CONCISE: "use dcf2bin dump to read it (dcf2bin validate checks it, download writes it "
+             "to a node, bin2dcf turns it into a DCF)",
+    CONCISE_JSON: "use dcf2bin compile to turn it back into the concise DCF",
 }
 
 
@@ -329,13 +340,24 @@ def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
         use = use.get(kind)
     if kind not in NAMES:
         # what the file was most likely meant to be: DCF/EDS text where that is read
-        first = next((k for k in (DCF, XDD, CONTAINER, JSON) if k in wanted), wanted[0])
+        first = next((k for k in (DCF, XDD, CONTAINER, CONCISE, JSON) if k in wanted),
+                     wanted[0])
         return f"{path} is not {called(first)} (it looks like {called(kind)}: " \
             f"{advice(kind)})" + (f"; {use}" if use else "")
-    # a command that takes DCF/EDS text takes CiA 311 XML too: "DCF/EDS text" names both
+    # a command that takes DCF/EDS text takes CiA 311 XML too: "DCF/EDS text" names both;
+    # "its JSON form" names the JSON forms of the kinds named before it
     want = " or ".join(called(w).replace("the JSON form of a container", "its JSON form")
-                       for w in wanted if not (w == XDD and DCF in wanted))
+                       .replace("the JSON form of a concise DCF", "its JSON form")
+                       for w in _named(wanted))
     return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"
+
+
+def _named(wanted: tuple[str, ...]) -> list[str]:
+    """The kinds a mismatch names: XDD goes with DCF, one JSON form for both."""
+    out = [w for w in wanted if not (w == XDD and DCF in wanted)]
+    if JSON in out and CONCISE_JSON in out:
+        out.remove(CONCISE_JSON)
+    return out
 
 
 def misnamed(path: str, kind: str) -> str | None:
@@ -348,6 +370,6 @@ def misnamed(path: str, kind: str) -> str | None:
     return f"{what_it_is(path, kind)}, not {named} as its name says; read as {called(kind)}"
 
 
-__all__ = ["CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES", "advice", "by_name",
-           "called", "contradicts_name", "detect", "kind_of", "misnamed", "mismatch", "register",
-           "what_it_is"]
+__all__ = ["CONCISE", "CONCISE_JSON", "CONTAINER", "DCF", "JSON", "XDD", "KINDS", "Kind", "NAMES",
+           "advice", "by_name", "called", "contradicts_name", "detect", "kind_of", "misnamed",
+           "mismatch", "register", "what_it_is"]

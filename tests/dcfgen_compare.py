@@ -123,7 +123,7 @@ def differences(mine: dict[str, bytes], theirs: pathlib.Path) -> set[tuple[str, 
     """(file, what) for every difference between dcf2bin's outputs and dcfgen's folder:
     a file only one of them writes is (file, "file"); a .bin of dcfgen's that is no
     concise DCF is (file, "unreadable")."""
-    from dcf2bin.container import ContainerError
+    from dcf2bin.concise import ConciseError
     out = set()
     names = {p.name for p in theirs.iterdir()} | set(mine)
     for name in sorted(names):
@@ -136,7 +136,7 @@ def differences(mine: dict[str, bytes], theirs: pathlib.Path) -> set[tuple[str, 
         else:
             try:
                 diff = bin_differences(mine[name], path.read_bytes())
-            except ContainerError:
+            except ConciseError:
                 diff = {"unreadable"}
         out |= {(name, d) for d in diff}
     return out

@@ -50,7 +50,7 @@ dev2:
   heartbeat_producer: 200
   tpdo:
     1:
-      transmission: 1
+      transmission: 255
       mapping:
         - {{index: 0x2001, sub_index: 0, name: position}}
 dev3:

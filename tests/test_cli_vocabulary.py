@@ -43,7 +43,7 @@ SHARED = {
 
 
 # commands whose -o/--output is the folder of several outputs
-FOLDER_OUTPUT = {("network build", "output")}
+FOLDER_OUTPUT = {("network build", "output"), ("network upload", "output")}
 
 
 def _options(cmd):

@@ -70,13 +70,15 @@ BIN_IS_NOT = ("is a binary container, not DCF/EDS text{}; use dcf2bin dump to re
 JSON_IS_NOT = ("is the JSON form of a container, not {}; use dcf2bin compile to turn it back "
                "into the container")
 
+CONCISE_TOO = " or a concise DCF (CiA 302-3)"     # dump and bin2dcf read both
+
 # (command, arguments before the file, the file's kind, the sentence after "<file> ")
 WRONG = [
-    ("dump", [], "dcf", DCF_IS_NOT.format("")),
-    ("dump", [], "json", JSON_IS_NOT.format("a binary container")),
-    ("bin2dcf", ["-o", "-"], "dcf", "is DCF/EDS text, not a binary container; it is a DCF "
-                                    "already (dcf2bin compile makes a container of it)"),
-    ("bin2dcf", ["-o", "-"], "json", JSON_IS_NOT.format("a binary container")),
+    ("dump", [], "dcf", DCF_IS_NOT.format(CONCISE_TOO)),
+    ("dump", [], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
+    ("bin2dcf", ["-o", "-"], "dcf", "is DCF/EDS text, not a binary container" + CONCISE_TOO +
+     "; it is a DCF already (dcf2bin compile makes a container of it)"),
+    ("bin2dcf", ["-o", "-"], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
     ("compile", ["-o", "-"], "bin", BIN_IS_NOT.format(" or its JSON form")),
     ("export", ["-f", "lenze-st"], "bin", BIN_IS_NOT.format("")),
     ("export", ["-f", "lenze-st"], "json", JSON_IS_NOT.format("DCF/EDS text")),
@@ -142,7 +144,8 @@ def test_stdin_goes_by_content():
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_BIN)
     assert r.exit_code == 0 and r.stderr == ""
     r = CliRunner().invoke(main, ["dump", "-"], input=PLC_DCF)
-    assert (r.exit_code, r.stderr) == (1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format('')}\n")
+    assert (r.exit_code, r.stderr) == (
+        1, f"<stdin>: error: <stdin> {DCF_IS_NOT.format(CONCISE_TOO)}\n")
 
 
 def test_validate_the_json_form_names_compile(tmp_path):
@@ -259,9 +262,6 @@ OTHER = {
                                   SAMPLES / "device.eds"),
                   "Lenze PLC Designer records",
                   "dcf2bin export --format lenze-bin writes this; it is not an input"),
-    "concise": (lambda d: _write(d, "s", (NET / "out" / "drive.bin").read_bytes()),
-                "a concise DCF (CiA 302-3)",
-                "dcf2bin network build writes this for a slave; it is not an input"),
 }
 
 

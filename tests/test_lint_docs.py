@@ -19,7 +19,7 @@ def test_at_least_40_rules_with_unique_kebab_names_and_one_line_descriptions():
     assert len(rules) >= 40
     assert len({r.name for r in rules}) == len(rules)
     for r in rules:
-        assert re.fullmatch(r"(DCF|CNT|XDD)\d{3}|TGT0[0-9A-F]{2}|TGT1\d{2}|(IO|INT)\d{3}", r.id), r.id
+        assert re.fullmatch(r"(DCF|CNT|CON|XDD)\d{3}|TGT0[0-9A-F]{2}|TGT1\d{2}|(IO|INT)\d{3}", r.id), r.id
         assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*", r.name), r.name
         assert r.description and "\n" not in r.description and r.description.endswith(".")
         assert r.hint, r.id
@@ -34,7 +34,8 @@ def test_every_rule_is_documented_in_docs_and_man_page():
 
 
 def test_families_formats_and_exit_codes_are_documented():
-    for prefix in ("DCF0xx", "DCF1xx", "DCF2xx", "DCF3xx", "DCF4xx", "XDD0xx", "CNT0xx", "TGT0xx", "TGT1xx"):
+    for prefix in ("DCF0xx", "DCF1xx", "DCF2xx", "DCF3xx", "DCF4xx", "XDD0xx", "CNT0xx", "CON0xx", "TGT0xx",
+                   "TGT1xx"):
         assert prefix in DOC and prefix in MAN, prefix
     for name in FAMILIES.values():
         assert name.lower() in DOC.lower() and name.lower() in MAN.lower(), name

@@ -67,7 +67,7 @@ def test_the_table_names_every_command_module():
     here = os.path.dirname(sys.modules["dcf2bin.cli"].__file__)
     modules = {f[:-3] for f in os.listdir(here)
                if f.endswith(".py") and f not in ("__init__.py", "common.py")}
-    modules |= {"network"}
+    modules |= {"network", "lss"}
     assert {t.partition(":")[0].rpartition(".")[2] for t in COMMANDS.values()} == modules
 
 

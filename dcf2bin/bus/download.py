@@ -98,6 +98,25 @@ def plan_from_container(c, name: str, json_text: str | None = None) -> Plan:
     return Plan(name, writes, c.index_bytes())
 
 
+def plan_from_concise(entries, name: str, json_text: str | None = None) -> Plan:
+    """From a CiA 302-3 concise DCF's entries (or its JSON form, when ``json_text`` is
+    given), written in its order as a configuration manager writes them: each entry's place
+    is its byte offset in the file, or its line in the JSON text. Its entries have no
+    attribute: each is read back (``--verify``) as far as ``--max-upload`` allows."""
+    from dcf2bin import concise
+    from dcf2bin.dump import locate
+    offsets = concise.offsets(entries)
+    writes = []
+    for k, (index, sub, data) in enumerate(entries):
+        if json_text is not None:
+            pos = locate(json_text, ("entries", k))
+            where = f"{name}:{json_text.count(chr(10), 0, pos) + 1}" if pos is not None else name
+        else:
+            where = f"{name}:0x{offsets[k]:X}"
+        writes.append(Write(k + 1, index, sub, data, None, where))
+    return Plan(name, writes, concise.to_bytes(entries))
+
+
 # -- dry run ------------------------------------------------------------------------------
 
 def render(plan: Plan, node_id: int) -> list[str]:

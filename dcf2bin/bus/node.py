@@ -102,6 +102,7 @@ class BenchNode(canopen.LocalNode):
         self.sdo.segmented_download = self._bounded(self.sdo.segmented_download)
         self._saved: dict[int, dict[int, bytes]] = {}
         self._saved_image = bytes(image.data) if image is not None else b""
+        self.lss = None          # its LSS slave (bus/lss_slave.py), when it answers LSS
 
     def _bounded(self, segmented_download):
         """canopen's server collects a segmented download without a limit: a client that
@@ -181,6 +182,8 @@ class BenchNode(canopen.LocalNode):
                 if 0x1000 <= index <= 0x1FFF:
                     self.data_store[index] = dict(subs)
         self.event("reset " + ("application" if command == RESET_NODE else "communication"))
+        if self.lss is not None:
+            self.lss.take_pending()          # a node-ID configured by LSS takes effect
         self.boot()
 
     def _state_changed(self) -> None:
@@ -200,6 +203,8 @@ class BenchNode(canopen.LocalNode):
 
     # -- life -------------------------------------------------------------------------------
     def attach(self, network, *, operational: bool = False) -> None:
+        if self.lss is not None and not self.lss.attach(network, operational):
+            return                           # no node-ID yet: it answers LSS only
         network.add_node(self)
         network.subscribe(NMT_COB_ID, self.on_nmt)
         network.subscribe(SYNC_COB_ID, self.pdos.on_sync)
@@ -209,6 +214,8 @@ class BenchNode(canopen.LocalNode):
 
     def detach(self) -> None:
         """Stop the heartbeat and the PDO timers (waiting for their threads), leave the bus."""
+        if self.lss is not None:
+            self.lss.detach()
         tasks = self.pdos.tasks() + [self.nmt._send_task]
         self.pdos.stop()
         self.nmt.stop_heartbeat()

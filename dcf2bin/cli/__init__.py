@@ -19,16 +19,19 @@ COMMANDS = {
     "compile": "dcf2bin.cli.compile:compile_cmd",
     "dump": "dcf2bin.cli.dump:dump_cmd",
     "bin2dcf": "dcf2bin.cli.bin2dcf:bin2dcf_cmd",
+    "convert": "dcf2bin.cli.convert:convert_cmd",
     "validate": "dcf2bin.cli.validate:validate_cmd",
     "export": "dcf2bin.cli.export:export_cmd",
     "tunnel": "dcf2bin.cli.tunnel:tunnel_cmd",
     "simulate": "dcf2bin.cli.simulate:simulate_cmd",
     "download": "dcf2bin.cli.download:download_cmd",
+    "upload": "dcf2bin.cli.upload:upload_cmd",
     "node": "dcf2bin.cli.node:node_cmd",
     "map": "dcf2bin.cli.map:map_cmd",
     "allocate": "dcf2bin.cli.allocate:allocate_cmd",
     "diff": "dcf2bin.cli.diff:diff_cmd",
     "network": "dcf2bin.cli.network:network_group",
+    "lss": "dcf2bin.cli.lss:lss_group",
 }
 
 

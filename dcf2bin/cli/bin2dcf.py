@@ -1,4 +1,5 @@
-"""dcf2bin bin2dcf (also installed as ``bin2dcf``): a container back into a DCF."""
+"""dcf2bin bin2dcf (also installed as ``bin2dcf``): a container or a concise DCF back into a
+DCF."""
 from __future__ import annotations
 
 import os
@@ -7,7 +8,8 @@ import click
 
 from dcf2bin import __version__
 from dcf2bin.cli.common import (CONTEXT, Command, Failure, debug_option, default_output, emit,
-                                force_option, guarded, output_option, read_container, read_eds,
+                                fail,
+                                force_option, guarded, output_option, read_binary, read_eds,
                                 without_cyclic_gc, write_output)
 from dcf2bin.cli.dump import EDS, INPUT, QUIET
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -15,8 +17,12 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @without_cyclic_gc
 def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     from dcf2bin import dcfwriter
-    c, name = read_container(input, quiet, use={
+    kind, c, name = read_binary(input, quiet, use={
         "dcf": "it is a DCF already (dcf2bin compile makes a container of it)"})
+    if strict and kind == "concise":
+        fail(f"{name} is a concise DCF: --strict checks that compile gives a container's "
+             "bytes back, and a DCF keeps no order of a concise DCF's writes; convert it "
+             "without --strict", name, ExitCode.USAGE)
     if output is None:
         # beside plc.bin usually stands the plc.dcf it was compiled from: never clobber it
         output = default_output(input, ".dcf", force,
@@ -27,7 +33,10 @@ def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     else:
         dcf_name = (os.path.splitext(os.path.basename(input))[0] if input != "-" else "stdin") \
             + ".dcf"
-    res = dcfwriter.convert(c, name, dcf_name=dcf_name, eds=info, eds_device=dev)
+    if kind == "concise":
+        res = dcfwriter.convert_concise(c, name, dcf_name=dcf_name, eds=info, eds_device=dev)
+    else:
+        res = dcfwriter.convert(c, name, dcf_name=dcf_name, eds=info, eds_device=dev)
     if strict and not res.roundtrip:
         emit([Diagnostic(Severity.ERROR if d.rule == dcfwriter.R_SUMMARY else d.severity,
                          d.message, d.file, d.line, d.column, d.offset, d.rule, d.hint)
@@ -48,19 +57,21 @@ def _bin2dcf_options(fn):
         EDS,
         click.option("--strict", is_flag=True,
                      help="Fail (exit 1, nothing written) when the DCF would not compile "
-                          "back to the same bytes."),
+                          "back to the same bytes (a container only)."),
         QUIET,
     ]):
         fn = deco(fn)
     return fn
 
 
-_BIN2DCF_HELP = """Turn a binary container back into a DCF.
+_BIN2DCF_HELP = """Turn a binary container or a concise DCF back into a DCF.
 
 One object section per index; ParameterValue is the last value written, comments list
 earlier writes (PDO sequences). Types come from the CiA 405 ranges and the attribute
-bytes, or from --eds. A warning names everything that 'dcf2bin compile' would not turn
-back into the same bytes (use 'dcf2bin dump --format json' for a lossless copy).
+bytes, or from --eds; a concise DCF has no attribute bytes: its types are CiA 301's
+where it fixes them, else guessed from the size, unless --eds gives them. For a container,
+a warning names everything that 'dcf2bin compile' would not turn back into the same bytes
+(use 'dcf2bin dump --format json' for a lossless copy).
 """
 
 

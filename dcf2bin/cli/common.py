@@ -375,6 +375,30 @@ def decode_container(data: bytes, name: str, quiet: bool, *, json_input: bool = 
     return c
 
 
+def read_binary(path: str, quiet: bool, *, use=None):
+    """Read a container or a concise DCF, each by its content: ``(kind, what, name)`` with
+    ``kind`` "bin" and a container, or "concise" and the concise DCF's entries; a bad one
+    ends with one line naming the byte offset, a file of another kind with one naming its
+    command."""
+    data = read_input(path)
+    name = "<stdin>" if path == "-" else path
+    kind = input_kind(path, data, ("bin", "concise"), quiet=quiet, use=use)
+    if kind == "concise":
+        return kind, decode_concise(data, name, quiet), name
+    return kind, decode_container(data, name, quiet), name
+
+
+def decode_concise(data: bytes, name: str, quiet: bool):
+    """A concise DCF's entries; its one error (an entry past the end, a count that
+    disagrees, ...) is printed and ends the command (exit 1)."""
+    from dcf2bin.concise import read_concise
+    entries, diags = read_concise(data, name)
+    emit(diags, quiet)
+    if entries is None:
+        raise Failure(ExitCode.FINDINGS)
+    return entries
+
+
 def read_eds(path: str | None, quiet: bool):
     if path is None:
         return None, None
@@ -539,6 +563,9 @@ SHARED_HELP = {
     "strict": "Warnings fail the run too (exit 1).",
 }
 
+#: --eds of dump, bin2dcf and validate (map's says what map takes it for)
+EDS_HELP = "EDS/DCF of the device: exact data types, access and names."
+
 
 def _help(key: str, more: str = "") -> str:
     return SHARED_HELP[key] + (" " + more if more else "")
@@ -613,6 +640,11 @@ def entries_option(more: str = ""):
 def static_od_option(more: str = ""):
     return click.option("--static-od", type=click.Path(), metavar="EDS",
                         help=_help("static_od", more))
+
+
+def eds_option(more: str = ""):
+    return click.option("--eds", type=click.Path(), metavar="EDS",
+                        help=EDS_HELP + (" " + more if more else ""))
 
 
 def force_option(fn):

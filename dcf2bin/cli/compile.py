@@ -81,12 +81,13 @@ def compile_cmd(input, output, force, node_id, entries, pdo_sequence, static_od,
     from dcf2bin.compiler import CompileOptions, compile_path
     out_format = fmt
     data_in = read_input(input)
-    fmt = input_kind(input, data_in, ("dcf", "xdd", "json"), from_, quiet=quiet)
+    fmt = input_kind(input, data_in, ("dcf", "xdd", "json", "concise-json"), from_,
+                     quiet=quiet)
     if output is None:
         output = default_output(input, ".c" if out_format == "c" else ".bin", force)
     write = _writer(out_format, c_name, c_decl, input)
     name = "<stdin>" if input == "-" else input
-    if fmt == "json":
+    if fmt in ("json", "concise-json"):      # the bytes of a container or a concise DCF
         from dcf2bin.dump import from_json_bytes
         data, diags = from_json_bytes(data_in, name)
         emit(diags, quiet)

@@ -6,7 +6,8 @@ import sys
 import click
 
 from dcf2bin.cli.common import (CONTEXT, COUNT, NODE_ID, Failure, Integer, Seconds,
-                                check_output, debug_option, decode_container, emit, fail,
+                                check_output, debug_option, decode_concise, decode_container,
+                                emit, fail,
                                 from_option, guarded, input_kind, node_id_option, quiet_option,
                                 read_input, stop_on_errors, write_output)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -65,8 +66,8 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 @node_id_option("The node to configure; also used for $NODEID values.", required=True)
 @bus_options
 @sdo_options
-@from_option(["dcf", "json", "bin"], "dcf = DCF/EDS, bin = container, json = lossless "
-             "dump.")
+@from_option(["dcf", "json", "bin", "concise"], "dcf = DCF/EDS, bin = container, concise = "
+             "concise DCF, json = lossless dump of either.")
 @click.option("--dry-run", is_flag=True, help="Print the SDO writes; touch no bus.")
 @click.option("--verify", is_flag=True,
               help="Read back every readable entry written and report each difference.")
@@ -87,11 +88,13 @@ def _count(n: int, word: str, plural: str | None = None) -> str:
 def download_cmd(input, node_id, interface, channel, bitrate, timeout, retries, max_upload,
                  from_, dry_run, verify, keep_going, preop, save, reset_comm, manager, quiet,
                  debug):
-    """Write the entries of a DCF/EDS, a container or its JSON form to a node by SDO.
+    """Write the entries of a DCF/EDS, a container, a concise DCF or their JSON forms to
+    a node by SDO.
 
     The entries are written in container order, exactly as the target would execute
-    them (PDO reconfiguration sequences included); each error names the DCF line (or
-    the entry's byte offset in a container) it comes from.
+    them (PDO reconfiguration sequences included) -- a concise DCF's in its own order, as a
+    CiA 302 configuration manager writes them; each error names the DCF line (or the
+    entry's byte offset in the file) it comes from.
     """
     from dcf2bin.bus import download as dl
     check_output("-")           # the summary's way out, before any bus work
@@ -116,18 +119,39 @@ def _plan(input: str, from_: str | None, node_id: int, quiet: bool):
     from dcf2bin.bus import download as dl
     data = read_input(input)
     name = "<stdin>" if input == "-" else input
-    fmt = input_kind(input, data, ("dcf", "xdd", "json", "bin"), from_, quiet=quiet)
+    fmt = input_kind(input, data, ("dcf", "xdd", "json", "concise-json", "bin", "concise"),
+                     from_, quiet=quiet)
     if fmt in ("dcf", "xdd"):
         from dcf2bin.compiler import CompileOptions, compile_path
         res = compile_path(name, CompileOptions(node_id=node_id), data=data)
         emit(res.diagnostics, quiet)
         stop_on_errors(res, name, "nothing sent")
         return dl.plan_from_result(res, name)
+    if fmt == "concise":
+        return dl.plan_from_concise(decode_concise(data, name, quiet), name)
     text = None
-    if fmt == "json":
+    if fmt in ("json", "concise-json"):
         text = data.decode("utf-8-sig", errors="replace")   # for the line of each entry
-    c = decode_container(data, name, quiet, json_input=fmt == "json")
+        data = _from_json(data, name, quiet)
+        if _is_concise(data):     # a concise DCF's JSON form (never a container's bytes)
+            return dl.plan_from_concise(decode_concise(data, name, quiet), name, text)
+    c = decode_container(data, name, quiet)
     return dl.plan_from_container(c, name, text)
+
+
+def _from_json(data: bytes, name: str, quiet: bool) -> bytes:
+    """The bytes a lossless JSON form records (its errors end the command, exit 1)."""
+    from dcf2bin.dump import from_json_bytes
+    out, diags = from_json_bytes(data, name)
+    emit(diags, quiet)
+    if out is None:
+        raise Failure(ExitCode.FINDINGS)
+    return out
+
+
+def _is_concise(data: bytes) -> bool:
+    from dcf2bin.concise import fills
+    return fills(data)
 
 
 def _run(net, plan, node_id: int, *, timeout, retries, verify, keep_going, preop, save,

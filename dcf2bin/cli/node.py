@@ -7,10 +7,10 @@ import time
 import click
 
 from dcf2bin import argspec
-from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, debug_option, emit, fail, guarded,
-                                input_kind, load_static_od, node_id_option, quiet_option,
-                                read_input, static_od_option, target_stack_options,
-                                verbose_option)
+from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, Integer, debug_option, emit,
+                                fail, guarded, input_kind, load_static_od, node_id_option,
+                                quiet_option, read_input, static_od_option,
+                                target_stack_options, verbose_option)
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
@@ -39,19 +39,29 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="Enter OPERATIONAL at once instead of waiting for an NMT start.")
 @click.option("--duration", type=click.FloatRange(0), metavar="SECONDS",
               help="Stop after this many seconds (default: run until Ctrl-C).")
+@click.option("--serial", type=Integer(0, 0xFFFFFFFF), metavar="N",
+              help="The node's serial number: 0x1018 sub 4 and the last part of the "
+              "identity LSS finds it by (default: its 0x1018 sub 4, else 0).")
+@click.option("--lss-unconfigured", is_flag=True,
+              help="Start without a node-ID (0xFF): answer LSS only -- no SDO, no boot-up, "
+              "no heartbeat -- until LSS gives one (--node-id, default 1, then only "
+              "resolves the file's $NODEID values).")
 @quiet_option()
 @verbose_option("NMT state changes and PDOs that cannot be used.")
 @debug_option
 @guarded
 def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, pi_size,
              tx_cobs, rx_cobs, granularity, no_bit_mapping, address_base, show_pi,
-             operational, duration, quiet, verbose, debug):
+             operational, duration, serial, lss_unconfigured, quiet, verbose, debug):
     """Run a CANopen node on the bus until Ctrl-C: SDO server, NMT, heartbeat and PDOs.
 
     From an EDS/DCF FILE the node has that file's objects and values. With --container
     it is an emulated SYS TEC target: the container is applied as DynBuildOd applies it
     (the node does not start when that fails), the network variables live in a process
     image at their PI addresses, and PDOs move them on and off the bus.
+
+    The node answers LSS (CiA 305) with the identity of its 0x1018 (vendor-ID, product
+    code and revision; else its file's [DeviceInfo]) and --serial.
     """
     from dcf2bin.bus import link
     if (input is None) == (container is None):
@@ -70,22 +80,27 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
         node, name = _target(container, node_id, static_od, pi_size, tx_cobs, rx_cobs,
                              int(granularity), not no_bit_mapping, address_base, quiet)
     else:
+        if lss_unconfigured and node_id is None:
+            node_id = 1
         node, name = _from_file(input, node_id, quiet)
+    _answer_lss(node, serial, lss_unconfigured, input)
     if show_pi:
         node.on_image_change = lambda image: click.echo(
             "\n".join([f"node {node.id}: process image ({len(image.data)} bytes)"]
                       + image.lines()))
     if verbose:
         node.on_event = lambda text: click.echo(f"node {node.id}: {text}", err=True)
+        node.lss.on_event = node.on_event
     net = open_bus(interface, channel, bitrate)
     try:
         node.attach(net, operational=operational)
         if not quiet:
+            who = (f"node {node.id}" if node.lss.configured else
+                   f"node without a node-ID (LSS serial 0x{node.lss.identity.serial:08X})")
             where = link.BusConfig(interface, channel, bitrate).describe()
             if link.is_virtual(net):
                 where += ": python-can's virtual bus reaches only this process"
-            click.echo(f"{name}: node {node.id} on the bus ({where}); Ctrl-C stops it",
-                       err=True)
+            click.echo(f"{name}: {who} on the bus ({where}); Ctrl-C stops it", err=True)
         _wait(duration)
     except KeyboardInterrupt:
         pass          # Ctrl-C is how a node is meant to stop: exit 0
@@ -94,6 +109,14 @@ def node_cmd(input, node_id, interface, channel, bitrate, container, static_od, 
         link.close_network(net)
     if not quiet:
         click.echo(f"{name}: node {node.id} stopped", err=True)
+
+
+def _answer_lss(node, serial: int | None, unconfigured: bool, path: str | None) -> None:
+    """The node answers LSS: its identity from 0x1018 (else the file's [DeviceInfo]) and
+    --serial."""
+    from dcf2bin.bus import lss_slave
+    lss_slave.attach_lss(node, serial=serial, unconfigured=unconfigured,
+                         info_from=None if path in (None, "-") else path)
 
 
 def _wait(duration: float | None) -> None:

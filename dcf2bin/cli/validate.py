@@ -10,9 +10,9 @@ import click
 
 from dcf2bin import argspec
 from dcf2bin.cli.common import (CONTEXT, COUNT, Choice, Failure, Integer, check_output,
-                                debug_option, format_option, guarded, lint_report,
+                                debug_option, eds_option, format_option, guarded, lint_report,
                                 load_static_od, node_id_option, output_option, quiet_option,
-                                read_input, rule_options, static_od_option,
+                                read_eds, read_input, rule_options, static_od_option,
                                 target_stack_options, write_output)
 from dcf2bin.diagnostics import ExitCode
 
@@ -42,6 +42,8 @@ FORMATS = ("text", "json", "sarif", "github")
 @target_stack_options
 @static_od_option("Objects absent from it are created (as compile creates them); on a "
                   "container, what it never writes is then checked against it too.")
+@eds_option("Concise DCFs are checked against it (without it: each against the .dcf, else "
+            "the .eds, of its own name beside it, if there is one).")
 @click.option("--stdin-filename", default="<stdin>", show_default=True, metavar="NAME",
               help="File name to report for '-' (stdin).")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
@@ -54,9 +56,9 @@ FORMATS = ("text", "json", "sarif", "github")
 @guarded
 def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profile, node_id,
                  pi_size, pi_align, address_base, allow_external_files, no_target_check,
-                 tx_cobs, rx_cobs, granularity, no_bit_mapping, static_od, stdin_filename,
-                 hints, jobs, quiet, debug):
-    """Lint DCF/EDS files and binary containers: every problem, with rule ids.
+                 tx_cobs, rx_cobs, granularity, no_bit_mapping, static_od, eds,
+                 stdin_filename, hints, jobs, quiet, debug):
+    """Lint DCF/EDS files, binary containers and concise DCFs: every problem, with rule ids.
 
     PATHS are files, directories (searched recursively for *.eds, *.dcf, *.bin in any
     case) and '-' for stdin. Text output shows at most 20 findings per rule and file (the
@@ -85,13 +87,14 @@ def validate_cmd(paths, fmt, output, select_, ignore, strict, list_rules, profil
     except SelectorError as exc:
         raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
     load_static_od(static_od, quiet, "nothing checked")
+    read_eds(eds, quiet)        # DCF/EDS text or XML that reads (exit 3, 1 otherwise)
     stdin = read_input("-") if "-" in paths else None
     opts = Options(node_id=node_id, pi_size=pi_size, pi_align=int(pi_align),
                    address_base=address_base, profile=profile,
                    allow_external_files=allow_external_files, active=active, strict=strict,
                    target_check=not no_target_check, tx_cobs=tx_cobs, rx_cobs=rx_cobs,
                    granularity=int(granularity), bit_mapping=not no_bit_mapping,
-                   static_od=static_od)
+                   static_od=static_od, eds=eds)
     if jobs is None:
         from dcf2bin.lint.parallel import usable_cores
         jobs = usable_cores()

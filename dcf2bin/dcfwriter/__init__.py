@@ -24,6 +24,11 @@ The work is done in three steps, one module each:
 * ``roundtrip`` replays the rules of SPEC §3 on them and warns where compile would
   not give the container's bytes back.
 
+A CiA 302-3 concise DCF (what ``network build`` writes for a slave) is turned into a DCF by
+``convert_concise`` the same way: its entries have no attribute, so their types come from
+the EDS, CiA 301 or the size (``dump.entry_type``), and no round trip is promised (a DCF
+holds one value per entry, not the order of the writes).
+
     >>> from dcf2bin import dump, dcfwriter
     >>> c, _ = dump.read_bytes(open("samples/plc.bin", "rb").read(), "plc.bin")
     >>> res = dcfwriter.convert(c, "plc.bin", dcf_name="plc.dcf")
@@ -57,6 +62,17 @@ class Result:
         return self.text.encode(self.encoding, errors="replace")
 
 
+def convert_concise(entries, name: str, *, dcf_name: str, eds: EdsInfo | None = None,
+                    eds_device=None) -> Result:
+    """A concise DCF's entries as DCF text: ``ParameterValue`` the last value written to
+    each entry, earlier writes as comments; the types from the EDS, CiA 301 or the size
+    (``dump.entry_type``). A DCF holds no order of writes, so it is not meant to give the
+    concise DCF's bytes back (``roundtrip`` is False)."""
+    spec = read_spec(BinContainer(entries=list(entries)), name, eds, what="concise DCF")
+    text = render(spec, dcf_name, eds_device)
+    return Result(text, spec.issues.diagnostics(), False, [], spec.encoding)
+
+
 def convert(c: BinContainer, name: str, *, dcf_name: str, eds: EdsInfo | None = None,
             eds_device=None) -> Result:
     """A container as DCF text, with warnings where compile would not give the same bytes.
@@ -74,5 +90,5 @@ def convert(c: BinContainer, name: str, *, dcf_name: str, eds: EdsInfo | None = 
     return Result(text, spec.issues.diagnostics(), roundtrip, options, spec.encoding)
 
 
-__all__ = ["Result", "convert", "table_type", "R_HEADER", "R_ATTR", "R_REPEAT", "R_SELECT",
-           "R_PDO", "R_PI", "R_VALUE", "R_EDS", "R_SUMMARY"]
+__all__ = ["Result", "convert", "convert_concise", "table_type", "R_HEADER", "R_ATTR",
+           "R_REPEAT", "R_SELECT", "R_PDO", "R_PI", "R_VALUE", "R_EDS", "R_SUMMARY"]

@@ -9,7 +9,8 @@ from __future__ import annotations
 from dcf2bin import datatypes as dt
 from dcf2bin.dcfwriter.spec import (R_ATTR, R_EDS, R_PI, R_REPEAT, R_SELECT, Issues, SubSpec,
                                     Write, by_size, holds, table_type, value_text)
-from dcf2bin.dump import EdsInfo
+from dcf2bin.dump import EdsInfo, entry_type
+from dcf2bin.dump.concise_types import GUESS
 from dcf2bin.layout import PER_INDEX
 from dcf2bin.model import is_network_variable_index as is_nv
 from dcf2bin.model import is_pdo_comm as is_comm
@@ -40,9 +41,11 @@ class EntryTyper:
     """Object types, names and entry types, warning into ``issues`` where the DCF
     cannot say what the container stores."""
 
-    def __init__(self, eds: EdsInfo | None, issues: Issues):
+    def __init__(self, eds: EdsInfo | None, issues: Issues, what: str = "container"):
         self.eds = eds
         self.issues = issues
+        self.what = what                  # "container", or "concise DCF"
+        self.concise = what != "container"
 
     def object_type(self, index: int, subs: list[int]) -> int:
         if is_nv(index):
@@ -103,7 +106,7 @@ class EntryTyper:
             self.issues.add(R_REPEAT, writes[0].offset, f"{label} is written {len(writes)} "
                             "times outside a PDO block; the DCF keeps the last value "
                             "(earlier ones are comments)")
-        if index < 0x1000:
+        if index < 0x1000 and not self.concise:
             self.issues.add(R_SELECT, off, f"{label}: compile never writes objects below "
                             "0x1000 (data type definitions)")
         if is_nv(index):   # sub 0 of a network-variable object
@@ -112,26 +115,36 @@ class EntryTyper:
                 self.issues.add(R_ATTR, off, f"{label} has attribute 0x{attr:02X}; compile "
                                 "gives sub 0 of a network-variable object 0x30")
             return SubSpec(index, sub, dtype, "ro", False, writes, self.sub_name(index, sub))
-        dtype, access, pdo = self.infer(label, off, attr, data)
+        note = ""
+        if attr is None and self.concise:   # no attribute: CiA 301's type, or by the size
+            dtype, source = entry_type(index, sub, len(data))
+            dtype, access, pdo = dtype or dt.DOMAIN_T, "rw", False
+            if source == GUESS:
+                note = "; DataType guessed from the size alone (--eds gives the device's)"
+        else:
+            dtype, access, pdo = self.infer(label, off, attr, data)
         eds_e = self.eds.entries.get((index, sub)) if self.eds is not None else None
         if eds_e is not None and eds_e.dtype is not None and eds_e.access is not None:
             et = eds_e.dtype
             exact = attribute(index, sub, et, eds_e.access, eds_e.pdo_mapping)
             if et.size is not None and et.size != len(data):
                 self.issues.add(R_EDS, off, f"{label}: the EDS says {et.name} ({et.size} "
-                                f"bytes), the container writes {len(data)} bytes; "
-                                "the container wins")
+                                f"bytes), the {self.what} writes {len(data)} bytes; "
+                                f"the {self.what} wins")
             elif attr is not None and exact != attr:
                 self.issues.add(R_EDS, off, f"{label}: the EDS gives attribute 0x{exact:02X} "
                                 f"({dt.attr_flags(exact)}), the container has 0x{attr:02X} "
                                 f"({dt.attr_flags(attr)}); the container wins")
             else:
                 dtype, access, pdo = et, eds_e.access, eds_e.pdo_mapping
-        if access in ("ro", "const") and not (is_comm(index) or is_mapping(index)):
+                note = ""
+        if access in ("ro", "const") and not (is_comm(index) or is_mapping(index)) \
+                and not self.concise:
             self.issues.add(R_SELECT, off, f"{label} is read-only (attribute "
                             f"0x{attr:02X}); compile does not write ro entries outside "
                             "the PDO objects")
-        return SubSpec(index, sub, dtype, access, pdo, writes, self.sub_name(index, sub))
+        return SubSpec(index, sub, dtype, access, pdo, writes, self.sub_name(index, sub),
+                       note=note)
 
     def infer(self, label: str, off: int, attr: int | None, data: bytes):
         """DataType, AccessType, PDOMapping from an attribute byte and a size (SPEC §4)."""
@@ -173,7 +186,7 @@ class EntryTyper:
     # -- network variables (SPEC §2.1, D-9) ----------------------------------------------------
     def nv_checks(self, index: int, sub: int, writes: list[Write]) -> None:
         label = f"0x{index:04X}sub{sub:X}"
-        if any(w.attr != 0xF0 for w in writes):
+        if not self.concise and any(w.attr != 0xF0 for w in writes):
             bad = next(w for w in writes if w.attr != 0xF0)
             shown = f"0x{bad.attr:02X}" if bad.attr is not None else "none"
             self.issues.add(R_ATTR, bad.offset, f"{label} has attribute {shown}; compile "
@@ -194,7 +207,7 @@ class EntryTyper:
                 return t
             if t is not None and t.size != size:
                 self.issues.add(R_EDS, last.offset, f"0x{index:04X}sub{sub:X}: the EDS says "
-                                f"{t.name}, the container writes {size} bytes; the container "
+                                f"{t.name}, the {self.what} writes {size} bytes; the {self.what} "
                                 "wins")
         tt = table_type(index)
         if tt is not None and holds(tt[0], data):

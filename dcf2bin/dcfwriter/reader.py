@@ -13,6 +13,7 @@ from __future__ import annotations
 from itertools import groupby, repeat
 from operator import is_, itemgetter
 
+from dcf2bin import concise
 from dcf2bin import datatypes as dt
 from dcf2bin.container import BinContainer
 from dcf2bin.dcfwriter.entries import EntryTyper
@@ -25,26 +26,35 @@ from dcf2bin.model import NV_FIRST, NV_LAST
 from dcf2bin.model import is_network_variable_index as is_nv
 
 
-def read_spec(c: BinContainer, name: str, eds: EdsInfo | None = None) -> DcfSpec:
-    """The DCF objects of container ``c``; warnings collect in the result's ``issues``."""
-    return _Reader(c, name, eds).run()
+def read_spec(c: BinContainer, name: str, eds: EdsInfo | None = None, *,
+              what: str = "container") -> DcfSpec:
+    """The DCF objects of container ``c`` (``what`` "concise DCF": a concise DCF's entries,
+    as ``c.entries``); warnings collect in the result's ``issues``."""
+    return _Reader(c, name, eds, what).run()
 
 
 class _Reader:
-    def __init__(self, c: BinContainer, name: str, eds: EdsInfo | None):
-        header = header_of(c)
+    def __init__(self, c: BinContainer, name: str, eds: EdsInfo | None,
+                 what: str = "container"):
+        if what == "container":
+            header = header_of(c)
+            offsets = entry_offsets(c, header)
+        else:       # a concise DCF: its own size, its entries' offsets in the file
+            header = {"total_size": concise.size_of(c.entries)}
+            offsets = concise.offsets(c.entries)
         self.c = c
-        self.spec = DcfSpec(c, name, header, entry_offsets(c, header), Issues(name))
+        self.spec = DcfSpec(c, name, header, offsets, Issues(name), what=what)
         self.issues = self.spec.issues
         self.eds = eds
-        self.typer = EntryTyper(eds, self.issues)
+        self.typer = EntryTyper(eds, self.issues, what)
         self.objects = self.spec.objects
 
     def run(self) -> DcfSpec:
         c = self.c
         attrs = c.attributes or b""
         n = len(c.entries)
-        self._header_issues(n, attrs)
+        if not self.spec.concise:
+            self._header_issues(n, attrs)
         offsets = self.spec.offsets
         n_attrs = len(attrs)
         attr_of = list(attrs[:n]) + [None] * (n - n_attrs) if n_attrs < n else attrs
@@ -268,7 +278,7 @@ class _Reader:
                            self.typer.sub_name(obj.index, 0), default=str(highest))
             obj.subs[0] = spec
             obj.subs = dict(sorted(obj.subs.items()))
-            if is_nv(obj.index):
+            if is_nv(obj.index) and not self.spec.concise:
                 self.issues.add(R_SELECT, None, f"0x{obj.index:04X}sub0 is not in the "
                                 "container; compile writes sub 0 of every network-variable "
                                 "object")

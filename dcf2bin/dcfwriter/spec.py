@@ -55,6 +55,7 @@ class SubSpec:
     name: str = ""
     value: str = ""        # ParameterValue text ("" = none: an implied sub 0)
     default: str = ""      # DefaultValue text (an implied sub 0; a DIS-2 comm sub 1, D-12)
+    note: str = ""         # a comment line before its keys (a concise DCF's guessed type)
 
     @property
     def data(self) -> bytes:
@@ -130,6 +131,13 @@ class DcfSpec:
     objects: dict[int, ObjSpec] = field(default_factory=dict)
     channels: list[ChannelSpec] = field(default_factory=list)
     encoding: str = "utf-8"
+    what: str = "container"                 # what the bytes are, in messages and comments
+
+    @property
+    def concise(self) -> bool:
+        """A concise DCF (CiA 302-3): entries without attributes, header or process image,
+        whose DCF is not meant to compile back to them."""
+        return self.what == "concise DCF"
 
 
 def value_text(dtype: dt.DataType, data: bytes, encoding: str) -> str | None:

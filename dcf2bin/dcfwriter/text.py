@@ -42,10 +42,15 @@ class _Renderer:
         out: list[str] = []
         w = out.append
         n = len(c.entries)
+        what = "a concise DCF, " if self.spec.concise else ""
         w(f"; DCF written by dcf2bin bin2dcf from {self.spec.name} "
-          f"({self.spec.header['total_size']} bytes, {n} entr{'y' if n == 1 else 'ies'}).")
+          f"({what}{self.spec.header['total_size']} bytes, "
+          f"{n} entr{'y' if n == 1 else 'ies'}).")
         w("; ParameterValue is the last value written to each entry; comments list earlier "
           "writes.")
+        if self.spec.concise:
+            w("; A DCF keeps no order of writes: dcf2bin dump lists the concise DCF's, and "
+              "types without --eds are CiA 301's or guessed from the size.")
         if self.options:
             w(f"; compile it with {' '.join(self.options)} to get the container's bytes back.")
         w("")
@@ -54,7 +59,8 @@ class _Renderer:
         w("FileVersion=1")
         w("FileRevision=0")
         w("EDSVersion=4.0")
-        w(f"Description=Converted from the binary DCF segment container {self.spec.name}")
+        source = "concise DCF" if self.spec.concise else "binary DCF segment container"
+        w(f"Description=Converted from the {source} {self.spec.name}")
         w("CreatedBy=dcf2bin bin2dcf")
         w("")
         self._device_info(w)
@@ -166,7 +172,7 @@ class _Renderer:
         name = names.get(s.name)
         if name is None:
             name = names[s.name] = _clean(s.name)
-        if len(s.writes) == 1 and not s.default:   # _keys of one write, inline
+        if len(s.writes) == 1 and not s.default and not s.note:   # _keys of one write
             w(f"[{s.index:04X}sub{s.sub:X}]\nParameterName={name}\nObjectType=0x7\n"
               f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
               f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
@@ -175,12 +181,14 @@ class _Renderer:
         w(self._keys(s))
 
     def _keys(self, s: SubSpec) -> str:
-        if len(s.writes) == 1 and not s.default:
+        if len(s.writes) == 1 and not s.default and not s.note:
             return (f"DataType=0x{s.dtype.code:04X}\nAccessType={s.access}\n"
                     f"PDOMapping={1 if s.pdo else 0}\nParameterValue={s.value}\n")
         lines = self._earlier(s)
+        if s.note:
+            lines.append(s.note)
         if not s.writes:
-            lines.append("; not in the container: the sub 0 that compile implies")
+            lines.append(f"; not in the {self.spec.what}: the sub 0 that compile implies")
         lines.append(f"DataType=0x{s.dtype.code:04X}")
         lines.append(f"AccessType={s.access}")
         if s.default:
@@ -208,8 +216,9 @@ _SUB, _NAME, _VALUE = attrgetter("sub"), attrgetter("name"), attrgetter("value")
 
 def _alike(subs: list[SubSpec]) -> bool:
     """Do ``subs`` all have one write (no DefaultValue) of one type, access and mapping?"""
-    return len({(s.dtype.code, s.access, s.pdo, len(s.writes), s.default)
-                for s in subs}) == 1 and len(subs[0].writes) == 1 and not subs[0].default
+    return len({(s.dtype.code, s.access, s.pdo, len(s.writes), s.default, s.note)
+                for s in subs}) == 1 and len(subs[0].writes) == 1 and not subs[0].default \
+        and not subs[0].note
 
 
 def _clean(text: str) -> str:

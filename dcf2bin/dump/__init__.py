@@ -22,6 +22,14 @@ tests and docs use, so ``from dcf2bin.dump import X`` keeps working:
 * ``jsonreader`` -- ``from_json_bytes``: JSON text -> bytes and ``file:line`` diagnostics
 * ``eds``        -- ``EdsInfo``/``load_eds``: names and exact types from ``--eds``
 * ``text``       -- ``report``: the readable text report
+
+and the same for a CiA 302-3 concise DCF (read and written by ``dcf2bin.concise``):
+
+* ``concise_json``  -- its lossless JSON form (``dcf2bin-concise``): ``to_json``, ``from_dict``
+                       (``from_json_bytes`` turns it back into bytes too)
+* ``concise_types`` -- ``entry_type``: an entry's type from the EDS, CiA 301, a CiA 405 range,
+                       or guessed from its size
+* ``concise_text``  -- ``concise_report``: the readable text report
 """
 from __future__ import annotations
 
@@ -35,10 +43,15 @@ from dcf2bin.dump.jsonform import (CANONICAL, FORMAT, HEADER_FIELDS, JSON_SCHEMA
 from dcf2bin.dump.jsonreader import from_json_bytes, locate
 from dcf2bin.dump.rebuild import build
 from dcf2bin.dump.text import header_notes, nv_keys, nv_type, report, value_text
+from dcf2bin.dump import concise_json
+from dcf2bin.dump.concise_json import FORMAT as CONCISE_FORMAT
+from dcf2bin.dump.concise_text import report as concise_report
+from dcf2bin.dump.concise_types import entry_type
 
-__all__ = ["CANONICAL", "FORMAT", "HEADER_FIELDS", "JSON_SCHEMA", "PIPARAM_FIELDS", "RULE_JSON",
-           "RULE_JSON_HEADER", "RULE_JSON_SYNTAX", "SCHEMA_VERSION", "STORED", "EdsInfo",
-           "JsonProblem", "Parsed", "build", "eds_warnings", "entry_offsets", "format_json",
+__all__ = ["CANONICAL", "CONCISE_FORMAT", "FORMAT", "HEADER_FIELDS", "JSON_SCHEMA",
+           "PIPARAM_FIELDS", "RULE_JSON", "RULE_JSON_HEADER", "RULE_JSON_SYNTAX", "SCHEMA_VERSION",
+           "STORED", "EdsInfo", "JsonProblem", "Parsed", "build", "concise_json",
+           "concise_report", "eds_warnings", "entry_offsets", "entry_type", "format_json",
            "from_dict", "from_json_bytes", "header_notes", "header_of", "load_eds", "locate",
            "nv_keys", "nv_type", "path_text", "read_bytes", "report", "to_dict", "to_json",
            "value_text"]

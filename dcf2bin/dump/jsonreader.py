@@ -1,13 +1,16 @@
 """JSON text -> container bytes with diagnostics (``from_json_bytes``): strict JSON (no
-repeated key, no NaN), then ``document.from_dict`` and ``rebuild.build``; a problem's JSON
-path is turned into the line it is on (``locate``).
+repeated key, no NaN), then ``document.from_dict`` and ``rebuild.build`` -- or, for the JSON
+form of a concise DCF (``"format": "dcf2bin-concise"``), ``concise_json.from_dict`` and the
+concise DCF's bytes; a problem's JSON path is turned into the line it is on (``locate``).
 """
 from __future__ import annotations
 
 import json
 import re
 
+from dcf2bin import concise
 from dcf2bin.diagnostics import Diagnostic, Severity
+from dcf2bin.dump import concise_json
 from dcf2bin.dump.document import from_dict
 from dcf2bin.dump.jsonform import (JsonProblem, path_text, RULE_JSON, RULE_JSON_HEADER,
                                    RULE_JSON_SYNTAX)
@@ -15,7 +18,8 @@ from dcf2bin.dump.rebuild import build
 
 
 def from_json_bytes(data: bytes, name: str) -> tuple[bytes | None, list[Diagnostic]]:
-    """A lossless JSON dump -> the container's bytes (None on errors) and diagnostics."""
+    """A lossless JSON dump -> the bytes of the container or concise DCF it records (None on
+    errors) and diagnostics."""
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -37,6 +41,8 @@ def from_json_bytes(data: bytes, name: str) -> tuple[bytes | None, list[Diagnost
         return None, [Diagnostic(Severity.ERROR, "invalid JSON: nested too deeply", name,
                                  rule=RULE_JSON_SYNTAX)]
     try:
+        if isinstance(doc, dict) and doc.get("format") == concise_json.FORMAT:
+            return concise.to_bytes(concise_json.from_dict(doc)), []
         parsed = from_dict(doc)
         out, warnings = build(parsed)
     except JsonProblem as exc:

@@ -58,6 +58,13 @@ def value_text(index: int, sub: int, data: bytes, attr: int | None,
             t = dt.VISIBLE_STRING
         elif kinds == dt.ATTR_NUMERIC and size in dt.UNSIGNED_BY_SIZE:
             t = dt.UNSIGNED_BY_SIZE[size]
+    return typed_value(t, index, sub, data, full)
+
+
+def typed_value(t, index: int, sub: int, data: bytes, full: bool = False) -> str:
+    """The value of ``data`` as type ``t`` ("" for none, a DOMAIN or OCTET_STRING, or data
+    the type cannot hold); a PDO's COB-ID and mapping entries spelled out."""
+    size = len(data)
     if t is None:
         return ""
     if t.kind == dt.BOOL:

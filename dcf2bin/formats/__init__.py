@@ -17,8 +17,13 @@ from __future__ import annotations
 
 from dcf2bin.formats.registry import FORMATS, Format, by_name, by_suffix, sniff
 
-__all__ = ["FORMATS", "Format", "build", "by_name", "by_suffix", "format_of", "load",
-           "load_with_text", "read", "sniff"]
+__all__ = ["FORMATS", "TARGETS", "Format", "build", "by_name", "by_suffix", "convert", "dump",
+           "format_of", "load", "load_with_text", "read", "sniff", "target_of"]
+
+#: what ``dump`` writes: target name -> (format, kind of file)
+TARGETS = {"eds": ("ini", "eds"), "dcf": ("ini", "dcf"), "xdd": ("xdd", "xdd"),
+           "xdc": ("xdd", "xdc")}
+_TARGET_SUFFIXES = {".eds": "eds", ".dcf": "dcf", ".xdd": "xdd", ".xpd": "xdd", ".xdc": "xdc"}
 
 
 def format_of(data: bytes, path: str = "") -> Format:
@@ -77,3 +82,35 @@ def load_with_text(path: str, *, node_id: int | None = None, data: bytes | None 
     if parsed.format == "ini":
         return dev, ini_mod.decode_bytes(data)[0]
     return dev, ini_format.text(parsed)
+
+
+def target_of(path: str) -> str | None:
+    """The target a file name's suffix names ("eds", "dcf", "xdd", "xdc"), or None."""
+    import os
+    return _TARGET_SUFFIXES.get(os.path.splitext(path)[1].lower())
+
+
+def dump(dev, target: str, *, name: str | None = None, node_id: int | None = None):
+    """``dev`` written as ``target`` (a name of ``TARGETS``): a ``written.Written``, the
+    bytes and a warning for each thing the target cannot say. ``name``: the written file's
+    name (its [FileInfo] FileName, fileName); ``node_id``: the NodeID of a DCF/XDC."""
+    fmt, kind = TARGETS[target]
+    return by_name(fmt).code().dump(dev, kind, name=name, node_id=node_id)
+
+
+def convert(data: bytes, path: str, target: str, *, name: str | None = None,
+            node_id: int | None = None):
+    """Read a description (``data``, named ``path``) and write it as ``target``: a
+    ``written.Written`` whose diagnostics are the reader's findings, then the writer's
+    warnings; ``ok`` is False (and nothing is written) when the reader found an error."""
+    from dcf2bin.diagnostics import Severity
+    from dcf2bin.formats.written import Written, comment_lines
+    dev = load(path, data=data)
+    found = [p.diagnostic for p in dev.problems]
+    if any(d.severity is Severity.ERROR for d in found):
+        return Written(b"", found, ok=False)
+    out = dump(dev, target, name=name, node_id=node_id)
+    if dev.ini is not None and dev.ini.format == "ini":
+        out.diagnostics[:0] = comment_lines(data, path)
+    out.diagnostics[:0] = found
+    return out

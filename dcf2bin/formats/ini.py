@@ -38,3 +38,10 @@ def text(parsed: ini_mod.IniFile) -> str:
             out.append(f"{k.name}={value}")
         out.append("")
     return "\n".join(out) + ("\n" if out else "")
+
+
+def dump(dev, kind: str = "eds", *, name: str | None = None, node_id: int | None = None):
+    """``dev`` as CiA 306 text: an EDS or (``kind`` "dcf") a DCF; a ``written.Written``
+    (the bytes and the warnings about what the text cannot say). See ``ini_writer``."""
+    from dcf2bin.formats.ini_writer import dump as write
+    return write(dev, kind, name=name, node_id=node_id)

@@ -14,7 +14,9 @@ module each; see docs/architecture.md "Add a description format"):
   per-object key/value sections of CiA 306 with the file's own line numbers, so that the
   model's builder and every validate rule apply unchanged (``dcf2bin.formats.build``
   makes the ``Device``);
-* a writer, later: ``dump(dev) -> bytes``.
+* a writer: ``dump(dev, kind, *, name=None, node_id=None) -> written.Written`` -- the
+  bytes of ``kind`` (one of the format's file kinds: "eds"/"dcf", "xdd"/"xdc") and a
+  warning for each thing the format cannot say (``formats.dump``, ``dcf2bin convert``).
 
 This module imports nothing of dcf2bin: the modules are named, and imported when used.
 """
@@ -47,8 +49,9 @@ class Format:
 # "[section]" line) an XML description's free text could pass.
 FORMATS: tuple[Format, ...] = (
     Format("xdd", "CiA 311 XML (XDD/XDC)", "xdd", (".xdd", ".xdc", ".xpd"),
-           "dcf2bin.formats.xdd"),
-    Format("ini", "DCF/EDS text", "dcf", (".dcf", ".eds", ".ini"), "dcf2bin.formats.ini"),
+           "dcf2bin.formats.xdd", writes=True),
+    Format("ini", "DCF/EDS text", "dcf", (".dcf", ".eds", ".ini"), "dcf2bin.formats.ini",
+           writes=True),
 )
 
 #: the format a file is read with when its content says nothing clear (an empty file)

@@ -19,8 +19,9 @@ from dcf2bin.lint.runner import FileResult, RunResult, lint_bytes, run
 
 # The one list of rule modules: importing one registers its rules in registry.RULES. It sits
 # above both the registry and the rule modules (a new rules_* module is added here).
-from dcf2bin.lint import (core_rules, rules_container, rules_nv, rules_od,  # noqa: F401,E402
-                          rules_pdo, rules_syntax, rules_target, rules_values, rules_xdd)
+from dcf2bin.lint import (core_rules, rules_concise, rules_container,  # noqa: F401,E402
+                          rules_nv, rules_od, rules_pdo, rules_syntax, rules_target,
+                          rules_values, rules_xdd)
 
 __all__ = ["Options", "RULES", "Rule", "SelectorError", "all_rules", "resolve", "FileResult",
            "RunResult", "lint_bytes", "run"]

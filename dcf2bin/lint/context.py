@@ -2,11 +2,13 @@
 
 ``DcfContext`` holds the INI file, the model built from it (with the layout
 computed) and the options; ``BinContext`` holds a container's bytes, parsed as far
-as they can be parsed. Checks must never crash on broken input: helpers return None
+as they can be parsed; ``ConciseContext`` a concise DCF's entries and the types of its
+device. Checks must never crash on broken input: helpers return None
 for anything they cannot work out, and the check that owns that problem reports it.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -54,6 +56,7 @@ class Options:
     granularity: int = 64
     bit_mapping: bool = True
     static_od: str | None = None        # the target's static OD (an EDS path), checked first
+    eds: str | None = None              # a concise DCF's types (an EDS/DCF path), checked first
 
 
 class DcfContext:
@@ -274,3 +277,63 @@ class BinContext:
     def entry_offsets(self) -> list[int]:
         """Byte offset of each entry's header (for diagnostics)."""
         return [off - schema.ENTRY_HEAD.size for _, _, _, off in self.entries or ()]
+
+
+# -- concise DCFs ----------------------------------------------------------------------------
+
+#: the EDS of each path given to --eds or found beside a concise DCF, read once per process
+_EDS_CACHE: dict[str, object] = {}
+
+
+@dataclass
+class ConciseContext:
+    """A concise DCF (CiA 302-3) as its checks see it: the entries in order (None when the
+    bytes are not a whole one: ``diagnostics`` says why), the byte offset of each, and the
+    types of the device (``eds``, a ``dump.EdsInfo``) from ``--eds`` or from the DCF of
+    the same name beside it (``eds_name`` names that file in messages)."""
+    path: str
+    data: bytes
+    opts: Options
+    entries: list[tuple[int, int, bytes]] | None = None
+    offsets: list[int] = field(default_factory=list)
+    diagnostics: list = field(default_factory=list)
+    eds: object | None = None
+    eds_name: str = ""
+    cache: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        from dcf2bin import concise
+        self.entries, self.diagnostics = concise.read_concise(self.data, self.path)
+        if self.entries is None:
+            return
+        self.offsets = concise.offsets(self.entries)
+        eds_path = self.opts.eds or concise_description(self.path)
+        if eds_path is not None:
+            self.eds = _load_eds(eds_path)
+            self.eds_name = eds_path if self.opts.eds else os.path.basename(eds_path)
+
+
+def concise_description(path: str) -> str | None:
+    """The description beside a concise DCF that gives its types: ``<stem>.dcf``, else
+    ``<stem>.eds``, in the same folder (network build writes ``drive.dcf`` beside
+    ``drive.bin``); None for standard input or when there is none."""
+    if path.startswith("<"):
+        return None
+    stem = os.path.splitext(path)[0]
+    for suffix in (".dcf", ".eds"):
+        if os.path.isfile(stem + suffix) and stem + suffix != path:
+            return stem + suffix
+    return None
+
+
+def _load_eds(path: str):
+    """``dump.load_eds``'s names and types, or None when the file cannot be read (it is
+    checked on its own: it sits in the folder, or the command checked --eds first)."""
+    if path not in _EDS_CACHE:
+        from dcf2bin.diagnostics import DcfError
+        from dcf2bin.dump import load_eds
+        try:
+            _EDS_CACHE[path] = load_eds(path)[0]
+        except (OSError, DcfError, ValueError):
+            _EDS_CACHE[path] = None
+    return _EDS_CACHE[path]

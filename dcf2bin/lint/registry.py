@@ -4,7 +4,8 @@ Every rule has a stable id, a kebab-case name, a default severity, a one-line
 description and a short hint. Two kinds exist:
 
 * checks of this package: one small generator function per rule, registered with
-  ``@rule(...)``; it receives a context (``DcfContext`` or ``BinContext``) and yields
+  ``@rule(...)``; it receives a context (``DcfContext``, ``BinContext`` or
+  ``ConciseContext``) and yields
   ``Finding``s;
 * findings that the core (ini reader, model, layout, selection) already produces with
   a rule id: they are registered with ``core(...)`` so that they can be listed,
@@ -17,7 +18,7 @@ table is full before anything in ``dcf2bin.lint`` is used.
 
 Id families: DCF0xx syntax and file structure, DCF1xx object dictionary, DCF2xx
 values, DCF3xx network variables and process image, DCF4xx PDOs, XDD0xx CiA 311 XML,
-CNT0xx containers,
+CNT0xx containers, CON0xx concise DCFs,
 plus IO001/INT001 for unreadable inputs and internal errors (always on).
 """
 from __future__ import annotations
@@ -30,7 +31,7 @@ from dcf2bin.diagnostics import Severity
 
 ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 
-DCF, BIN, ANY = "dcf", "bin", "any"   # what a rule checks
+DCF, BIN, CONCISE, ANY = "dcf", "bin", "concise", "any"   # what a rule checks
 
 FAMILIES = {
     "DCF0": "syntax and file structure",
@@ -40,6 +41,7 @@ FAMILIES = {
     "DCF4": "PDOs",
     "XDD0": "CiA 311 XML (XDD/XDC)",
     "CNT0": "containers",
+    "CON0": "concise DCFs",
     "TGT0": "target emulation (DynBuildOd)",
     "TGT1": "target emulation: what could not be checked",
     "IO0": "inputs",
@@ -127,7 +129,7 @@ _ORDER: tuple[tuple, list[str]] = ((), [])
 @functools.lru_cache(maxsize=1024)
 def _sort_key(rule_id: str):
     # DCF before CNT before IO/INT; numerically inside a family
-    order = {"DCF": 0, "XDD": 0.5, "CNT": 1, "TGT": 2, "IO": 3, "INT": 4}
+    order = {"DCF": 0, "XDD": 0.5, "CNT": 1, "CON": 1.5, "TGT": 2, "IO": 3, "INT": 4}
     prefix = rule_id.rstrip("0123456789")
     if prefix.startswith("TGT"):     # TGT + a hex code: TGT0A1
         prefix = "TGT"

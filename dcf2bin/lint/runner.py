@@ -14,13 +14,13 @@ from dataclasses import dataclass, field
 
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 from dcf2bin.lint import registry
-from dcf2bin.lint.context import BinContext, DcfContext, Options
-from dcf2bin.lint.registry import BIN, DCF, RULES, Finding
+from dcf2bin.lint.context import BinContext, ConciseContext, DcfContext, Options
+from dcf2bin.lint.registry import BIN, CONCISE, DCF, RULES, Finding
 
 SUFFIXES = (".eds", ".dcf", ".xdd", ".xdc", ".xpd", ".bin")
 DCF_SUFFIXES = (".eds", ".dcf", ".ini")
 KIND_DCF, KIND_BIN, KIND_UNREADABLE = "dcf", "container", "unreadable"
-KIND_JSON = "json"
+KIND_JSON, KIND_CONCISE, KIND_CONCISE_JSON = "json", "concise", "concise-json"
 NOTHING_FOUND = "no *.dcf, *.eds, *.xdd, *.xdc, *.xpd or *.bin file in this directory"
 
 
@@ -108,7 +108,9 @@ def _lint_kind(file_kind: str) -> str:
     return _KINDS.get(file_kind, KIND_DCF)
 
 
-_KINDS = {"bin": KIND_BIN, "json": KIND_JSON}     # filekind's kinds; the rest: KIND_DCF
+# filekind's kinds; the rest: KIND_DCF
+_KINDS = {"bin": KIND_BIN, "json": KIND_JSON, "concise": KIND_CONCISE,
+          "concise-json": KIND_CONCISE_JSON}
 
 
 def run(paths: list[str], opts: Options, *, stdin: bytes | None = None,
@@ -162,14 +164,15 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     file_kind = _file_kind(name, data)
     kind = kind or _lint_kind(file_kind)
     res = FileResult(name, kind)
-    if kind == KIND_JSON:
-        res.diagnostics.append(_not_lintable(name))
+    if kind in (KIND_JSON, KIND_CONCISE_JSON):
+        res.diagnostics.append(_not_lintable(name, file_kind))
         return res
-    if kind not in (KIND_DCF, KIND_BIN):      # another kind: one sentence, not its lines
+    if kind not in (KIND_DCF, KIND_BIN, KIND_CONCISE):   # another kind: one sentence
         res.kind = KIND_DCF
         res.diagnostics.append(_other_kind(name, kind))
         return res
-    note = _misnamed(name, "bin" if kind == KIND_BIN else file_kind)
+    note = _misnamed(name, "bin" if kind == KIND_BIN else
+                     "concise" if kind == KIND_CONCISE else file_kind)
     # As in a compile: a large file makes hundreds of thousands of small objects and no
     # reference cycles worth collecting; the cyclic GC would only rescan them, more often
     # the larger the file (a cost that grows faster than the file). The caller's setting
@@ -179,6 +182,8 @@ def lint_bytes(name: str, data: bytes, opts: Options | None = None,
     try:
         if kind == KIND_BIN:
             _Run(res, opts).container(data)
+        elif kind == KIND_CONCISE:
+            _Run(res, opts).concise(data)
         else:
             _Run(res, opts).dcf(data)
     finally:
@@ -209,7 +214,7 @@ def _misnamed(name: str, file_kind: str) -> Diagnostic | None:
     from dcf2bin import filekind
     if name.startswith("<"):
         return None
-    if file_kind not in (filekind.CONTAINER, filekind.XDD):
+    if file_kind not in (filekind.CONTAINER, filekind.XDD, filekind.CONCISE):
         file_kind = filekind.DCF
     text = filekind.misnamed(name, file_kind)
     if text is None:
@@ -227,13 +232,14 @@ def _other_kind(name: str, kind: str) -> Diagnostic:
         hint=RULES["DCF008"].hint)
 
 
-def _not_lintable(name: str) -> Diagnostic:
-    """The JSON form given to validate: what it is, and the command that makes a container
-    of it (DCF008: not EDS/DCF text)."""
+def _not_lintable(name: str, kind: str) -> Diagnostic:
+    """A JSON form given to validate: what it is, and the command that makes a container
+    or a concise DCF of it (DCF008: not EDS/DCF text)."""
     from dcf2bin import filekind
+    what = "the concise DCF" if kind == filekind.CONCISE_JSON else "the container"
     return Diagnostic(Severity.ERROR, filekind.mismatch(
-        name, filekind.JSON, (filekind.DCF, filekind.CONTAINER),
-        use="dcf2bin compile turns it back into the container, which validate checks"),
+        name, kind, (filekind.DCF, filekind.CONTAINER),
+        use=f"dcf2bin compile turns it back into {what}, which validate checks"),
         name, rule="DCF008", hint=RULES["DCF008"].hint)
 
 
@@ -376,6 +382,17 @@ class _Run:
                      for d in self.diags)
         if self.target_wanted() and not broken:
             self.guard("the target emulation", self.target_container, data)
+        self.finish()
+
+    def concise(self, data: bytes) -> None:
+        """A concise DCF: the reader's finding (CON001-CON004), or the checks of one that
+        reads."""
+        ok, ctx = self.guard("reading the concise DCF",
+                             lambda: ConciseContext(self.res.path, data, self.opts))
+        if ok:
+            self.core.extend(self._core(d, d.rule) for d in ctx.diagnostics)
+            if ctx.entries is not None:
+                self.checks(CONCISE, ctx)
         self.finish()
 
     def finish(self) -> None:

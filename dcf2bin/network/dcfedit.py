@@ -20,14 +20,16 @@ from dcf2bin.diagnostics import Diagnostics, Where
 from dcf2bin.network.model import Write
 
 
-def value_text(w: Write) -> str:
+def value_text(w: Write, encoding: str = "utf-8") -> str:
+    """The ParameterValue text of a write, for a file in ``encoding`` (a string's bytes
+    are that encoding's; a UNICODE_STRING is text, not hex)."""
     dtype = dt.BY_CODE.get(w.datatype)
     if isinstance(w.value, bool) or dtype is None or dtype.size is None \
             or not dtype.is_integer:
         from dcf2bin import values
-        if dtype is not None and dtype.size is None and not dtype.kind == dt.VSTRING:
+        if dtype is not None and dtype.kind in (dt.OSTRING, dt.DOMAIN):
             return w.data.hex().upper() if w.data else '""'
-        text = values.decode(dtype, w.data) if dtype is not None else None
+        text = values.decode(dtype, w.data, encoding=encoding) if dtype is not None else None
         return text if text is not None else w.data.hex().upper()
     if isinstance(w.value, int) and w.value >= 0:
         return f"0x{w.value:0{dtype.size * 2}X}"
@@ -116,7 +118,7 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
         return ends[canon[id(sec)]]
 
     for (index, sub), w in sorted(settings.items()):
-        text = value_text(w)
+        text = value_text(w, enc)
         how, sec = _where_value_goes(ini, index, sub)
         if how == "section":
             if sec.has("parametervalue"):

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin.diagnostics import DcfError
-from dcf2bin.network.model import COB_EXTENDED, RPDO, Network, Node, Pdo
+from dcf2bin.network.model import COB_EXTENDED, RPDO, Mapped, Network, Node, Pdo
 
 IDENTITY_ENTRIES = {0x1F84: (0x1000, 0), 0x1F85: (0x1018, 1), 0x1F86: (0x1018, 2),
                     0x1F87: (0x1018, 3), 0x1F88: (0x1018, 4)}
@@ -54,6 +54,9 @@ class Link:
     rate: float | None
     bits: int
     share: float
+    pdo: Pdo | None = field(default=None, repr=False, compare=False)
+    # the PDO whose mapping the frame carries: its producer's TPDO, or for an RPDO that
+    # nobody produces the first such RPDO (the DBC writer reads it, network/dbc.py)
 
     @property
     def cob_text(self) -> str:
@@ -136,21 +139,27 @@ def _end(node: Node, pdo: Pdo | None) -> End:
                node.role == "master")
 
 
-def _content(network: Network, node: Node, pdo: Pdo | None) -> list[str]:
-    """The names of what a PDO carries: each mapped object's PLC variable (a PLC mirror is
-    named by the slave PDO it mirrors), else its index and sub."""
+def carried(pdo: Pdo) -> list[tuple[Mapped, str | None]]:
+    """What a PDO's frame carries: each entry of its mapping -- a PLC mirror's those of
+    the slave PDO it mirrors, the slave's objects -- with the name of the PLC variable it
+    is (None: it is none, as in a PDO that no master PDO mirrors). The names are the
+    mirror's, so an object mapped both ways is named for this direction (``_in`` in a
+    slave TPDO, ``_out`` in its RPDO)."""
+    source = pdo.mirror_of if pdo.mirror_of is not None else pdo
+    mirror = pdo if pdo.mirror_of is not None else pdo.mirrored_by
+    names: list[str | None] = [None] * len(source.mapping)
+    if mirror is not None and len(mirror.mapping) == len(source.mapping):
+        names = [m.name for m in mirror.mapping]
+    return [(m, names[k] or m.name) for k, m in enumerate(source.mapping)]
+
+
+def _content(pdo: Pdo | None) -> list[str]:
+    """The names of what a PDO carries: each mapped object's PLC variable, else its index
+    and sub."""
     if pdo is None:
         return []
-    names = {(v.node_id, v.index, v.sub): v.name for v in network.variables}
-    source = pdo.mirror_of if pdo.mirror_of is not None else pdo
-    out = []
-    for m in source.mapping:
-        if m.is_dummy:
-            out.append(f"dummy {m.bits} bits")
-            continue
-        name = m.name or names.get((source.node_id, m.index, m.sub))
-        out.append(name or f"0x{m.index:04X}sub{m.sub:X}")
-    return out
+    return [f"dummy {m.bits} bits" if m.is_dummy else name or f"0x{m.index:04X}sub{m.sub:X}"
+            for m, name in carried(pdo)]
 
 
 def find_node(network: Network, which: str) -> Node | None:
@@ -180,8 +189,7 @@ def build(network: Network, writes: str | None = None) -> View:
             ends = list({e.node_id: _end(n, None) for e, (n, _p) in zip(ends, r.consumers)}
                         .values())
         links.append(Link(r.can_id, r.extended, r.what, _end(r.producer, r.pdo), ends,
-                          _content(network, r.producer, r.pdo), r.bytes, r.rate, r.bits,
-                          r.share))
+                          _content(r.pdo), r.bytes, r.rate, r.bits, r.share, r.pdo))
     orphans: dict[tuple[int, bool], list] = {}
     for node in network.nodes:
         for p in node.pdos:
@@ -191,7 +199,7 @@ def build(network: Network, writes: str | None = None) -> View:
     for (can_id, ext), ends in orphans.items():
         node, p = ends[0]
         links.append(Link(can_id, ext, p.label, None, [_end(n, q) for n, q in ends],
-                          _content(network, node, p), (p.bits + 7) // 8, None, 0, 0.0))
+                          _content(p), (p.bits + 7) // 8, None, 0, 0.0, p))
     links.sort(key=lambda k: (k.extended, k.can_id))
     view = View(network.path, network.bitrate, nodes, links, load.total, len(load.unknown),
                 kind=network.kind)

@@ -19,9 +19,9 @@ a label is known exactly without a font library.
 """
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
 
+from dcf2bin import htmlpage
 from dcf2bin.network.show import View, rate_text
 
 FONT = "DejaVu Sans Mono, Menlo, Consolas, monospace"
@@ -193,7 +193,7 @@ def layout(view: View) -> Layout:
 
 
 def _e(text: str) -> str:
-    return html.escape(text, quote=True)
+    return htmlpage.escape(text)
 
 
 def _text(b: Box, anchor_middle: bool = False, weight_first: bool = False) -> list[str]:
@@ -276,50 +276,40 @@ def to_svg(view: View) -> str:
 def to_html(view: View) -> str:
     from dcf2bin.network.show import IDENTITY_NAMES, value_text
     svg = to_svg(view).split("\n", 1)[1]          # without the XML declaration
-    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8"/>',
-           f"<title>{_e(view.path)}</title>",
-           "<style>body{font-family:sans-serif;margin:1em}"
-           "table{border-collapse:collapse;margin:1em 0}"
-           "th,td{border:1px solid #ccc;padding:2px 6px;text-align:left;"
-           "font-family:monospace}th{background:#eee}</style>",
-           "</head>", "<body>", f"<h1>{_e(view.path)}</h1>",
+    out = [f"<h1>{_e(view.path)}</h1>",
            f"<p>{len(view.nodes)} nodes; estimated bus load {view.total:.1f} % of "
            f"{view.bitrate // 1000} kbit/s"
            + (f" ({view.unknown} frames of unknown rate counted as 0)" if view.unknown else "")
            + "</p>", svg, "<h2>Frames</h2>"]
-
-    def table(head: list[str], rows: list[list[str]]) -> None:
-        out.append("<table>")
-        out.append("<tr>" + "".join(f"<th>{_e(c)}</th>" for c in head) + "</tr>")
-        for r in rows:
-            out.append("<tr>" + "".join(f"<td>{_e(c)}</td>" for c in r) + "</tr>")
-        out.append("</table>")
-
-    table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load", "content"],
-          [[k.cob_text, k.what, str(k.producer) if k.producer else "(nobody)",
-            ", ".join(str(c) for c in k.consumers) or "(nobody)", str(k.bytes),
-            rate_text(k.rate), f"{k.share:.2f} %", ", ".join(k.content)]
-           for k in view.links])
+    table = htmlpage.table
+    out += table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load", "content"],
+                 [[k.cob_text, k.what, str(k.producer) if k.producer else "(nobody)",
+                   ", ".join(str(c) for c in k.consumers) or "(nobody)", str(k.bytes),
+                   rate_text(k.rate), f"{k.share:.2f} %", ", ".join(k.content)]
+                  for k in view.links])
     if view.variables:
         out.append("<h2>PLC variables</h2>")
-        table(["variable", "direction", "type", "node", "object", "PLC entry", "offset"],
-              [[v.name, v.direction, v.datatype, f"{v.node} ({v.node_id})",
-                f"0x{v.index:04X}sub{v.sub:X}",
-                f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
-                str(v.pi_offset) if v.pi_offset is not None else ""] for v in view.variables])
+        out += table(["variable", "direction", "type", "node", "object", "PLC entry", "offset"],
+                     [[v.name, v.direction, v.datatype, f"{v.node} ({v.node_id})",
+                       f"0x{v.index:04X}sub{v.sub:X}",
+                       f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
+                       str(v.pi_offset) if v.pi_offset is not None else ""]
+                      for v in view.variables])
     if view.slaves:
         out.append("<h2>Identity the master enforces</h2>" if view.kind != "cpj" else
                    "<h2>Identity each node's DCF states</h2>")
         cols = list(IDENTITY_NAMES)
-        table(["node", *IDENTITY_NAMES.values()],
-              [[f"{s.name} ({s.node_id})",
-                *(f"0x{s.identity[c]:08X}" if c in s.identity else "-" for c in cols)]
-               for s in view.slaves])
+        out += table(["node", *IDENTITY_NAMES.values()],
+                     [[f"{s.name} ({s.node_id})",
+                       *(f"0x{s.identity[c]:08X}" if c in s.identity else "-" for c in cols)]
+                      for s in view.slaves])
     for s in view.slaves:
         if s.writes is not None:
             out.append(f"<h2>{_e(s.name)} (node {s.node_id}): SDO writes</h2>")
-            table(["#", "entry", "name", "value", "why", "source"],
-                  [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.name, value_text(w), w.why,
-                    w.where] for k, w in enumerate(s.writes)])
-    out += ["</body>", "</html>", ""]
-    return "\n".join(out)
+            out += table(["#", "entry", "name", "value", "why", "source"],
+                         [[str(k + 1), f"0x{w.index:04X}sub{w.sub:X}", w.name, value_text(w),
+                           w.why, w.where] for k, w in enumerate(s.writes)])
+    return htmlpage.page(view.path, "body{font-family:sans-serif;margin:1em}"
+                         "table{border-collapse:collapse;margin:1em 0}"
+                         "th,td{border:1px solid #ccc;padding:2px 6px;text-align:left;"
+                         "font-family:monospace}th{background:#eee}", out)

@@ -13,8 +13,8 @@ Two layouts, chosen by size:
 """
 from __future__ import annotations
 
-import html
-
+from dcf2bin import htmlpage
+from dcf2bin.htmlpage import Cell
 from dcf2bin.layout import INPUT, OUTPUT
 from dcf2bin.plc.varmap import VarMap
 
@@ -57,7 +57,7 @@ def layout_kind(vm: VarMap) -> str:
 
 
 def _e(text: str) -> str:
-    return html.escape(text, quote=True)
+    return htmlpage.escape(text)
 
 
 def _fit(text: str, width: float, font_px: float) -> str:
@@ -300,19 +300,13 @@ def to_html(vm: VarMap) -> str:
     """The SVG and the table of the variable map, in one self-contained page."""
     t1, t2 = _title_lines(vm)
     svg = to_svg(vm).split("\n", 1)[1]          # without the XML declaration
-    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
-           f"<title>{_e(t1)}</title>",
-           "<style>body{font-family:" + FONT + ";margin:1em}"
-           "table{border-collapse:collapse;font-size:13px}"
-           "th,td{border:1px solid #bbb;padding:2px 6px;text-align:left}"
-           "td.n{text-align:right}th{background:#eee;position:sticky;top:0}</style>",
-           "</head>", "<body>", f"<h1>{_e(t1)}</h1>", f"<p>{_e(t2)}</p>", svg,
-           "<h2>Variables</h2>", "<table>",
-           "<thead><tr><th>name</th><th>entry</th><th>type</th><th>direction</th>"
-           "<th>offset</th><th>address</th><th>size</th></tr></thead>", "<tbody>"]
-    for r in vm.rows:
-        out.append(f'<tr><td>{_e(r.name)}</td><td>{r.label}</td><td>{r.dtype.name}</td>'
-                   f'<td>{r.direction}</td><td class="n">{r.offset}</td>'
-                   f'<td class="n">0x{r.address:04X}</td><td class="n">{r.size}</td></tr>')
-    out += ["</tbody>", "</table>", "</body>", "</html>", ""]
-    return "\n".join(out)
+    style = ("body{font-family:" + FONT + ";margin:1em}"
+             "table{border-collapse:collapse;font-size:13px}"
+             "th,td{border:1px solid #bbb;padding:2px 6px;text-align:left}"
+             "td.n{text-align:right}th{background:#eee;position:sticky;top:0}")
+    rows = [[r.name, r.label, r.dtype.name, r.direction, Cell(str(r.offset), "n"),
+             Cell(f"0x{r.address:04X}", "n"), Cell(str(r.size), "n")] for r in vm.rows]
+    return htmlpage.page(t1, style, [
+        f"<h1>{_e(t1)}</h1>", f"<p>{_e(t2)}</p>", svg, "<h2>Variables</h2>",
+        *htmlpage.table(["name", "entry", "type", "direction", "offset", "address", "size"],
+                        rows)])

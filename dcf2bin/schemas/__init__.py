@@ -1,7 +1,9 @@
 """The JSON Schemas (draft 2020-12) of every JSON document dcf2bin writes, shipped as package
-data: ``dump.json`` (``dump -f json``, also compile's JSON input), ``map.json``,
+data: ``dump.json`` (``dump -f json``, also compile's JSON input), ``dump-concise.json``
+(``dump -f json`` of a concise DCF, and compile's), ``map.json``,
 ``simulate.json``, ``validate.json`` (also ``network check -f json``), ``rules.json``
 (``validate --list-rules -f json``), ``network-show.json``, ``network-scan.json``,
+``lss.json`` (``network lss`` and ``lss set -f json``), ``lss-scan.json``,
 ``diff.json`` (``diff -f json``).
 
 Every document starts with ``"format": "dcf2bin-<what>"`` and ``"version": <int>``; CANopen
@@ -22,12 +24,15 @@ from importlib import resources
 # output -> (schema file, format name). The schema file is ``<key>.json`` in this package.
 FORMATS = {
     "dump": "dcf2bin-container",
+    "dump-concise": "dcf2bin-concise",
     "map": "dcf2bin-map",
     "simulate": "dcf2bin-simulate",
     "validate": "dcf2bin-validate",
     "rules": "dcf2bin-rules",
     "network-show": "dcf2bin-network-show",
     "network-scan": "dcf2bin-network-scan",
+    "lss": "dcf2bin-lss",
+    "lss-scan": "dcf2bin-lss-scan",
     "diff": "dcf2bin-diff",
 }
 

@@ -1,5 +1,5 @@
 """dcf2bin network: the click group of the network commands (one module per
-subcommand: build, check, show, download, scan).
+subcommand: build, check, show, download, upload, scan, lss).
 
 Subcommands are imported when they are run or listed, so that ``dcf2bin --help`` imports
 none of them (nor yaml, canopen, construct); a subcommand whose module is not installed
@@ -13,7 +13,7 @@ import click
 
 from dcf2bin.cli.common import CONTEXT, LazyGroup
 
-SUBCOMMANDS = ("build", "check", "show", "download", "scan")
+SUBCOMMANDS = ("build", "check", "show", "download", "upload", "scan", "lss")
 
 
 class NetworkGroup(LazyGroup):

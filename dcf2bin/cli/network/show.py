@@ -1,4 +1,5 @@
-"""dcf2bin network show: the links of a network as text, JSON, an SVG picture or HTML."""
+"""dcf2bin network show: the links of a network as text, JSON, an SVG picture, HTML or a
+CAN database (DBC)."""
 from __future__ import annotations
 
 import click
@@ -87,8 +88,9 @@ class WritesOption(click.Option):
 
 @click.command("show", cls=ShowCommand, context_settings=CONTEXT)
 @click.argument("network_file", metavar="NETWORK", type=click.Path())
-@format_option(["text", "json", "svg", "html"], "text",
-               "text or json (the tables), svg (the picture) or html (both).")
+@format_option(["text", "json", "svg", "html", "dbc"], "text",
+               "text or json (the tables), svg (the picture), html (both) or dbc (the PDOs "
+               "as a CAN database for loggers; needs cantools).")
 @output_option()
 @click.option("--writes", "writes", cls=WritesOption, is_flag=True,
               help="Also the SDO writes that configure each slave; --writes=NODE (with '=') "
@@ -104,7 +106,8 @@ def show_cmd(network_file, fmt, output, writes, net, quiet, debug):
     Per COB-ID the producer, consumers, bytes, rate and share of the estimated bus load;
     per PLC variable the node and object it comes from; per slave the identity the
     master will enforce. The svg format draws each node as a box and each PDO as a lane
-    from its producer to its consumers; html adds the tables.
+    from its producer to its consumers; html adds the tables. The dbc format writes the
+    PDOs as a CAN database: a message per COB-ID, a signal per mapped object.
 
     The findings are those of 'network check' (validate's warnings about the node files
     left out), on standard error; a network with errors is shown as it is configured,
@@ -112,6 +115,12 @@ def show_cmd(network_file, fmt, output, writes, net, quiet, debug):
     cannot be configured (errors in it) is not shown.
     """
     from dcf2bin.network import show, svg
+    if fmt == "dbc":
+        from dcf2bin.network import dbc
+        try:
+            dbc.require()                  # before the network is read: at once
+        except dbc.CantoolsMissing:
+            fail(dbc.MISSING, code=ExitCode.USAGE)
     ctx = click.get_current_context()
     node = ctx.meta.get("dcf2bin.writes_node")
     writes = node if node is not None else ("all" if writes else None)
@@ -129,8 +138,11 @@ def show_cmd(network_file, fmt, output, writes, net, quiet, debug):
         fail(f"--writes={writes}: no such node in {network_file} (slaves: {names})",
              code=ExitCode.USAGE)
     view = show.build(network, writes)
-    data = {"text": show.text, "json": show.as_json, "svg": svg.to_svg,
-            "html": svg.to_html}[fmt](view)
+    if fmt == "dbc":
+        data = dbc.dump(network, view)
+    else:
+        data = {"text": show.text, "json": show.as_json, "svg": svg.to_svg,
+                "html": svg.to_html}[fmt](view)
     write_output(data, output, [network_file], binary=False)
     if errors:
         n = len(errors)

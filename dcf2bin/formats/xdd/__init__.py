@@ -160,3 +160,10 @@ def _encoding(data: bytes) -> str:
     if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
         return "utf-16"
     return "utf-8"
+
+
+def dump(dev, kind: str = "xdd", *, name: str | None = None, node_id: int | None = None):
+    """``dev`` as a CiA 311 v1.1 XDD or (``kind`` "xdc") XDC: a ``written.Written`` (the
+    bytes and the warnings about what CiA 311 cannot say). See ``writer``."""
+    from dcf2bin.formats.xdd.writer import dump as write
+    return write(dev, kind, name=name, node_id=node_id)

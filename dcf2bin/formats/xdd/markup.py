@@ -4,11 +4,13 @@ Why lxml (a dependency since issue 28) and not the standard library:
 
 * every element keeps its line (``sourceline``), which every diagnostic needs;
   ElementTree keeps none, and expat gives lines only to a handler written in Python, which
-  is what makes a tree of it about 3x slower than lxml's (benchmarks/xdd.py reads a 150 KB
-  XDD within the 3x of its EDS with lxml);
+  is what makes a tree of it about 3x slower than lxml's parse (benchmarks/xdd.py, which
+  also shows lxml's parse of a 150 KB XDD at about 1.2x reading the EDS written from it);
 * libxml2 is told to expand no entity (``resolve_entities=False``), load no DTD
   (``load_dtd=False``), touch no network (``no_network=True``) and keep its limits on depth
-  (256) and on the size of one text (``huge_tree=False``); and the input itself is bounded
+  (256) and on the size of one text (``huge_tree=False``); blank text between elements is
+  not kept (``remove_blank_text``: the reader strips every text it reads, and libxml2 builds
+  fewer nodes); and the input itself is bounded
   by ``fileio.read_file`` (64 MiB), so time and memory are too.
 
 A CiA 311 description is defined by XML Schema and has no DOCTYPE: a file with one is
@@ -40,6 +42,7 @@ def parse(data: bytes):
     from lxml import etree
     parser = etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True,
                              huge_tree=False, remove_comments=True, remove_pis=True,
+                             remove_blank_text=True,
                              dtd_validation=False, attribute_defaults=False, collect_ids=False)
     try:
         root = etree.fromstring(data, parser)

@@ -8,6 +8,10 @@ style: the type as an IEC 61131 element or a ``dataTypeIDRef``, ``access``,
 The style is not told by namespace or version (real files mix them): every object is read
 both ways, and where both say something the object's own attribute wins (XDD012 says so
 when they disagree). Every key keeps the line of the element that gave it.
+
+Lean by measurement (benchmarks/xdd.py): an element's attributes are taken in one call
+(``items``) and only those present are looked at, a parameter's children are walked once,
+and what a diagnostic would show of a value is worked out only when one is written.
 """
 from __future__ import annotations
 
@@ -16,21 +20,30 @@ import re
 from dcf2bin import values
 from dcf2bin.diagnostics import Severity
 from dcf2bin.formats.xdd import vocabulary as voc
-from dcf2bin.formats.xdd.document import XddFile, add, section
-from dcf2bin.formats.xdd.markup import local
+from dcf2bin.formats.xdd.direct import (_CHECKED, _CHILD_KINDS, _EDITOR, _ORDER, _SAID, _VALUES,
+                                        _Direct)
+from dcf2bin.formats.xdd.document import XddFile, XmlSection
+from dcf2bin.formats.xdd.markup import _LOCAL, local
 
 ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 _HEX = {2: re.compile(r"[0-9A-Fa-f]{2}"), 4: re.compile(r"[0-9A-Fa-f]{4}")}
-# the keys of an entry in the order a section lists them
-_ORDER = ("ParameterName", "ObjectType", "SubNumber", "DataType", "AccessType",
-          "DefaultValue", "ParameterValue", "LowLimit", "HighLimit", "PDOMapping",
-          "ObjFlags", "Denotation")
-# plain attributes of CANopenObject/CANopenSubObject -> CiA 306 keys
-_VALUES = (("defaultValue", "DefaultValue"), ("actualValue", "ParameterValue"),
-           ("lowLimit", "LowLimit"), ("highLimit", "HighLimit"), ("denotation", "Denotation"))
+_FLAGS = re.compile(r"[0-9A-Fa-f]{1,4}")
+_NUMBERS: dict[str, int] = {}       # an index's or subindex's text, as read before
+_TWICE = "remove one of them; dcf2bin does not guess which is meant"
 
 
-class Objects:
+def _shown(how) -> str:
+    """How a diagnostic shows a value: (0, attr, text) -> attr="text"; (1, element, text)
+    -> element "text"; (2, element, code) -> <element> (0xCODE)."""
+    kind, a, b = how
+    if kind == 0:
+        return f'{a}="{b}"'
+    if kind == 1:
+        return f'{a} "{b}"'
+    return f"<{a}> (0x{b:04X})"
+
+
+class Objects(_Direct):
     """Reads the CANopenObjects of one file into ``doc``'s sections."""
 
     def __init__(self, doc: XddFile, params: dict, types: dict):
@@ -43,155 +56,170 @@ class Objects:
     # -- objects and sub-objects -------------------------------------------------------------
     def read(self, el) -> None:
         line = el.sourceline
-        idx = self.number(el, "index", 4, "CANopenObject", None)
+        attrs = dict(el.items())
+        idx = self.number(attrs.get("index"), line, "index", 4, "CANopenObject", None)
         if idx is None:
             return
         if idx in self.seen:
             self.error(f"0x{idx:04X} is given twice (first at line {self.seen[idx]}); the "
-                       "first is read", line, idx, rule="XDD014",
-                       hint="remove one of them; dcf2bin does not guess which is meant")
+                       "first is read", line, idx, rule="XDD014", hint=_TWICE)
             return
         self.seen[idx] = line
-        subs = [c for c in el if local(c.tag) == "CANopenSubObject"]
-        param = self.parameter(el, f"0x{idx:04X}", idx, None)
+        subs = list(el.iterchildren("{*}CANopenSubObject"))
+        param = self.parameter(attrs, line, idx, None)
         props = self.doc.specifics.get((idx, None), {})
         target = self.doc.disabled if props.get("CO_disabled") == "true" else self.doc.sections
-        ot = el.get("objectType", "").strip()
+        ot = attrs.get("objectType", "").strip()
         complex_ = bool(subs) or ot in ("8", "9")
-        sec = self.entry(el, param, idx, None, var=not complex_)
-        target[f"{idx:04x}"] = sec
+        target[f"{idx:04x}"] = self.entry(el, attrs, line, param, idx, None,
+                                          var=not complex_)
         seen_subs: dict[int, int] = {}
         for child in subs:
-            sub = self.number(child, "subIndex", 2, f"0x{idx:04X}: CANopenSubObject", idx)
+            cline = child.sourceline
+            cattrs = dict(child.items())
+            sub = self.number(cattrs.get("subIndex"), cline, "subIndex", 2,
+                              f"0x{idx:04X}: CANopenSubObject", idx)
             if sub is None:
                 continue
             if sub in seen_subs:
                 self.error(f"0x{idx:04X}sub{sub:X} is given twice (first at line "
-                           f"{seen_subs[sub]}); the first is read", child.sourceline, idx,
-                           sub, rule="XDD014",
-                           hint="remove one of them; dcf2bin does not guess which is meant")
+                           f"{seen_subs[sub]}); the first is read", cline, idx, sub,
+                           rule="XDD014", hint=_TWICE)
                 continue
-            seen_subs[sub] = child.sourceline
-            sparam = self.parameter(child, f"0x{idx:04X}sub{sub:X}", idx, sub)
-            target[f"{idx:04x}sub{sub:x}"] = self.entry(child, sparam, idx, sub, var=True)
+            seen_subs[sub] = cline
+            sparam = self.parameter(cattrs, cline, idx, sub)
+            target[f"{idx:04x}sub{sub:x}"] = self.entry(child, cattrs, cline, sparam, idx, sub,
+                                                        var=True)
 
-    def number(self, el, attr: str, digits: int, what: str, idx: int | None) -> int | None:
+    def number(self, text, line, attr: str, digits: int, what: str,
+               idx: int | None) -> int | None:
         """An index (4 hex digits) or subindex (2), or None after XDD013."""
-        text = el.get(attr)
+        known = _NUMBERS.get(text)
+        if known is not None and len(text) == digits:
+            return known
         if text is not None and _HEX[digits].fullmatch(text.strip()):
+            if len(_NUMBERS) < 4096:
+                _NUMBERS[text] = int(text, 16)
             return int(text, 16)
         said = "has no " + attr if text is None else f"{attr}=\"{text}\" is not {digits} hex digits"
-        self.error(f"{what} {said}; it is not read", el.sourceline, idx, rule="XDD013",
+        self.error(f"{what} {said}; it is not read", line, idx, rule="XDD013",
                    hint=f"{attr} is {digits} hex digits, as in {'1018' if digits == 4 else '01'}")
         return None
 
-    def parameter(self, el, label: str, idx: int, sub: int | None):
-        """The parameter ``uniqueIDRef`` names (None: none named, or XDD010); its
-        description and properties go into the specifics."""
-        ref = el.get("uniqueIDRef")
+    def parameter(self, attrs: dict, line, idx: int, sub: int | None):
+        """The parameter ``uniqueIDRef`` names, read in one walk over its children
+        (``_Param``); None: none named, or XDD010. Its description and properties go into
+        the specifics."""
+        ref = attrs.get("uniqueIDRef")
         if ref is None:
             return None
-        param = self.params.get(ref)
-        if param is None:
+        el = self.params.get(ref)
+        if el is None:
+            label = f"0x{idx:04X}" if sub is None else f"0x{idx:04X}sub{sub:X}"
             self.error(f"{label}: uniqueIDRef=\"{ref}\" names no parameter of the "
-                       "parameterList", el.sourceline, idx, sub, rule="XDD010",
+                       "parameterList", line, idx, sub, rule="XDD010",
                        hint="add the parameter, or correct the reference")
             self.doc.follows(idx, sub, "DCF031", "DCF033")
             return None
-        spec = {}
-        for child in param:
-            name = local(child.tag)
-            if name == "property" and child.get("name"):
-                spec[child.get("name")] = child.get("value", "")
-            elif name in ("description", "label") and (text := (child.text or "").strip()):
-                if name == "description" or "description" not in spec:
-                    spec["description"] = text
-        if spec:
-            self.doc.specifics.setdefault((idx, sub), {}).update(spec)
+        param = _Param(el)
+        if param.spec:
+            self.doc.specifics.setdefault((idx, sub), {}).update(param.spec)
         return param
 
     # -- one entry ---------------------------------------------------------------------------
-    def entry(self, el, param, idx: int, sub: int | None, *, var: bool):
+    def entry(self, el, attrs: dict, line, param, idx: int, sub: int | None, *, var: bool):
         """The section of one object or sub-object: its attributes, then what its parameter
         adds (the attribute wins, XDD012 when they differ)."""
-        line = el.sourceline
+        if param is None or not attrs.keys() & _SAID:
+            if param is not None and attrs.keys() <= _EDITOR:
+                sec = self.editor(attrs, line, param, idx, sub, var)
+                if sec is not None:
+                    return sec
+            return self.quick(attrs, line, param, idx, sub, var)
         label = f"0x{idx:04X}" if sub is None else f"0x{idx:04X}sub{sub:X}"
-        own = self.attributes(el, label, idx, sub)
+        own = self.attributes(attrs, line, label, idx, sub, param)
         if param is not None:
             said = self.from_parameter(param, label, idx, sub, var, own)
-            for key, (value, pline, shown) in said.items():
+            for key, got in said.items():
                 mine = own.get(key)
                 if mine is None:
-                    own[key] = (value, pline, shown)
-                elif not _same(key, mine[0], value):
+                    own[key] = got
+                elif not _same(key, mine[0], got[0]):
+                    tag = _LOCAL.get(el.tag) or local(el.tag)
                     self.doc.problem(
-                        WARNING, f"{label}: the {local(el.tag)} says {mine[2]} and its "
-                        f"parameter {param.get('uniqueID')} (line {pline}) says {shown}; the "
-                        f"{local(el.tag)}'s attribute is read", line, idx, sub, rule="XDD012",
-                        hint="make the attribute and the parameter agree, or drop one")
-        sec = section(label[2:6] if sub is None else f"{idx:04X}sub{sub:X}", line)
-        for key in _ORDER:
-            if key in own:
-                add(sec, key, own[key][0], own[key][1])
+                        WARNING, f"{label}: the {tag} says {_shown(mine[2])} and its "
+                        f"parameter {param.el.get('uniqueID')} (line {got[1]}) says "
+                        f"{_shown(got[2])}; the {tag}'s attribute is read", line, idx, sub,
+                        rule="XDD012", hint="make the attribute and the parameter agree, "
+                                            "or drop one")
+        sec = XmlSection.__new__(XmlSection)
+        sec.name = label[2:6] if sub is None else f"{idx:04X}sub{sub:X}"
+        sec.line, sec._keys = line, None
+        sec.values = {low: own[key][0] for key, low in _ORDER if key in own}
+        sec._lines = {low: (key, own[key][1] or line) for key, low in _ORDER if key in own}
         return sec
 
-    def attributes(self, el, label: str, idx: int, sub: int | None) -> dict:
+    def attributes(self, attrs: dict, line, label: str, idx: int, sub: int | None,
+                   param) -> dict:
         """CiA 306 key -> (value, line, how to show it) from the element's attributes."""
-        line, get = el.sourceline, el.get
-        out: dict[str, tuple[str, int, str]] = {}
-        name = get("name")
-        if name is None and (param := self.params.get(get("uniqueIDRef"))) is not None:
-            name = " ".join("".join(next((c.itertext() for c in param
-                                          if local(c.tag) == "label"), ())).split()) or None
+        out: dict[str, tuple] = {}
+        name = attrs.get("name")
+        if name is None and param is not None:
+            name = param.label()
         if name is not None:        # else the parameter's label names it (CANopenEditor)
-            out["ParameterName"] = (name, line, "")
+            out["ParameterName"] = (name, line, None)
+        checked = attrs.keys() & _CHECKED
+        if not checked:
+            return out
         for attr, key in (("objectType", "ObjectType"), ("subNumber", "SubNumber")):
-            text = get(attr)
+            text = attrs.get(attr)
             if text is None:
                 continue
             if text.strip().isdigit():      # XML Schema's unsignedByte: decimal
                 n = int(text)
-                out[key] = (f"0x{n:X}" if key == "ObjectType" else str(n), line, "")
+                out[key] = (f"0x{n:X}" if key == "ObjectType" else str(n), line, None)
             else:
                 self.error(f"{label}: {attr}=\"{text}\" is not a decimal number", line, idx,
                            sub, rule="XDD013", hint=f"{attr} is a decimal number")
-        text = get("dataType")
-        if text is not None:
+        if "dataType" in checked:
+            text = attrs["dataType"]
             if _HEX[4].fullmatch(text.strip()):
-                out["DataType"] = (f"0x{int(text, 16):04X}", line, f"dataType=\"{text}\"")
+                out["DataType"] = (f"0x{int(text, 16):04X}", line, (0, "dataType", text))
             else:
                 self.untyped(label, f"dataType=\"{text}\" is not 4 hex digits", line, idx, sub)
-        text = get("accessType")
-        if text is not None:
+        if "accessType" in checked:
+            text = attrs["accessType"]
             if text.strip() in voc.OBJECT_ACCESS:
-                out["AccessType"] = (text.strip(), line, f"accessType=\"{text}\"")
+                out["AccessType"] = (text.strip(), line, (0, "accessType", text))
             else:
                 self.error(f"{label}: accessType=\"{text}\" is none of const, ro, wo, rw",
                            line, idx, sub, rule="XDD013",
                            hint="accessType is const, ro, wo or rw (rwr, rww)")
-        for attr, key in _VALUES:
-            text = get(attr)
+        for attr, key in _VALUES.items():
+            text = attrs.get(attr)
             if text is not None:
-                out[key] = (text, line, f"{attr}=\"{text}\"")
-        text = get("PDOmapping")
-        if text is not None:
-            mapped = voc.PDO_MAPPING.get(text.strip())
-            if mapped is None:
-                self.error(f"{label}: PDOmapping=\"{text}\" is none of no, default, optional, "
-                           "TPDO, RPDO", line, idx, sub, rule="XDD013",
-                           hint="PDOmapping is no, default, optional, TPDO or RPDO")
-            else:
-                out["PDOMapping"] = (mapped, line, f"PDOmapping=\"{text}\"")
-                if text.strip() != "no":
-                    self.doc.specifics.setdefault((idx, sub), {})["PDOmapping"] = text.strip()
-        text = get("objFlags")
-        if text is not None:
-            if re.fullmatch(r"[0-9A-Fa-f]{1,4}", text.strip()):
-                out["ObjFlags"] = (f"0x{int(text, 16):X}", line, f"objFlags=\"{text}\"")
+                out[key] = (text, line, (0, attr, text))
+        if "PDOmapping" in checked:
+            self.pdo_mapping(attrs["PDOmapping"], out, line, label, idx, sub)
+        if "objFlags" in checked:
+            text = attrs["objFlags"]
+            if _FLAGS.fullmatch(text.strip()):
+                out["ObjFlags"] = (f"0x{int(text, 16):X}", line, (0, "objFlags", text))
             else:
                 self.error(f"{label}: objFlags=\"{text}\" is not hex digits", line, idx, sub,
                            rule="XDD013", hint="objFlags is hex digits, as in 0002")
         return out
+
+    def pdo_mapping(self, text: str, out: dict, line, label, idx, sub) -> None:
+        mapped = voc.PDO_MAPPING.get(text.strip())
+        if mapped is None:
+            self.error(f"{label}: PDOmapping=\"{text}\" is none of no, default, optional, "
+                       "TPDO, RPDO", line, idx, sub, rule="XDD013",
+                       hint="PDOmapping is no, default, optional, TPDO or RPDO")
+            return
+        out["PDOMapping"] = (mapped, line, (0, "PDOmapping", text))
+        if text.strip() != "no":
+            self.doc.specifics.setdefault((idx, sub), {})["PDOmapping"] = text.strip()
 
     def untyped(self, label, said, line, idx, sub) -> None:
         self.error(f"{label}: {said}", line, idx, sub, rule="XDD011",
@@ -201,52 +229,33 @@ class Objects:
 
     def from_parameter(self, param, label, idx, sub, var: bool, own: dict) -> dict:
         """CiA 306 key -> (value, line, how to show it) from a parameter."""
-        out: dict[str, tuple[str, int, str]] = {}
-        type_el = ref = None
-        for child in param:
-            name = local(child.tag)
-            if name in ("defaultValue", "actualValue") and child.get("value") is not None:
-                key = "DefaultValue" if name == "defaultValue" else "ParameterValue"
-                v = child.get("value")
-                out[key] = (v, child.sourceline, f"{name} \"{v}\"")
-            elif name == "allowedValues":
-                for r in child.iter():
-                    if local(r.tag) in ("minValue", "maxValue") and r.get("value") is not None:
-                        key = "LowLimit" if local(r.tag) == "minValue" else "HighLimit"
-                        out.setdefault(key, (r.get("value"), r.sourceline,
-                                             f"{local(r.tag)} \"{r.get('value')}\""))
-            elif name == "denotation":
-                text = " ".join("".join(child.itertext()).split())
-                if text:
-                    out["Denotation"] = (text, child.sourceline, f"denotation \"{text}\"")
-            elif name == "dataTypeIDRef":
-                ref = child
-            elif name and name not in voc.NOT_TYPES and type_el is None:
-                type_el = child
-        if ref is not None and type_el is None:
-            type_el = self.resolve_type(ref, label, idx, sub)
+        out = dict(param.said)
+        type_el = param.type_el
+        if param.ref is not None and type_el is None:
+            type_el = self.resolve_type(param.ref, label, idx, sub)
             if type_el is False:       # an array or a struct: the object is not a VAR
                 return out
         if type_el is not None:
             default = (own.get("DefaultValue") or out.get("DefaultValue") or ("",))[0]
-            code = voc.type_code(local(type_el.tag), default)
+            tag = _LOCAL.get(type_el.tag) or local(type_el.tag)
+            code = voc.type_code(tag, default)
             if code is None:
-                self.untyped(label, f"<{local(type_el.tag)}> is not a data type dcf2bin knows",
+                self.untyped(label, f"<{tag}> is not a data type dcf2bin knows",
                              type_el.sourceline, idx, sub)
             else:
-                out["DataType"] = (f"0x{code:04X}", type_el.sourceline,
-                                   f"<{local(type_el.tag)}> (0x{code:04X})")
+                out["DataType"] = (f"0x{code:04X}", type_el.sourceline, (2, tag, code))
         if var:
-            access = param.get("access", voc.DEFAULT_PARAM_ACCESS).strip()
+            el = param.el
+            access = el.get("access", voc.DEFAULT_PARAM_ACCESS).strip()
             mapped = voc.PARAM_ACCESS.get(access)
             if mapped is None:
                 self.error(f"{label}: access=\"{access}\" of parameter "
-                           f"{param.get('uniqueID')} has no CiA 306 AccessType",
-                           param.sourceline, idx, sub, rule="XDD013",
+                           f"{el.get('uniqueID')} has no CiA 306 AccessType",
+                           el.sourceline, idx, sub, rule="XDD013",
                            hint="access is const, read, write, readWrite, readWriteInput or "
                                 "readWriteOutput")
             else:
-                out["AccessType"] = (mapped, param.sourceline, f"access \"{access}\"")
+                out["AccessType"] = (mapped, el.sourceline, (1, "access", access))
         return out
 
     def resolve_type(self, ref, label, idx, sub):
@@ -268,6 +277,61 @@ class Objects:
         self.untyped(label, f"the type {uid} (line {target.sourceline}) has no IEC 61131 "
                      "base type", ref.sourceline, idx, sub)
         return None
+
+
+class _Param:
+    """What one ``parameter`` says, from one walk over its children: ``spec`` (its
+    description and properties), ``said`` (CiA 306 key -> (value, line, how to show it)
+    for its values, limits and denotation, in the order they stand), its type element or
+    ``dataTypeIDRef`` and its first label."""
+    __slots__ = ("el", "spec", "said", "type_el", "ref", "first_label")
+
+    def __init__(self, el):
+        self.el, self.type_el, self.ref, self.first_label = el, None, None, None
+        spec: dict = {}
+        said: dict = {}
+        kinds = _CHILD_KINDS
+        for child in el:
+            tag = child.tag
+            name = _LOCAL.get(tag) or local(tag)
+            kind = kinds.get(name)
+            if kind is None:            # not one of a parameter's own elements: its type
+                if name and self.type_el is None:
+                    self.type_el = child
+            elif kind == 0:             # label, description
+                if name == "label" and self.first_label is None:
+                    self.first_label = child
+                text = (child.text or "").strip()
+                if text and (name == "description" or "description" not in spec):
+                    spec["description"] = text
+            elif kind == 1:             # defaultValue, actualValue
+                v = child.get("value")
+                if v is not None:
+                    key = "DefaultValue" if name == "defaultValue" else "ParameterValue"
+                    said[key] = (v, child.sourceline, (1, name, v))
+            elif kind == 2:             # property
+                if child.get("name"):
+                    spec[child.get("name")] = child.get("value", "")
+            elif kind == 3:             # allowedValues
+                for r in child.iter():
+                    rname = local(r.tag)
+                    if rname in ("minValue", "maxValue") and r.get("value") is not None:
+                        key = "LowLimit" if rname == "minValue" else "HighLimit"
+                        said.setdefault(key, (r.get("value"), r.sourceline,
+                                              (1, rname, r.get("value"))))
+            elif kind == 4:             # denotation
+                text = " ".join("".join(child.itertext()).split())
+                if text:
+                    said["Denotation"] = (text, child.sourceline, (1, "denotation", text))
+            elif kind == 5:             # dataTypeIDRef
+                self.ref = child
+        self.spec, self.said = spec, said
+
+    def label(self) -> str | None:
+        """The name its first label gives (a CANopenEditor object has no name of its own)."""
+        if self.first_label is None:
+            return None
+        return " ".join("".join(self.first_label.itertext()).split()) or None
 
 
 def _same(key: str, a: str, b: str) -> bool:

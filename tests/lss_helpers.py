@@ -1,0 +1,58 @@
+"""Software LSS slaves on the bench's virtual bus, for the LSS tests (several in one
+process, each with a network of its own, as separate devices would be)."""
+from __future__ import annotations
+
+import re
+import threading
+import time
+
+IO8 = "samples/device.eds"                         # [DeviceInfo]: 0xAB, 8, 0x00010002
+IO8_INFO = {2: 8, 3: 0x00010002}                   # its 0x1018 has sub 1 only
+AI = "tests/fixtures/network/IoX4_8AI.eds"         # 0x1018: 63, 3001003, 0x01390538
+AI_ID = (0x3F, 0x2DCAAB, 0x01390538)
+
+
+def lss_node(bench, serial: int, *, path: str = IO8, node_id: int | None = None, **faults):
+    """A node from ``path`` answering LSS with ``serial``: without a node-ID (0xFF) unless
+    ``node_id`` is given."""
+    from dcf2bin.bus.lss_slave import attach_lss
+    from dcf2bin.bus.node import from_file
+    node, errors = from_file(path, node_id or 1)
+    assert errors == []
+    attach_lss(node, serial=serial, unconfigured=node_id is None,
+               info=IO8_INFO if path == IO8 else None, **faults)
+    return bench.add(node)
+
+
+def plain_node(bench, node_id: int, path: str = IO8):
+    """A node that does not answer LSS."""
+    from dcf2bin.bus.node import from_file
+    node, errors = from_file(path, node_id)
+    assert errors == []
+    return bench.add(node)
+
+
+def seconds_out(text: str) -> str:
+    """The text with its run time (``(1.23 s)``, ``in 1.23 s``) written as ``S``."""
+    return re.sub(r"\d+\.\d\d s\b", "S s", text)
+
+
+class Frames:
+    """Every frame of some COB-IDs seen on a network (from the notifier thread)."""
+
+    def __init__(self, net, *cob_ids):
+        self.got: list[tuple[int, bytes]] = []
+        self.lock = threading.Lock()
+        for cob in cob_ids:
+            net.subscribe(cob, self._on)
+
+    def _on(self, can_id, data, timestamp):
+        with self.lock:
+            self.got.append((can_id, bytes(data)))
+
+    def wait(self, n: int = 1, timeout: float = 2.0) -> list[tuple[int, bytes]]:
+        end = time.monotonic() + timeout
+        while len(self.got) < n and time.monotonic() < end:
+            time.sleep(0.005)
+        with self.lock:
+            return list(self.got)
