@@ -560,14 +560,18 @@ def test_a_misnamed_file_is_read_by_its_content_with_a_warning(tmp_path):
 
 
 def test_a_truncated_concise_dcf_is_unreadable(tmp_path):
-    """Its content no longer says concise DCF, so its name decides (a .bin: a container),
-    as in every command (filekind); it cannot be read as one: exit 3."""
+    """A concise DCF cut short is still told by its content (a count smaller than the file,
+    a first entry that writes an object: filekind) and read by the one concise reader,
+    whose error names the entry that runs past the end at the byte offset of its size, as
+    dump and validate print it; diff cannot compare it: exit 3."""
     bad = tmp_path / "x.bin"
     bad.write_bytes((FLAT / "drive.bin").read_bytes()[:-1])
     r = run(bad, FLAT / "drive.dcf")
     assert (r.exit_code, r.stdout) == (3, "")
-    assert r.stderr == f"{bad}:0x0: error: header says 22 bytes, less than the header itself " \
-                       "[CNT002]\n"
+    assert r.stderr == (f"{bad}:0xDA: error: entry 22 of 22 (0x6060sub0) claims 1 data "
+                        "byte, 0 remain [CON002]\n")
+    dumped = CliRunner().invoke(main, ["dump", str(bad)])
+    assert (dumped.exit_code, dumped.stderr) == (1, r.stderr)
 
 
 # -- what cannot be compared ----------------------------------------------------------------

@@ -104,16 +104,13 @@ def _load(path: str, node_id, quiet: bool):
     data = read_input(path)
     name = "<stdin>" if path == "-" else path
     kind = filekind.detect(data, "" if path == "-" else path)
-    if kind == "bin" and compare.is_empty_concise(data):
-        kind = "concise"
     problem = filekind.mismatch(name, kind, KINDS, use="dcf2bin diff compares DCF/EDS "
                                 "text, CiA 311 XML, containers, their JSON form and concise "
                                 "DCFs")
     if problem:
         fail(problem, name, ExitCode.UNREADABLE)
-    # the content wins, as in every command; a concise DCF is a .bin as network build
-    # and dcfgen name it, not a misnamed container
-    note = filekind.misnamed(name, kind) if path != "-" and kind != "concise" else None
+    # the content wins, as in every command (a concise DCF is a .bin as a container is)
+    note = filekind.misnamed(name, kind)
     if note:
         emit([Diagnostic(Severity.WARNING, note, name)], quiet)
     try:

@@ -19,13 +19,12 @@ from __future__ import annotations
 
 from dcf2bin.compare.engine import (ADDED, CHANGED, REMOVED, Change, FileDiff, Result,
                                     compare)
-from dcf2bin.compare.readers import (KINDS, Source, Unreadable, is_empty_concise, load,
-                                     side)
+from dcf2bin.compare.readers import KINDS, Source, Unreadable, load, side
 from dcf2bin.compare.scope import BadIgnore, Scope, parse_ignore
 
 __all__ = ["ADDED", "CHANGED", "KINDS", "REMOVED", "BadIgnore", "Change", "FileDiff",
            "Result", "Scope", "Source", "Unreadable", "compare", "compare_sources",
-           "is_empty_concise", "load", "parse_ignore", "side", "sides"]
+           "load", "parse_ignore", "side", "sides"]
 
 
 def sides(a: Source, b: Source):

@@ -69,28 +69,19 @@ def load(data: bytes, path: str, kind: str, *, label: str | None = None,
     if kind in DESCRIPTIONS:
         return _description(data, path, label, kind, node_id)
     if kind == "concise":
-        return Source(label, kind, entries=read_concise(data, label))
+        return _concise(data, label)
     return _container(data, label, kind)
 
 
-def read_concise(data: bytes, name: str) -> list[tuple[int, int, bytes]]:
-    """The entries of a concise DCF (CiA 302-3: a DWORD count, then per entry WORD index,
-    BYTE sub, DWORD size and the data), read as the index segment of a container is
-    (schema.EntryHead, SPEC §3.2). The one place diff reads a concise DCF: the library
-    reader of branch ``concise`` takes its place when it lands."""
-    from dcf2bin.container import ContainerError, _read_index
-    try:
-        return _read_index(data, 0)
-    except ContainerError as exc:
-        raise Unreadable([Diagnostic(Severity.ERROR, f"not a concise DCF: {exc}", name,
-                                     offset=exc.offset)]) from None
-
-
-def is_empty_concise(data: bytes) -> bool:
-    """A concise DCF of no entry (the DWORD count 0 alone: ``network build`` writes one
-    for a slave without writes), which ``filekind`` does not tell from a damaged
-    container; nothing else is four zero bytes."""
-    return data == b"\0\0\0\0"
+def _concise(data: bytes, label: str) -> Source:
+    """A concise DCF's entries, read by ``dcf2bin.concise`` (the one reader: its error
+    names the byte offset and the CON00x rule, as dump and validate say it)."""
+    from dcf2bin.concise import offsets, read_concise
+    entries, diags = read_concise(data, label)
+    if entries is None:
+        raise Unreadable(diags)
+    places = [f"{label}:0x{off:X}" for off in offsets(entries)]
+    return Source(label, "concise", entries=entries, places=places)
 
 
 def _container(data: bytes, label: str, kind: str) -> Source:
