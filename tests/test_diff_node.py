@@ -81,8 +81,8 @@ def test_a_silent_node_ends_the_run_naming_the_entry(bench, faulty):
     r = run_within(10, "diff", "samples/device.eds", "-n", "3", "-i", "virtual",
                    "--channel", bench.channel, "--timeout", "0.05", "--retries", "0")
     assert (r.exit_code, r.stdout) == (3, "")
-    assert r.stderr == ("node 3: error: node 3 did not answer (no SDO response within 0.05 s, "
-                        f"1 try; {VIRTUAL}) (reading 0x1016 sub 1)\n")
+    assert r.stderr == ("node 3: error: 0x1016 sub 1: node 3 did not answer (no SDO response "
+                        f"within 0.05 s, 1 try; {VIRTUAL})\n")
 
 
 def test_a_node_that_answers_twice_ends_the_run(bench, faulty):
@@ -90,8 +90,43 @@ def test_a_node_that_answers_twice_ends_the_run(bench, faulty):
     node.misbehaving = faulty.AnswersTwice(node)
     r = run_within(10, "diff", "samples/device.eds", "-n", "3", *bus_args(bench.channel))
     assert (r.exit_code, r.stdout) == (3, "")
-    assert r.stderr == ("node 3: error: node 3 answered an SDO upload of 0x1000 sub 0 twice "
-                        "(reading 0x1016 sub 0)\n")
+    assert r.stderr == ("node 3: error: 0x1016 sub 0: node 3 answered an SDO upload of 0x1000 "
+                        "sub 0 twice\n")
+
+
+def test_bytes_that_are_no_value_of_the_type_are_compared_as_answered(bench, faulty):
+    """upload states no value of 4 bytes for an UNSIGNED8; diff shows what the node holds."""
+    node = bench.device(3, "samples/device.eds")
+
+    class Wide(faulty.Misbehaving):
+        def handle(self, request, serve, send):
+            if request[0] & 0xE0 == 0x40 and request[1:4] == bytes.fromhex("001802"):
+                send(bytes([0x43]) + request[1:4] + bytes.fromhex("FF000000"))
+            else:
+                serve()
+    Wide(node)
+    r = run("diff", "samples/device.eds", "-n", "3", *bus_args(bench.channel), "-q")
+    assert r.exit_code == 1
+    assert r.stdout.splitlines()[2:] == [
+        "@@ 0x1800 TPDO1 communication parameter @@",
+        "-0x1800sub2 Transmission type: 255",
+        "+0x1800sub2 Transmission type: FF000000 (4 bytes)"]
+
+
+def test_a_node_that_restarts_while_it_is_read_ends_the_run(bench, faulty):
+    node = bench.device(3, "samples/device.eds")
+
+    class Restarts(faulty.Misbehaving):
+        def handle(self, request, serve, send):
+            serve()
+            if request[1:4] == bytes.fromhex("171000"):
+                from dcf2bin.bus.node import RESET_NODE
+                self.node._reset(RESET_NODE)
+    Restarts(node)
+    r = run_within(10, "diff", "samples/device.eds", "-n", "3", *bus_args(bench.channel))
+    assert (r.exit_code, r.stdout) == (3, "")
+    assert r.stderr == ("node 3: error: 0x1018 sub 0: node 3 restarted (its boot-up message "
+                        "was heard)\n")
 
 
 def test_a_build_states_the_identity_the_node_must_have(bench, tmp_path):
