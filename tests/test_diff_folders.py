@@ -97,6 +97,30 @@ def test_an_upload_folder_is_compared_by_its_own_files(build, tmp_path):
     assert (r.exit_code, r.stdout) == (1, "Only in up: extra.dcf\n")
 
 
+def test_the_writers_lock_journal_and_temporaries_are_not_compared(tmp_path):
+    """Two real builds of one network: each folder holds the all-or-nothing writer's
+    .dcf2bin-build.lock (which lists the files written); a run stopped while writing
+    leaves its journal and .dcf2bin-<run>-<i>.tmp/.old files. None is an input of the
+    comparison, nor a file only in one folder."""
+    bus = FLAT.parent / "bus.yml"
+    for name in ("one", "two"):
+        r = run("network", "build", bus, "-o", tmp_path / name, "-q")
+        assert r.exit_code == 0, r.stderr
+        assert (tmp_path / name / ".dcf2bin-build.lock").is_file()
+    two = tmp_path / "two"
+    (two / ".dcf2bin-build.journal").write_text("not read")
+    (two / ".dcf2bin-1f2e-0.tmp").write_bytes((two / "drive.bin").read_bytes()[:-1])
+    (two / ".dcf2bin-1f2e-1.old").write_text("[FileInfo]\n")
+    (two / ".dcf2bin-5a5a5a5a5a5a.tmp").write_bytes(b"")
+    r = run("diff", tmp_path / "one", two)
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert r.stderr.startswith(f"{tmp_path / 'one'}, {two}: 5 files equal; ")
+    doc = json.loads(run("diff", tmp_path / "one", two, "-f", "json").stdout)
+    assert (doc["only_in_a"], doc["only_in_b"], doc["not_compared"]) == ([], [], [])
+    assert [f["a"]["file"].rsplit("/", 1)[1] for f in doc["files"]] == [
+        "drive.bin", "drive.dcf", "io.bin", "io.dcf", "plc.dcf"]
+
+
 def test_folders_that_cannot_be_read_are_exit_3(build, tmp_path):
     (tmp_path / "bad").mkdir()
     (tmp_path / "bad" / "drive.dcf").write_bytes(b"\x00" * 100)
