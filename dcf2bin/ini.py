@@ -10,8 +10,6 @@ import re
 import weakref
 from bisect import bisect_left
 from dataclasses import dataclass, field
-from itertools import accumulate, count
-from operator import add, methodcaller
 from typing import Callable
 
 from dcf2bin.diagnostics import Diagnostics, Where
@@ -124,9 +122,17 @@ class _SharedSection(Section):
         known = self.rest.source.keys
         keys = known.get(self.line)
         if keys is None:
-            # the template's text has the section's lines (the names' values left out)
+            # the template's text has the section's lines (the names' values left out);
+            # a section read by _Templates.big has no text: the file has them
+            text = self.rest.text
+            if text is None:               # _Templates.big: its values are the file's
+                values = self.rest
+                keys = known[self.line] = {}
+                for k, i in self.rest.source.keys_at(self.line):
+                    keys.setdefault(k.lower(), Key(k, values.get(k.lower(), ""), i))
+                return keys
             keys = known[self.line] = {}
-            for i, raw in enumerate(self.rest.text.split("\n"), self.line + 1):
+            for i, raw in enumerate(text.split("\n"), self.line + 1):
                 k, eq, v = raw.partition("=")
                 k = k.strip(" \t\r")
                 if eq and k and k[0] not in ";#":
@@ -153,6 +159,17 @@ class _SharedSection(Section):
 
     def key_names(self):
         return (self.rest if self._values is None else self._values).keys()
+
+    def line_of(self, key: str) -> int:
+        """As ``Section.line_of``; a section read by ``_Templates.big`` finds the key in
+        the file rather than making a Key of each of its lines (it can have millions)."""
+        if not self.has(key):
+            return self.line
+        source = self.rest.source
+        if self.rest.text is None and self.line not in source.keys:
+            for _, line in source.keys_at(self.line, key):
+                return line
+        return self.keys[key].line
 
 
 class _DenotedSection(_SharedSection):
@@ -194,19 +211,58 @@ class _Source:
             return src[at:src.find(b"]", at)].decode("latin-1").strip(" \t")
         return src[at:src.find("]", at)].strip(" \t")
 
+    def keys_at(self, line: int, only: str | None = None) -> list[tuple[str, int]]:
+        """(name as written, line) of each key line of the section whose header is at
+        ``line``, found in the file (``_Templates.big`` keeps no text of its own), as
+        ``_SharedSection.keys`` reads a template's text; no value is copied. ``only``: the
+        first key of that lower-case name alone (a section can have millions)."""
+        if self._lines is None:
+            self._index()
+        src, k = self.src, bisect_left(self._lines, line)
+        binary = isinstance(src, bytes)
+        nl = self.nl.encode("latin-1") if binary else self.nl
+        eq_sign = b"=" if binary else "="
+        find, n_nl = src.find, len(nl)
+        end = self._offsets[k + 1] - n_nl if k + 1 < len(self._offsets) else len(src)
+        pos = find(nl, self._offsets[k], end) + n_nl
+        out = []
+        if pos < n_nl:
+            return out                         # a header right before the next one
+        while pos <= end:
+            line += 1
+            j = find(nl, pos, end)
+            stop = end if j < 0 else j
+            eq = find(eq_sign, pos, stop)
+            if eq > pos:
+                name = src[pos:eq]
+                name = (name.decode("latin-1") if binary else name).strip(" \t\r")
+                if name and name[0] not in ";#" and (only is None or name.lower() == only):
+                    out.append((name, line))
+                    if only is not None:
+                        break
+            if j < 0:
+                break
+            pos = j + n_nl
+        return out
+
     def _index(self) -> None:
         src = self.src
         nl = self.nl.encode("latin-1") if isinstance(src, bytes) else self.nl
-        n_nl, n_sep = len(nl), len(nl) + 1
-        # part k (k >= 1) starts right after the k-th "<nl>[", whose "[" is the k-th
-        # section's (the line end put first finds a header on the first line)
-        parts = (nl + src).split(nl + (b"[" if isinstance(src, bytes) else "["))
-        ends = accumulate(map(len, parts[:-1]))     # of part k-1, counted in nl + src
-        self._offsets = list(map(add, ends, count(n_sep - 1 - n_nl, n_sep)))
-        # the header lines counted from the text itself (not taken from the file's
-        # sections dict, whose order a caller may change)
-        self._lines = list(map(add, accumulate(map(methodcaller("count", nl), parts)),
-                               count(1)))[:-1]
+        sep = nl + (b"[" if isinstance(src, bytes) else "[")
+        # the k-th section's "[" is the one after the k-th "<nl>[" (or the file's first
+        # character); the header lines counted from the text itself (not taken from the
+        # file's sections dict, whose order a caller may change). No copy of the text:
+        # it can be 60 MB.
+        offsets, lines = ([0], [1]) if src[:1] == sep[-1:] else ([], [])
+        find, tally, n_nl = src.find, src.count, len(nl)
+        line, prev, at = 1, 0, src.find(sep)
+        while at >= 0:
+            at += n_nl
+            line += tally(nl, prev, at)
+            offsets.append(at)
+            lines.append(line)
+            prev, at = at, find(sep, at)
+        self._offsets, self._lines = offsets, lines
 
 
 @dataclass(slots=True)
@@ -382,14 +438,20 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     sections go through ``_Templates.other``.
     """
     chunks = text.split(nl + "[")              # each a section, from just after its '['
+    skip = 0
     if text[:1] == "[":                        # no lines before the first header
-        chunks[0] = chunks[0][1:]
+        if len(chunks[0]) > _BIG:
+            skip = 1                           # (_Templates.big skips it: no copy)
+        else:
+            chunks[0] = chunks[0][1:]
         line = 1
     else:                                      # blank and comment lines only
         head = chunks.pop(0)
-        if _lone(head, nl) or _body_values(head, nl) != {}:
+        if _lone(head, nl) or not _comments_only(head, nl):
             return None
         line = head.count(nl) + 2
+        line_start = len(head) + len(nl) + 1   # where the first section's name starts
+        head = None
     sections: dict[str, Section] = {}
     respelled: list[str] = []
     templates = _Templates(_Source(text if source is None else source, nl), nl)
@@ -401,6 +463,17 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
     # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
+    if max(map(len, chunks), default=0) > _BIG:
+        # a section of more than _BIG characters is read in ``text`` by _Templates.big:
+        # its chunk becomes a _Big naming where it is there (no copy of it stays alive),
+        # which the loop hands to _Templates.other as it does any section it does not
+        # read itself (so that the loop spends nothing on them)
+        at = 0 if text[:1] == "[" and skip else 1 if text[:1] == "[" else line_start
+        for k in range(len(chunks)):
+            n = len(chunks[k])
+            if n > _BIG:
+                chunks[k] = _Big(text, at + (skip if k == 0 else 0), at + n)
+            at += n + len(nl) + 1
     for chunk in chunks:
         name, hit, rest = chunk.partition(close_name)
         canon = name.lower()
@@ -461,10 +534,40 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     return parsed
 
 
+def _comments_only(text: str, nl: str) -> bool:
+    """Whether every line of ``text`` is blank or a comment, looked at where each starts
+    (the text before the first header: a file can begin with 60 MB of comments)."""
+    if len(text) <= _BIG:
+        return _body_values(text, nl) == {}
+    find, n, pos = text.find, len(text), 0
+    while pos <= n:
+        j = find(nl, pos)
+        stop = n if j < 0 else j
+        first = text[pos:pos + 1]
+        if first != ";" and first != "#" and _line(text[pos:stop]) != ():
+            return False
+        pos = stop + len(nl)
+    return True
+
+
 def _lone(text: str, nl: str) -> bool:
-    """Whether ``text`` has a CR or LF that is not part of a line end ``nl``."""
-    text = text.replace(nl, "")
-    return "\r" in text or "\n" in text
+    """Whether ``text`` has a CR or LF that is not part of a line end ``nl`` (counted, not
+    copied: ``text`` can be most of a 60 MB file)."""
+    if nl == "\n":
+        return "\r" in text
+    n = text.count("\r\n")
+    return text.count("\r") != n or text.count("\n") != n
+
+
+class _Big(str):
+    """A section of more than ``_BIG`` characters, in the loop of ``_read_sections`` in
+    place of its text: where it is in the file's text (``_Templates.big`` reads it there).
+    Empty, so that the loop hands it to ``_Templates.other``."""
+
+    def __new__(cls, text: str, start: int, end: int):
+        self = super().__new__(cls, "")
+        self.text, self.start, self.end = text, start, end
+        return self
 
 
 class _Templates:
@@ -479,6 +582,8 @@ class _Templates:
     def other(self, chunk: str) -> tuple[str, str | None, str | None, _Template, int] | None:
         """(canonical name, ParameterName's value, Denotation's value, template, lines
         to the next header) of a section (its text after its '['), or None."""
+        if type(chunk) is _Big:
+            return self.big(chunk.text, chunk.start, chunk.end)
         name, closed, body = chunk.partition("]" + self.nl)
         step = 0
         if not closed:
@@ -497,6 +602,57 @@ class _Templates:
             return None
         pname, denotation, template = found
         return name.lower(), pname, denotation, template, template.step + step
+
+    def big(self, text: str, start: int,
+            n: int) -> tuple[str, None, None, _Template, int] | None:
+        """What ``other`` gives, for a section of more than ``_BIG`` characters (a
+        megabyte of comments, a value of 60 MB), ``text[start:n]`` (from just after its
+        '['), read line by line in the file's text: no copy of the section, no template
+        text (no other section has that text: there is nothing to share). Its names stay
+        among its values (nothing is cut out), and its ``text`` is None: its keys are
+        found in the file when a message asks (``_Source.keys_at``). None: a line the
+        exact reader has to see."""
+        nl = self.nl
+        end = text.find("]" + nl, start, n)
+        if end < 0 and text[n - 1:n] == "]":   # a header right before the next one
+            end = n - 1
+        name = text[start:end]
+        if end <= start or "\n" in name or "\r" in name or "[" in name or "]" in name:
+            return None                        # a broken header
+        if nl == "\n":
+            lone = text.find("\r", start, n) >= 0
+        else:
+            crlf = text.count("\r\n", start, n)
+            lone = text.count("\r", start, n) != crlf or text.count("\n", start, n) != crlf
+        if lone or name.strip() != name.strip(" \t") or not name.strip(" \t"):
+            return None                        # a lone CR or LF; blanks in the name
+        values = _Template()
+        find, n_nl = text.find, len(nl)
+        pos, step = end + 1 + n_nl, 2          # the header's line and the next header's
+        if end == n - 1:                       # (no line: as _Templates.other counts it)
+            values.text, values.source, values.step = None, self.source, 1
+            return name.strip(" \t").lower(), None, None, values, 1
+        while True:
+            j = find(nl, pos, n)
+            stop = n if j < 0 else j
+            first = text[pos:pos + 1] if pos < n else ""
+            if first != ";" and first != "#":  # (a comment: nothing to copy)
+                eq = find("=", pos, stop)
+                if eq > pos and first not in " \t[":
+                    # as _line reads it, the value copied once (it can be 60 MB)
+                    low = text[pos:eq].rstrip(" \t").lower()
+                    if low in values:
+                        return None            # a repeated key
+                    values[low] = text[eq + 1:stop].strip(" \t")
+                else:
+                    kv = _line(text[pos:stop])
+                    if kv is None:
+                        return None
+            if j < 0:
+                break
+            pos, step = j + n_nl, step + 1
+        values.text, values.source, values.step = None, self.source, step
+        return name.strip(" \t").lower(), None, None, values, step
 
     def cut(self, body: str) -> tuple[str | None, str | None, _Template] | None:
         """(ParameterName's value, Denotation's value, the template) of a section's
@@ -519,6 +675,12 @@ class _Templates:
             template.step = rest.count(nl) + 2   # the header's line and the next header's
         return pname, denotation, template
 
+
+# A section longer than this is read by ``_Templates.big``: the fast path's copies of a
+# section (its text, with the names cut out, as a template and as a dictionary key) cost
+# nothing for a section of a few hundred bytes and six times the file for one that is
+# most of it (60,000 comment lines of 1 KiB: 546 MB for a 60 MB file, issue 26).
+_BIG = 1 << 16
 
 # The two keys whose values are names, cut out of a section's template, as configurators
 # spell them (other spellings are ordinary keys: correct, only not shared).
@@ -553,9 +715,11 @@ def _body_values(body: str, nl: str = "\n",
     for raw in body.split(nl):
         kv = lines.get(raw)
         if kv is None:
-            kv = lines[raw] = _line(raw)
+            kv = _line(raw)
             if kv is None:
                 return None
+            if len(raw) < 256:          # a long line (a comment, a value) seldom repeats
+                lines[raw] = kv
         if kv:
             low, v = kv
             if low in values:
@@ -598,17 +762,17 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
         if c == "[":
             end = s.find("]")
             if end < 0:
-                diags.error(f"malformed section header '{s}': missing ']'", Where(path, lineno),
-                            rule="DCF003")
+                diags.error(f"malformed section header '{_clip(s)}': missing ']'",
+                            Where(path, lineno), rule="DCF003")
                 current, skipping = None, True
                 continue
             rest = s[end + 1:].strip(" \t")
             if rest:
                 if rest[0] in ";#":
-                    diags.warning(f"comment after section header ignored: '{rest}'",
+                    diags.warning(f"comment after section header ignored: '{_clip(rest)}'",
                                   Where(path, lineno), rule="DCF004")
                 else:
-                    diags.error(f"text after section header: '{rest}'", Where(path, lineno),
+                    diags.error(f"text after section header: '{_clip(rest)}'", Where(path, lineno),
                                 rule="DCF003")
             name = s[1:end].strip(" \t")
             if not name:

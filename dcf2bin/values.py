@@ -28,8 +28,10 @@ import struct
 
 from .datatypes import (BOOL, BY_CODE, DOMAIN, OSTRING, REAL, SINT, TIME, UINT, USTRING,
                         VSTRING, DataType)
+from .diagnostics import shorten
 
-__all__ = ["ValueProblem", "NeedsNodeId", "uses_nodeid", "parse_int", "eval_int",
+__all__ = ["ValueProblem", "NeedsNodeId", "MAX_DIGITS", "too_long", "uses_nodeid", "parse_int",
+           "eval_int",
            "split_numeric_comment", "hex_prefix", "hex_problem", "hex_prefix_problem",
            "as_number", "limit_problem", "inverted_limits", "encode", "zero", "decode", "to_python"]
 
@@ -59,10 +61,16 @@ _HEX, _OCT, _DEC = "hex", "octal", "decimal"
 MAX_DIGITS = 64
 
 
-def _q(text: str, n: int = 60) -> str:
-    """A value text quoted in a message: a long one is cut in the middle, so that a
-    message stays one readable line whatever the file holds."""
-    return text if len(text) <= n else f"{text[:40]}...{text[-12:]} ({len(text)} characters)"
+def too_long(digits: int) -> ValueProblem:
+    """The one wording of an integer literal of more than MAX_DIGITS digits, wherever it
+    is read: a DCF/EDS, the network file, a .cpj, a CSV, an option."""
+    return ValueProblem(f"integer literal too long ({digits} digits, at most {MAX_DIGITS})")
+
+
+def _q(text: str) -> str:
+    """A value text quoted in a message (``diagnostics.shorten``): a long one is cut in
+    the middle, so that a message stays one readable line whatever the file holds."""
+    return shorten(text)
 
 
 def _literal(text: str) -> tuple[int, str, str]:
@@ -71,7 +79,7 @@ def _literal(text: str) -> tuple[int, str, str]:
         body = text[1:] if text[:1] in ("+", "-") else text
         digits = body[2:] if body[:2] in ("0x", "0X") else body
         if len(digits) > MAX_DIGITS and not digits.strip("0123456789abcdefABCDEF"):
-            raise ValueProblem(f"integer literal too long ({len(digits)} digits)")
+            raise too_long(len(digits))
     m = _INT_RE.fullmatch(text)
     if m is None:
         body = text[1:] if text[:1] in ("+", "-") else text

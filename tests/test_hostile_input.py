@@ -137,11 +137,13 @@ def test_huge_default_value_is_a_value_error():
     text = (f"[2000]\nParameterName=x\nDataType=0x0007\nAccessType=rw\nDefaultValue={BIG}\n"
             f"ParameterValue={BIG}\n")
     assert messages(compile_text(text)) == [
-        "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits) [DCF200]"]
+        "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits, at most 64) "
+        "[DCF200]"]
     assert errors_of(lint(text.encode(), "test.dcf", active={"DCF200"})) == [
-        "test.dcf:5: error: 0x2000sub0 DefaultValue: integer literal too long (4400 digits) "
-        "[DCF200]",
-        "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits) [DCF200]"]
+        "test.dcf:5: error: 0x2000sub0 DefaultValue: integer literal too long (4400 digits, "
+        "at most 64) [DCF200]",
+        "test.dcf:6: error: 0x2000sub0: integer literal too long (4400 digits, at most 64) "
+        "[DCF200]"]
 
 
 @pytest.mark.parametrize("key,extra", [("SubNumber", ""),
@@ -151,9 +153,10 @@ def test_huge_structural_number_is_one_error(key, extra):
     line = 4 + extra.count("\n")
     assert errors_of(lint(text.encode(), "t.dcf", active={"DCF020", "DCF021", "DCF110",
                                                          "DCF111", "INT001"})) == [
-        f"t.dcf:{line}: error: [2000] {key}: integer literal too long (4400 digits) [DCF020]"]
+        f"t.dcf:{line}: error: [2000] {key}: integer literal too long (4400 digits, at most 64) "
+        "[DCF020]"]
     assert messages(compile_text(text, "t.dcf"), "warning")[0] == (
-        f"t.dcf:{line}: warning: [2000] {key}: integer literal too long (4400 digits) "
+        f"t.dcf:{line}: warning: [2000] {key}: integer literal too long (4400 digits, at most 64) "
         "(not written by compile) [DCF020]")
 
 
@@ -161,7 +164,8 @@ def test_huge_structural_number_is_one_error(key, extra):
                          ids=["decimal", "hex", "octal", "signed"])
 def test_every_integer_literal_longer_than_64_digits_is_refused(text):
     from dcf2bin.values import ValueProblem, parse_int
-    with pytest.raises(ValueProblem, match=r"^integer literal too long \(\d+ digits\)$"):
+    with pytest.raises(ValueProblem,
+                       match=r"^integer literal too long \(\d+ digits, at most 64\)$"):
         parse_int(text)
 
 

@@ -216,3 +216,74 @@ def test_names_as_written_survive_a_reordered_sections_dict():
     f = ini.read(str(sample))
     f.sections = dict(sorted(f.sections.items(), reverse=True))
     assert {k: s.name for k, s in f.sections.items()} == expected
+
+
+# -- sections too long to be templates (issue 26 item 5) -------------------------------------------
+# A section of more than ini._BIG characters is read in the file's text, line by line
+# (``_Templates.big``), and keeps no text of its own: it answers as the exact reader's.
+# Here _BIG is made small, so that the generated files have such sections.
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(_SECTION, min_size=1, max_size=8), st.sampled_from(["\n", "\r\n"]),
+       st.sampled_from(["", "; generated", "\n; after a blank line"]), st.booleans(),
+       st.sampled_from([0, 1, 24, 60]))
+def test_long_sections_answer_like_the_exact_reader(sections, eol, head, trailing, big):
+    saved = ini._BIG
+    ini._BIG = big
+    try:
+        text = _text(sections, eol, head.replace("\n", eol), trailing)
+        assert _fast_equals_exact(text) is not None
+    finally:
+        ini._BIG = saved
+
+
+COMMENTS = "".join(f"; {'x' * 1000} {k}\n" for k in range(100))      # 100 KiB
+
+
+@pytest.mark.parametrize("where", ["head", "first", "middle", "last"])
+@pytest.mark.parametrize("eol", ["\n", "\r\n"])
+def test_a_hundred_kib_of_comments_anywhere(where, eol):
+    parts = {"head": "", "first": "", "middle": "", "last": ""}
+    parts[where] = COMMENTS
+    text = (parts["head"] + "[1000]\n" + parts["first"] + "ParameterName=a\nDataType=0x0007\n"
+            "[2000]\nParameterName=b\n" + parts["middle"] + "DefaultValue=7\n[3000]\n"
+            "ParameterName=c\nDefaultValue=0x10\n" + parts["last"]).replace("\n", eol)
+    assert len(COMMENTS) > ini._BIG
+    f = _fast_equals_exact(text)
+    assert f is not None
+    assert f.section("3000").keys["defaultvalue"].line == text.count("\n", 0, text.index(
+        "DefaultValue=0x10")) + 1
+
+
+def test_a_long_value_and_long_keys_are_read_once():
+    value = "AB" * 100_000
+    text = (f"[1000]\nParameterName=a\n[3000]\nParameterName=Blob\nDataType=0x000F\n"
+            f"DefaultValue={value}\n" + "".join(f"Key{k}={'v' * 1000}\n" for k in range(70))
+            + "[3001]\nParameterName=c\n")
+    f = _fast_equals_exact(text)
+    sec = f.section("3000")
+    assert sec.rest.text is None                   # no copy of the section is kept
+    assert sec.get("defaultvalue") == value and sec.name == "3000"
+    assert sec.keys["key69"] == ini.Key("Key69", "v" * 1000, 76)
+    assert sec.keys["defaultvalue"].value is sec.get("defaultvalue")   # the same string
+
+
+@pytest.mark.parametrize("text,why", [
+    ("[3000]\nA=1\n" + COMMENTS + "a=2\n", "a repeated key"),
+    ("[3000]\nA=1\n" + COMMENTS + "  indented=2\n", "an indented line"),
+    ("[3000]\nA=1\n" + COMMENTS + "no equals sign\n", "a line without '='"),
+    ("[3000]\r\nA=1\r\n" + COMMENTS.replace("\n", "\r\n") + "b=\r2\r\n", "a lone CR"),
+    ("[30\n00]\n" + COMMENTS, "a broken header"),
+])
+def test_a_long_section_the_exact_reader_has_to_see(text, why):
+    assert ini._parse_fast(text, "t.dcf", "utf-8") is None, why
+
+
+def test_line_of_in_a_long_section_makes_no_key_of_each_line():
+    text = "[1000]\nParameterName=a\n[3000]\n" + "".join(f"Key{k}=1\n" for k in range(20_000))
+    f = _fast_equals_exact(text)
+    f = ini._parse_fast(text, "t.dcf", "utf-8")          # again: nothing asked yet
+    sec = f.section("3000")
+    assert sec.line_of("key19999") == 20_003 and sec.line_of("nosuchkey") == 3
+    assert sec.rest.source.keys == {}                    # no Key made for 20,000 lines
+    assert sec.keys["key19999"].line == 20_003

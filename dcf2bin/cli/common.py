@@ -437,7 +437,7 @@ class Integer(click.ParamType):
             try:
                 n = values.parse_int(str(value))
             except values.ValueProblem as exc:
-                self.fail(f"'{value}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
+                self.fail(f"'{values.shorten(str(value))}' is not an integer ({exc}; decimal, 0x hex or 0 octal "
                           "as in a DCF)", param, ctx)
         problem = self.spec.problem(n, str(value))
         if problem:

@@ -2,8 +2,8 @@
 """
 from __future__ import annotations
 
-from dcf2bin import datatypes as dt, ini as ini_mod
-from dcf2bin.diagnostics import Where
+from dcf2bin import datatypes as dt, ini as ini_mod, values
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.indexes import is_network_variable_index
 from dcf2bin.model.objects import Entry, Obj
 from dcf2bin.model.sections import _pdo_flag, _proto
@@ -113,10 +113,12 @@ class _ObjectStep:
                 if key == "nrofentries":
                     continue
                 try:
+                    if len(key) > values.MAX_DIGITS:      # never a huge int (issue 26)
+                        raise ValueError(key)
                     s = int(key, 10)  # SPEC §1: decimal subindexes
                 except ValueError:
-                    dev.warning(f"[{asec.name}] key '{k.name}' is not a decimal subindex",
-                                self.w(k.line), idx, rule="DCF026")
+                    dev.warning(f"[{asec.name}] key '{shorten(k.name)}' is not a decimal "
+                                "subindex", self.w(k.line), idx, rule="DCF026")
                     continue
                 e = obj.entries.get(s)
                 if e is None or s == 0:

@@ -17,7 +17,7 @@ import os
 import re
 
 from dcf2bin import ini, values
-from dcf2bin.diagnostics import Diagnostics, Severity, Where
+from dcf2bin.diagnostics import Diagnostics, Severity, Summarised, Where, shorten
 from dcf2bin.network.model import SLAVE, Network, Node
 from dcf2bin.network.rules import NetRule
 
@@ -30,7 +30,8 @@ def _r(id, name, severity, description, hint=""):
 
 RULES: dict[str, NetRule] = {r.id: r for r in (
     _r("NET050", "cpj-syntax", ERROR,
-       "The .cpj project is not readable INI text (a bad line, a repeated section or key).",
+       "The .cpj project is not readable INI text (a bad line, a repeated section or key, "
+       "more than 100,000 lines).",
        "a .cpj is INI text: [Topology] and Key=Value lines"),
     _r("NET051", "cpj-no-topology", ERROR,
        "The .cpj project has no [Topology] section (or not the one --net asks for).",
@@ -60,6 +61,9 @@ RULES: dict[str, NetRule] = {r.id: r for r in (
 )}
 
 _NODE_KEY = re.compile(r"node([0-9]+)(present|name|dcfname|refd)")
+# a .cpj longer than this is not read (issue 26): a [TopologyN] section of 127 nodes has
+# 511 keys, so this is about 190 networks of every node-ID
+MAX_LINES = 100_000
 _NET_KEYS = ("netname", "nodes", "edsbasename")
 
 
@@ -82,14 +86,21 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     from dcf2bin.network.files import read_node_file, wrong_kind
     if data is None:
         data = read_node_file(path)
-    network = Network(path, kind="cpj")
+    network = Network(path, kind="cpj", diagnostics=Summarised())   # issue 26: see there
     diags = network.diagnostics
+    lines = data.count(b"\n") + 1
+    if lines > MAX_LINES:
+        # every key of INI text is an object or two: 5 million short lines would take GBs
+        _add(diags, "NET050", f"the project has {lines:,} lines, more than {MAX_LINES:,} "
+             "(a network of 127 nodes takes about 520): not read", Where(path, MAX_LINES + 1))
+        return network
     parsed = ini.parse_bytes(data, path)
     for d in parsed.diagnostics:
         if d.severity is Severity.ERROR:
             _add(diags, "NET050", d.message, Where(path, d.line))
     for dup in parsed.duplicates:
-        what = f"key '{dup.key}'" if dup.key else f"section [{dup.section}]"
+        what = (f"key '{shorten(dup.key)}'" if dup.key else
+                f"section [{shorten(dup.section)}]")
         _add(diags, "NET050", f"{what} repeated (first at line {dup.first_line}; the "
              "first is used)", Where(path, dup.line))
     name = section_name(net)
@@ -108,13 +119,18 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         m = _NODE_KEY.fullmatch(low)
         if m is None:
             if low not in _NET_KEYS:
-                _add(diags, "NET058", f"[{sec.name}] {k.name}: not a key of a CiA 306-3 "
-                     "network", Where(path, k.line))
+                _add(diags, "NET058", f"[{sec.name}] {shorten(k.name)}: not a key of a CiA "
+                     "306-3 network", Where(path, k.line))
             continue
-        x = int(m.group(1))
+        digits = m.group(1)
+        if len(digits) > values.MAX_DIGITS:
+            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID "
+                 f"{values.too_long(len(digits))}", Where(path, k.line))
+            continue
+        x = int(digits)
         if not 1 <= x <= 127:
-            _add(diags, "NET053", f"[{sec.name}] {k.name}: node-ID {x} is outside 1…127",
-                 Where(path, k.line))
+            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID {x} is outside "
+                 "1…127", Where(path, k.line))
             continue
         keys = nodes.setdefault(x, {})
         if m.group(2) in keys:               # Node1Present and Node01Present
@@ -142,7 +158,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         try:
             node_data = read_node_file(node.file)
         except OSError as exc:
-            _add(diags, "NET055", f"{dcf[2]}: cannot read '{dcf[0]}': "
+            _add(diags, "NET055", f"{dcf[2]}: cannot read '{shorten(dcf[0])}': "
                  f"{exc.strerror or exc}", Where(path, dcf[1]))
             continue
         wrong = wrong_kind(node.file, node_data)
@@ -153,7 +169,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         network.files.setdefault(node.file, node_data)     # every command lints these
         own = _own_node_id(node.device)
         if own is not None and own != x:
-            _add(diags, "NET059", f"node {x}: its DCF '{dcf[0]}' sets NodeID {own}; the "
+            _add(diags, "NET059", f"node {x}: its DCF '{shorten(dcf[0])}' sets NodeID {own}; the "
                  f"project's node-ID {x} is used", Where(path, dcf[1]))
         # its PDOs as the file has them, the mapping rules every PDO of a network obeys
         # (the object is in the file and mappable that way), its heartbeat, SYNC, EMCY, TIME
@@ -165,7 +181,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if count is not None:
         n = _int(diags, path, sec, "nodes")
         if n is not None and n != present:
-            _add(diags, "NET056", f"[{sec.name}] Nodes={count} but {present} node"
+            _add(diags, "NET056", f"[{sec.name}] Nodes={shorten(count)} but {present} node"
                  f"{'' if present == 1 else 's'} {'is' if present == 1 else 'are'} present",
                  Where(path, sec.line_of("nodes")))
     if not present:
@@ -218,7 +234,7 @@ def _flag(diags: Diagnostics, path: str, sec, keys, x: int, what: str) -> bool:
     except values.ValueProblem as exc:
         v, why = None, str(exc)
     else:
-        why = f"'{text}' is neither 0 nor 1"
+        why = f"'{shorten(text)}' is neither 0 nor 1"
     if v not in (0, 1):
         _add(diags, "NET052", f"[{sec.name}] {keys[what][2]}: {why}", Where(path, line))
         return False

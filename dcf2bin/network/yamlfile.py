@@ -11,11 +11,14 @@ from __future__ import annotations
 import os
 import re
 
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Summarised, Where, shorten
 from dcf2bin.network.model import MASTER, SLAVE, Network, Node
 from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
                                       _Bad, as_int, kind_of)
-from dcf2bin.network.yamltree import YamlError, YMap, read_tree
+from dcf2bin.network.yamltree import MAX_NODES, YamlError, YMap, read_tree
+
+
+MAX_SLAVES = 1024      # read of a network file (issue 26): 8 times the node-IDs
 
 
 def load_network(path: str, data: bytes | None = None) -> Network:
@@ -24,20 +27,22 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     if data is None:
         from dcf2bin.fileio.reading import read_file    # never a FIFO or /dev/zero
         data = read_file(path, limit=MAX_FILE)
-    net = Network(path=path, kind="yaml")
+    # a finding in defaults: or a template is reported once, not once per node, and one
+    # mistake repeated 100,000 times five times and then counted (issue 26)
+    net = Network(path=path, kind="yaml", diagnostics=Summarised())
     diags = net.diagnostics
     if len(data) > MAX_FILE:
         diags.error(f"the network file is larger than {MAX_FILE >> 20} MiB", Where(path, 1),
                     rule="NET001")
         return net
     try:
-        text = data.decode("utf-8-sig")
+        data.decode("utf-8-sig")      # (libyaml reads the bytes: no copy of the text kept)
     except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
+        line = data.count(b"\n", 0, exc.start) + 1
         diags.error("the network file is not UTF-8 text", Where(path, line), rule="NET001")
         return net
     try:
-        root = read_tree(text, path, diags)
+        root = read_tree(data, path, diags)
     except YamlError:
         return net
     _Reader(net, os.path.dirname(path)).run(root)
@@ -99,7 +104,7 @@ class _Reader(Items):
             for key in root:
                 if key not in ("options", "master", "defaults", "nodes") and not (
                         isinstance(key, str) and key.startswith(".")):
-                    self.diags.info(f"top-level key '{key}' is not read in the nodes: "
+                    self.diags.info(f"top-level key '{shorten(key)}' is not read in the nodes: "
                                     "layout; ignored", self.w(root.lines[key]), rule="NET007")
         else:
             slaves = YMap(root.line)
@@ -111,17 +116,21 @@ class _Reader(Items):
         if not slaves:
             self.err("no slave in the network file", line if nodes_layout else root.line,
                      "NET005")
-        for key, value in slaves.items():
+        if defaults and root.size + defaults.size * (len(slaves) - 1) > MAX_NODES:
+            # defaults: is read once per node: a bound on that work too (issue 26)
+            self.err(f"the network expands to more than {MAX_NODES:,} nodes: its defaults: "
+                     f"({defaults.size:,}) are merged into each of its {len(slaves):,} "
+                     "nodes", root.lines["defaults"], "NET003")
+            return
+        for n, (key, value) in enumerate(slaves.items()):
+            if n == MAX_SLAVES:
+                # a node costs a kilobyte or two; 127 node-IDs make these repeats anyway
+                self.err(f"{len(slaves):,} slaves, but a CANopen network has 127 node-IDs: "
+                         f"those after the first {MAX_SLAVES:,} are not read",
+                         slaves.lines[key], "NET004")
+                break
             self.node(str(key), value, slaves.lines[key], SLAVE, defaults)
         self.net.nodes.sort(key=lambda n: (n.role != MASTER, n.node_id))
-        # a finding in defaults: or a template is reported once, not once per node
-        seen, items = set(), []
-        for d in self.diags.items:
-            key = (d.severity, d.message, d.file, d.line, d.rule)
-            if key not in seen:
-                seen.add(key)
-                items.append(d)
-        self.diags.items[:] = items
 
     # -- a slave's names: ------------------------------------------------------------------
     def names(self, node: Node, value, line: int) -> None:
@@ -175,7 +184,8 @@ class _Reader(Items):
     # -- a node ----------------------------------------------------------------------------
     def node(self, name: str, value, line: int, role: str, defaults: YMap | None) -> None:
         if not isinstance(value, YMap):
-            self.err(f"'{name}' must be a mapping of its keys, found {kind_of(value)}", line)
+            self.err(f"'{shorten(name)}' must be a mapping of its keys, found "
+                     f"{kind_of(value)}", line)
             return
         merged = value
         if defaults:
@@ -186,9 +196,10 @@ class _Reader(Items):
             for k, v in value.items():
                 if k in defaults:
                     self.diags.warning(
-                        f"'{k}' of {name} is also in defaults: (line {defaults.lines[k]}); "
-                        "the node's value is taken (ros2_canopen's generator takes the one "
-                        "of defaults:)", self.w(value.lines[k]), rule="NET009")
+                        f"'{shorten(k)}' of {shorten(name)} is also in defaults: "
+                        f"(line {defaults.lines[k]}); the node's value is taken "
+                        "(ros2_canopen's generator takes the one of defaults:)",
+                        self.w(value.lines[k]), rule="NET009")
                 merged[k] = v
                 merged.lines[k] = value.lines[k]
         node = Node(name=name, node_id=0, role=role, where=self.w(line))
@@ -228,10 +239,10 @@ class _Reader(Items):
         nid = node.config.get("node_id")
         if nid is None:
             if "node_id" not in node.config_where:
-                self.err(f"{name} has no node_id", line, "NET005")
+                self.err(f"{shorten(name)} has no node_id", line, "NET005")
             return
         if role == SLAVE and "dcf" not in node.config_where:
-            self.err(f"{name} has no dcf (its EDS or DCF file)", line, "NET005")
+            self.err(f"{shorten(name)} has no dcf (its EDS or DCF file)", line, "NET005")
         node.node_id = nid
         node.mandatory = bool(node.config.get("mandatory", False))
         self.net.nodes.append(node)

@@ -7,41 +7,67 @@ last silently). An alias shares the node of its anchor; the size it stands for i
 counted, so an alias bomb ("billion laughs") is stopped at :data:`MAX_NODES`; a recursive
 alias and nesting deeper than :data:`MAX_DEPTH` are errors too. Scalars become the
 Python values ``safe_load`` gives (YAML 1.1: ``0b1100`` is 12, ``010`` is 8, ``yes`` is
-True).
+True), but for an integer of more digits than any CANopen value has
+(``values.MAX_DIGITS``): that one stays its text, a :class:`LongInt`, which the reader of
+its key refuses with its own rule and line (it is never converted, so no message has to
+print it in decimal).
 """
 from __future__ import annotations
 
+import gc
 import re
 
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin import values
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 
-MAX_NODES = 1_000_000      # expanded nodes: 126 slaves of 8 PDOs are ~50,000
+# expanded nodes (aliases counted as what they stand for, ``defaults:`` once per node):
+# 126 slaves of 8 PDOs of 8 objects are ~50,000. A bound, so that the readers' work has
+# one: libyaml alone takes ~1.6 us an event (issue 26: a 3 MB file in under 2 s).
+MAX_NODES = 250_000
 MAX_DEPTH = 64
 MERGE_TAG = "tag:yaml.org,2002:merge"
 STR_TAG = "tag:yaml.org,2002:str"
+INT_TAG = "tag:yaml.org,2002:int"
 # plain scalars that YAML 1.1 resolves to these integers (decimal without a leading 0,
 # hexadecimal): read directly, the resolver and constructor give the same
 _PLAIN_INT = re.compile(r"0|[1-9][0-9]*|0x[0-9a-fA-F]+")
 
 
+class LongInt(str):
+    """An integer scalar of more than ``values.MAX_DIGITS`` digits, kept as its text
+    (``0x`` and 4,000 ``F``, ``0b`` and 5,000 digits, a sexagesimal ``1:2:3:...``):
+    ``digits`` is how many it has. The key's reader refuses it (``values.too_long``)."""
+    __slots__ = ()
+
+    @property
+    def digits(self) -> int:
+        body = self.lstrip("+-")
+        if body[:2].lower() in ("0x", "0o", "0b"):
+            body = body[2:]
+        return len(body) - body.count("_") - body.count(":")
+
+
 class YMap(dict):
-    """A mapping; ``lines[key]`` is the line of each key, ``line`` the mapping's own."""
-    __slots__ = ("line", "lines")
+    """A mapping; ``lines[key]`` is the line of each key, ``line`` the mapping's own,
+    ``size`` how many nodes it stands for (itself, its keys and its values, expanded)."""
+    __slots__ = ("line", "lines", "size")
 
     def __init__(self, line: int):
         super().__init__()
         self.line = line
         self.lines: dict = {}
+        self.size = 1
 
 
 class YSeq(list):
-    """A sequence; ``lines[i]`` is the line of item i."""
-    __slots__ = ("line", "lines")
+    """A sequence; ``lines[i]`` is the line of item i; ``size`` as for YMap."""
+    __slots__ = ("line", "lines", "size")
 
     def __init__(self, line: int):
         super().__init__()
         self.line = line
         self.lines: list[int] = []
+        self.size = 1
 
 
 class YamlError(Exception):
@@ -54,16 +80,20 @@ class _Stop(Exception):  # noqa: N818 - an internal signal, not an error type
         self.line, self.rule = line, rule
 
 
-def _at_tab(text: str, index: int) -> bool:
+def _at_tab(text: str | bytes, index: int) -> bool:
     """Whether the problem mark points at a tab (libyaml says only that the character
-    cannot start a token)."""
+    cannot start a token; its index counts characters)."""
+    if isinstance(text, bytes):
+        text = text.decode("utf-8-sig", "replace")
     return 0 <= index < len(text) and text[index] == "\t"
 
 
-def read_tree(text: str, path: str, diags: Diagnostics):
+def read_tree(text: str | bytes, path: str, diags: Diagnostics):
     """The document's root as YMap/YSeq/scalars, or None for an empty document. Fatal
     problems (syntax, an alias bomb) raise YamlError after adding their diagnostic; a
-    repeated key is reported and the document read on.
+    repeated key is reported and the document read on. ``text`` may be the file's UTF-8
+    bytes (libyaml reads them as they are; the caller checked that they are UTF-8): a
+    text would be encoded again, a third copy of a 60 MB file.
 
     The tree is built from libyaml's events with an explicit stack (its parser does not
     recurse, PyYAML's composer does, and a C stack overflow cannot be caught); an alias
@@ -71,9 +101,12 @@ def read_tree(text: str, path: str, diags: Diagnostics):
     import yaml
     loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     builder = _Builder(path, diags, yaml)
+    # the tree is many small objects without reference cycles: the cyclic GC would only
+    # rescan them, more often the larger the tree (as check and build do; restored)
+    was_enabled = gc.isenabled()
+    gc.disable()
     try:
-        for event in yaml.parse(text, Loader=loader):
-            builder.event(event)
+        builder.run(yaml.parse(text, Loader=loader))
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
@@ -95,6 +128,9 @@ def read_tree(text: str, path: str, diags: Diagnostics):
     except _Stop as stop:
         diags.error(str(stop), Where(path, stop.line), rule=stop.rule)
         raise YamlError() from None
+    finally:
+        if was_enabled:
+            gc.enable()
     return builder.root
 
 
@@ -128,6 +164,39 @@ class _Builder:
         self.root = None
         self.documents = 0
 
+    def run(self, events) -> None:
+        """Every event; a plain scalar (most of a file) is read here without a call: its
+        value from a cache by its text (a file repeats ``1``, ``true``, ``index``), and
+        put into a list or mapping as ``add`` would."""
+        scalar_event, seq = self.yaml.ScalarEvent, YSeq
+        cache: dict[str, object] = {}
+        stack = self.stack
+        for ev in events:
+            if type(ev) is not scalar_event or ev.anchor is not None or not stack:
+                self.event(ev)
+                continue
+            line = ev.start_mark.line + 1
+            value = ev.value
+            if ev.tag is None and ev.implicit[0]:          # plain, no tag: by its text
+                got = cache.get(value, _NO_KEY)
+                if got is _NO_KEY:
+                    got = self.scalar(ev, line)
+                    if len(cache) < 65536 and len(value) <= 256:
+                        cache[value] = got
+                value = got
+            elif ev.tag is not None or not ev.implicit[1]:
+                value = self.scalar(ev, line)
+            frame = stack[-1]
+            frame.size += 1
+            if frame.size > MAX_NODES:
+                self.add(value, line, 0, None)             # (says so)
+            node = frame.node
+            if type(node) is seq:
+                node.append(value)
+                node.lines.append(line)
+            else:
+                self.add(value, line, 0, None)
+
     def event(self, ev) -> None:
         yaml = self.yaml
         kind = type(ev)
@@ -147,13 +216,15 @@ class _Builder:
                 self.finish_mapping(frame)
             if frame.anchor is not None:
                 self.open.discard(frame.anchor)
+            frame.node.size = frame.size
             self.add(frame.node, frame.node.line, frame.size, frame.anchor)
         elif kind is yaml.AliasEvent:
             if ev.anchor in self.open:
                 raise _Stop("a recursive alias (the node contains itself)", line, "NET003")
             got = self.anchors.get(ev.anchor)
             if got is None:
-                raise _Stop(f"alias *{ev.anchor} names no anchor before it", line, "NET001")
+                raise _Stop(f"alias *{shorten(ev.anchor)} names no anchor before it", line,
+                            "NET001")
             self.add(got[0], line, got[1], None)
         elif kind is yaml.DocumentStartEvent:
             self.documents += 1
@@ -165,12 +236,17 @@ class _Builder:
         yaml = self.yaml
         tag = ev.tag
         value = ev.value
-        if tag is None and ev.implicit[0] and len(value) < 100 and _PLAIN_INT.fullmatch(value):
+        if tag is None and ev.implicit[0] and len(value) <= values.MAX_DIGITS \
+                and _PLAIN_INT.fullmatch(value):
             return int(value, 16) if value[1:2] == "x" else int(value)
         if tag is None or tag == "!":
             tag = self.resolver.resolve(yaml.ScalarNode, ev.value, ev.implicit)
         if tag == STR_TAG:
             return ev.value
+        if tag == INT_TAG and len(value) > values.MAX_DIGITS:
+            long = LongInt(value)
+            if long.digits > values.MAX_DIGITS:
+                return long
         if tag == MERGE_TAG:
             return _MERGE
         node = yaml.ScalarNode(tag, ev.value, ev.start_mark, ev.end_mark, ev.style)
@@ -180,8 +256,8 @@ class _Builder:
             raise _Stop(f"YAML: {getattr(exc, 'problem', None) or exc}", line,
                         "NET001") from None
         except (ValueError, OverflowError) as exc:
-            raise _Stop(f"YAML: value {ev.value!r} cannot be read ({exc})", line,
-                        "NET001") from None
+            raise _Stop(f"YAML: value '{shorten(ev.value)}' cannot be read "
+                        f"({shorten(exc)})", line, "NET001") from None
 
     def add(self, value, line: int, size: int, anchor) -> None:
         if anchor is not None:
@@ -192,8 +268,8 @@ class _Builder:
         frame = self.stack[-1]
         frame.size += size
         if frame.size > MAX_NODES:
-            raise _Stop(f"the YAML expands to more than {MAX_NODES} nodes (aliases "
-                        "repeating aliases)", line, "NET003")
+            raise _Stop(f"the YAML expands to more than {MAX_NODES:,} nodes (a network "
+                        "has tens of thousands; aliases repeating aliases?)", line, "NET003")
         node = frame.node
         if type(node) is YSeq:
             node.append(value)
@@ -219,8 +295,8 @@ class _Builder:
         out = frame.node
         for key, kline, value in frame.pairs:
             if key in out:
-                self.diags.error(f"key '{key}' repeated (first at line {out.lines[key]})",
-                                 Where(self.path, kline), rule="NET002")
+                self.diags.error(f"key '{shorten(key)}' repeated (first at line "
+                                 f"{out.lines[key]})", Where(self.path, kline), rule="NET002")
                 continue
             out[key] = value
             out.lines[key] = kline

@@ -18,7 +18,8 @@ import re
 from dataclasses import dataclass
 
 from dcf2bin import datatypes as dt
-from dcf2bin.diagnostics import Diagnostic, Severity
+from dcf2bin import values
+from dcf2bin.diagnostics import Diagnostic, Severity, shorten
 from dcf2bin.layout import INPUT, OUTPUT, PER_INDEX, RANGE_LEN, TABLE_405
 
 # One code per kind of problem (docs/plc.md, man/dcf2bin-allocate.1); ids never change
@@ -71,9 +72,9 @@ def _err(message: str, path: str, line: int | None, rule: str) -> Diagnostic:
 def _dtype(text: str) -> dt.DataType | None:
     t = text.strip()
     if t[:2].lower() == "0x":
-        try:
-            return dt.BY_CODE.get(int(t, 16))
-        except ValueError:
+        try:       # the DCF's own integer syntax, bounded in digits (int() takes "0x_6")
+            return dt.BY_CODE.get(values.parse_int(t))
+        except values.ValueProblem:
             return None
     return dt.BY_NAME.get(t.upper())
 
@@ -109,11 +110,11 @@ def read_vars(data: bytes, path: str) -> list[Var]:
                 diags.append(_err("empty name", path, line, RULE_NAME))
                 bad = True
             elif _CONTROL.search(name):
-                diags.append(_err(f"name {name!r} holds a control character", path, line,
-                                  RULE_NAME))
+                diags.append(_err(f"name {shorten(repr(name))} holds a control character",
+                                  path, line, RULE_NAME))
                 bad = True
             elif name.casefold() in seen:
-                diags.append(_err(f"name '{name}' repeats line {seen[name.casefold()]} "
+                diags.append(_err(f"name '{shorten(name)}' repeats line {seen[name.casefold()]} "
                                   "(names are compared without regard to case)", path, line,
                                   RULE_REPEAT))
                 bad = True
@@ -122,8 +123,8 @@ def read_vars(data: bytes, path: str) -> list[Var]:
             dtype = _dtype(type_text)
             direction = _DIRECTIONS.get(dir_text.lower())
             if dtype is None:
-                diags.append(_err(f"unknown data type '{type_text}' (a CiA 306 name such as "
-                                  "UNSIGNED16, or a code such as 0x0006)", path, line,
+                diags.append(_err(f"unknown data type '{shorten(type_text)}' (a CiA 306 name "
+                                  "such as UNSIGNED16, or a code such as 0x0006)", path, line,
                                   RULE_TYPE))
                 bad = True
             elif (dtype.code, INPUT) not in RANGE_START:
@@ -132,8 +133,8 @@ def read_vars(data: bytes, path: str) -> list[Var]:
                                   "bits, BOOLEAN and REAL32)", path, line, RULE_NO_RANGE))
                 bad = True
             if direction is None:
-                diags.append(_err(f"direction '{dir_text}' must be input or output (in, out)",
-                                  path, line, RULE_DIR))
+                diags.append(_err(f"direction '{shorten(dir_text)}' must be input or output "
+                                  "(in, out)", path, line, RULE_DIR))
                 bad = True
             if not bad:
                 out.append(Var(name, dtype, direction, line))
@@ -168,8 +169,9 @@ def allocate(variables: list[Var], path: str, used: dict[str, int] | None = None
                 x = e + j
                 if x // PER_INDEX >= RANGE_LEN:
                     diags.append(_err(
-                        f"'{v.name}': the {dtype.name} {area}s do not fit their 0x40 indices "
-                        f"0x{first:04X}-0x{first + RANGE_LEN - 1:04X} (this is element {x}; "
+                        f"'{shorten(v.name)}': the {dtype.name} {area}s do not fit their "
+                        f"0x40 indices 0x{first:04X}-0x{first + RANGE_LEN - 1:04X} (this is "
+                        f"element {x}; "
                         f"there are {RANGE_LEN * PER_INDEX})", path, v.line, RULE_FULL))
                     break
                 placed.append(Placed(v, first + x // PER_INDEX, x % PER_INDEX + 1, x * size))
