@@ -117,6 +117,15 @@ TABLE = {
             ["-n", "3", "--eds", "{S}/device.eds", "-o", "{T}/adir"],
             ["-n", "3", "--eds", "{S}/device.eds", "-i", "no-such-interface"]],
     },
+    "diff": {
+        0: [["{S}/plc.dcf", "{S}/plc.bin"]],
+        1: [["{S}/device.eds", "{S}/device.dcf"]],                 # they differ
+        2: [["{S}/plc.dcf"], ["{S}/plc.dcf", "{S}/plc.bin", "-f", "yaml"],
+            ["{T}/adir", "{S}/plc.dcf"]],
+        3: [["{T}/missing.dcf", "{S}/plc.dcf"], ["{T}/bad.bin", "{S}/plc.bin"],
+            ["{T}/vars.csv", "{S}/plc.dcf"], ["{S}/plc.dcf", "{S}/plc.bin", "-o", "{T}/adir"],
+            ["{S}/plc.dcf", "-n", "3", "-i", "no-such-interface"]],
+    },
     "node": {
         0: [["{S}/device.eds", "-n", "3", "{BUS}", "--duration", "0"]],
         1: [["--container", "{S}/plc.bin", "-n", "3", "--static-od", "{S}/bild8.bin",

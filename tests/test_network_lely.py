@@ -34,10 +34,12 @@ def flat():
     return res
 
 
-def test_outputs_are_dcfgens_files():
-    """master.dcf, master.bin (the master checks io's revision), one .bin per slave; no
-    slave .dcf (dcfgen writes none)."""
-    assert list(flat().outputs) == ["master.dcf", "master.bin", "io.bin", "drive.bin"]
+def test_outputs_are_dcfgens_files_and_each_slaves_dcf():
+    """master.dcf, master.bin (the master checks io's revision), one .bin per slave, as
+    dcfgen writes them; then, unlike dcfgen, one .dcf per slave (node-ID order), so that
+    `diff` compares an upload of the node with its build (issue 29)."""
+    assert list(flat().outputs) == ["master.dcf", "master.bin", "io.bin", "drive.bin",
+                                    "drive.dcf", "io.dcf"]
 
 
 def test_slaves_in_the_files_order_not_by_node_id():
@@ -111,11 +113,12 @@ def test_command_says_lely_master(tmp_path):
     r = run("network", "build", LELY / "flat.yml", "-o", tmp_path)
     assert r.exit_code == 0
     assert r.stderr.splitlines()[-1] == (
-        f"network build: 4 files in {tmp_path}: master.dcf, master.bin and 2 slaves for a "
+        f"network build: 6 files in {tmp_path}: master.dcf, master.bin and 2 slaves for a "
         "lely master, 9 links")
     # and the folder's lock, which names the files the build wrote (tests/test_build_atomic.py)
     assert sorted(p.name for p in tmp_path.iterdir()) == [
-        ".dcf2bin-build.lock", "drive.bin", "io.bin", "master.bin", "master.dcf"]
+        ".dcf2bin-build.lock", "drive.bin", "drive.dcf", "io.bin", "io.dcf", "master.bin",
+        "master.dcf"]
 
 
 def test_master_lely_on_a_plc_file(tmp_path):
@@ -126,9 +129,9 @@ def test_master_lely_on_a_plc_file(tmp_path):
     lines = r.stderr.splitlines()
     assert (f"{LELY}/plc.yml:6: info: the master's dcf: is not read: a lely master is "
             "built [NET007]") in lines
-    assert lines[-1] == (f"network build: 4 files in {tmp_path}: master.dcf, master.bin and "
+    assert lines[-1] == (f"network build: 6 files in {tmp_path}: master.dcf, master.bin and "
                          "2 slaves for a lely master, 7 links")
-    assert not (tmp_path / "drive.dcf").exists()
+    assert (tmp_path / "drive.dcf").exists()        # the slave's DCF, for diff (issue 29)
 
 
 def test_master_plc_needs_dcf(tmp_path):
@@ -154,4 +157,5 @@ def test_ros2_simple_file_builds():
     res = build_network(str(FIXTURES / "ros2_simple_bus.yml"))
     assert res.ok and res.mode == "lely"
     assert list(res.outputs) == ["master.dcf", "master.bin", "proxy_device_1.bin",
-                                 "proxy_device_2.bin"]
+                                 "proxy_device_2.bin", "proxy_device_1.dcf",
+                                 "proxy_device_2.dcf"]

@@ -98,6 +98,7 @@ class Note:
     text: str
     message: str = ""
     code: int | None = None        # the abort code of a refused entry
+    data: bytes | None = None      # the bytes of an unfit answer (diff compares them)
 
     def __post_init__(self) -> None:
         self.message = self.message or self.text
@@ -295,7 +296,7 @@ def read_node(ch, todo: list[Target], options: Options, *, encoding: str = "utf-
                 said = f"{t.label}: the node {problem}"
                 out.notes.append(Note(t, UNFIT, f"{said}: {_hex(data)}",
                                       f"{said}: {shown(data)}; no value stated, the bytes "
-                                      "are kept as a comment"))
+                                      "are kept as a comment", data=data))
         if progress is not None:
             progress(t)
     return out

@@ -29,6 +29,7 @@ COMMANDS = {
     "node": "dcf2bin.cli.node:node_cmd",
     "map": "dcf2bin.cli.map:map_cmd",
     "allocate": "dcf2bin.cli.allocate:allocate_cmd",
+    "diff": "dcf2bin.cli.diff:diff_cmd",
     "network": "dcf2bin.cli.network:network_group",
     "lss": "dcf2bin.cli.lss:lss_group",
 }

@@ -23,11 +23,15 @@ QUIET = quiet_option()
 @output_option("Default: standard output.")
 @eds_option("Text report: values decoded with them, names shown.")
 @click.option("--full", is_flag=True, help="Show long data in full (text format).")
+@click.option("--textconv", is_flag=True,
+              help="The text for git's textconv filter: one line per entry with all its "
+              "data, and no file name, entry number, byte offset or padding, so that "
+              "git diff shows the entries that changed and nothing else.")
 @QUIET
 @debug_option
 @guarded
 @without_cyclic_gc
-def dump_cmd(input, fmt, output, eds, full, quiet, debug):
+def dump_cmd(input, fmt, output, eds, full, textconv, quiet, debug):
     """Show what a binary container or a concise DCF holds.
 
     A container: header, entries, attributes, process image. A concise DCF (CiA 302-3,
@@ -38,8 +42,16 @@ def dump_cmd(input, fmt, output, eds, full, quiet, debug):
     by 'dcf2bin compile FILE.json'.
     """
     from dcf2bin import dump
+    if textconv and fmt == "json":
+        raise click.UsageError("--textconv is a text form of its own: give it without "
+                               "-f json")
     kind, what, name = read_binary(input, quiet)
-    if fmt == "json":
+    if textconv:
+        info, _ = read_eds(eds, quiet)
+        from dcf2bin.dump import textconv as tc
+        text = (tc.concise_dcf(what, eds=info, eds_name=eds or "") if kind == "concise"
+                else tc.container(what, eds=info))
+    elif fmt == "json":
         text = dump.concise_json.to_json(what) if kind == "concise" else dump.to_json(what)
     else:
         info, _ = read_eds(eds, quiet)

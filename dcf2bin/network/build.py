@@ -132,9 +132,15 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
     if names is None:
         return {}
     master = net.master
+    cache: dict = {}
     if master.device is None:           # a lely master (D-21)
         from dcf2bin.network.lely import make_outputs as lely_outputs
-        return lely_outputs(net, names, diags)
+        outputs = lely_outputs(net, names, diags)
+        for s in net.slaves:            # and, unlike dcfgen, each slave's DCF (issue 29)
+            dcf = slave_dcf(net, s, names, diags, cache)
+            if dcf is not None:
+                outputs[names[s.name] + ".dcf"] = dcf
+        return outputs
     outputs: dict[str, bytes] = {}
     plc_name = names[master.name] + ".dcf"
     base = net.files[master.device.path]
@@ -148,15 +154,23 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
         return {}
     if plc is not None:
         outputs[plc_name] = plc
-    cache: dict = {}
     for s in net.slaves:
-        text = net.files[s.device.path]
-        dcf = edit(text, s.device.path, s.settings, s.node_id, diags,
-                   shown_as=names[s.name] + ".dcf", ini=s.device.ini, cache=cache)
+        dcf = slave_dcf(net, s, names, diags, cache)
         outputs[names[s.name] + ".bin"] = concise_dcf(s)
         if dcf is not None:
             outputs[names[s.name] + ".dcf"] = dcf
     return outputs
+
+
+def slave_dcf(net: Network, s, names: dict[str, str], diags: Diagnostics,
+              cache: dict) -> bytes | None:
+    """``<slave>.dcf``: the slave's file with its configured values (``Node.settings``)
+    and the identity its network file gives it (0x1018 sub 1-4, ``dcfedit.identity``)
+    as ParameterValue, and its NodeID; None when a value has no place (reported)."""
+    from dcf2bin.network.dcfedit import edit, identity
+    settings = {**identity(s), **s.settings}
+    return edit(net.files[s.device.path], s.device.path, settings, s.node_id, diags,
+                shown_as=names[s.name] + ".dcf", ini=s.device.ini, cache=cache)
 
 
 def write_all(outdir: str, outputs: dict[str, bytes], inputs=(), on_wait=None):

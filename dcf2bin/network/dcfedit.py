@@ -6,6 +6,11 @@ after the section's last key; a sub-entry of a CompactSubObj object goes into th
 object's value section, e.g. ``[1016Value]`` (made at the end of the file when missing);
 ``[DeviceComissioning] NodeID`` likewise. An entry the file only implies (made from
 CompactPDO, an implied sub 0) has no section to write into: that is an error.
+
+A slave's DCF also states the identity the network file gives it (``identity``; beyond
+D-17's configured values and NodeID, docs/compile.md, choice 17): 0x1018 sub 1-4 as
+ParameterValue, so that the DCF of a build and the DCF read back from the node (``network
+upload``) hold the same identity and ``diff`` compares them.
 """
 from __future__ import annotations
 
@@ -30,6 +35,32 @@ def value_text(w: Write, encoding: str = "utf-8") -> str:
     if isinstance(w.value, int) and w.value >= 0:
         return f"0x{w.value:0{dtype.size * 2}X}"
     return str(w.value)
+
+
+# the network file's identity keys and the 0x1018 sub-index each one is
+IDENTITY = (("vendor_id", 1, "vendor-ID"), ("product_code", 2, "product code"),
+            ("revision_number", 3, "revision number"), ("serial_number", 4, "serial number"))
+
+
+def identity(node) -> dict[tuple[int, int], Write]:
+    """0x1018 sub 1-4 of a slave as its network file gives them (``vendor_id``,
+    ``product_code``, ``revision_number``, ``serial_number``; each when nonzero, as the
+    master checks it), for its built DCF: only the subs the slave's file has, and only
+    where it can state a value (an entry with a section, or a CompactSubObj value). The
+    entries are ``ro``: compile does not write them, and the node is not sent them."""
+    from dcf2bin.network.entries import int_write
+    dev = node.device
+    if dev is None or dev.ini is None:
+        return {}
+    out = {}
+    for key, sub, what in IDENTITY:
+        value = node.config.get(key)
+        if not value or not isinstance(value, int) or dev.entry(0x1018, sub) is None \
+                or _where_value_goes(dev.ini, 0x1018, sub)[0] is None:
+            continue
+        out[(0x1018, sub)] = int_write(dt.UNSIGNED32, 0x1018, sub, value, "",
+                                       f"{node.name}'s {what}", node.config_where.get(key))
+    return out
 
 
 def _where_value_goes(ini, index: int, sub: int):

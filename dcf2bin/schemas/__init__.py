@@ -3,7 +3,8 @@ data: ``dump.json`` (``dump -f json``, also compile's JSON input), ``dump-concis
 (``dump -f json`` of a concise DCF, and compile's), ``map.json``,
 ``simulate.json``, ``validate.json`` (also ``network check -f json``), ``rules.json``
 (``validate --list-rules -f json``), ``network-show.json``, ``network-scan.json``,
-``lss.json`` (``network lss`` and ``lss set -f json``), ``lss-scan.json``.
+``lss.json`` (``network lss`` and ``lss set -f json``), ``lss-scan.json``,
+``diff.json`` (``diff -f json``).
 
 Every document starts with ``"format": "dcf2bin-<what>"`` and ``"version": <int>``; CANopen
 object indexes are ``"0x%04X"`` strings, COB-IDs ``"0x%08X"`` strings, and sub-indexes,
@@ -32,6 +33,7 @@ FORMATS = {
     "network-scan": "dcf2bin-network-scan",
     "lss": "dcf2bin-lss",
     "lss-scan": "dcf2bin-lss-scan",
+    "diff": "dcf2bin-diff",
 }
 
 
