@@ -190,7 +190,7 @@ def test_show_names_an_object_mapped_both_ways_for_each_direction():
 # -- cantools is optional -------------------------------------------------------------------
 
 MISSING = ("dcf2bin: error: dcf2bin network show -f dbc needs cantools: pip install "
-           "'dcf2bin[dbc]'\n")
+           "cantools (or, from a checkout, pip install '.[dbc]')\n")
 
 
 def test_without_cantools_one_line_and_exit_2(monkeypatch, tmp_path):

@@ -2,7 +2,7 @@
 analysers (issue 27 item 5; docs/network.md "The PDOs as a CAN database").
 
 Built from the links of :mod:`dcf2bin.network.show` and written by cantools (optional:
-``pip install 'dcf2bin[dbc]'``; imported only here, only when called):
+``pip install cantools``, or the ``dbc`` extra from a checkout; imported only here, only when called):
 
 * one message per PDO COB-ID (SYNC and heartbeats are not PDOs), named
   ``<producer>_<PDO>`` (``sensor_TPDO1``, ``plc_TPDO2``), sent by its producer node, its
@@ -40,7 +40,7 @@ from dcf2bin import datatypes as dt
 from dcf2bin.network.model import Network, Node, Pdo
 from dcf2bin.network.show import Link, View, build, carried
 
-MISSING = "dcf2bin network show -f dbc needs cantools: pip install 'dcf2bin[dbc]'"
+MISSING = "dcf2bin network show -f dbc needs cantools: pip install cantools (or, from a checkout, pip install '.[dbc]')"
 _NOT_DBC = re.compile(r"[^A-Za-z0-9_]")
 _EVENT = (254, 255)
 
