@@ -93,8 +93,8 @@ def test_a_container_as_a_node_file_is_refused_by_its_content(tmp_path):
     assert run("compile", ROOT / "samples" / "plc.dcf", "-o",
                tmp_path / "drive.eds").exit_code == 0
     line = (f"{path}:15: error: {tmp_path}/drive.eds is a binary container, not DCF/EDS "
-            "text; use dcf2bin dump to read it (dcf2bin bin2dcf turns it into a DCF) "
-            "[NET011]")
+            "text; a network reads each node's EDS, DCF, XDD or XDC (dcf2bin bin2dcf turns a "
+            "container into a DCF) [NET011]")
     for command, (code, stdout, stderr) in zip(COMMANDS, every_command(tmp_path, path)):
         assert code == 1, command
         assert line in (stdout + stderr).splitlines(), command
@@ -213,3 +213,16 @@ def test_a_lint_error_in_a_node_file_fails_every_command(tmp_path, command):
     assert c.exit_code == other.exit_code == 1
     errors = [line for line in c.stdout.splitlines() if ": error: " in line]
     assert errors and all(e in other.stderr.splitlines() for e in errors)
+
+
+def test_a_node_file_named_dev_stdin_is_never_this_process_input(tmp_path):
+    """`dcf: /dev/stdin` in a network file read the EDS piped into dcf2bin (exit 0): a name
+    written in a file is a path like any other there, and standard input a FIFO."""
+    import subprocess
+    import sys
+    path = network(tmp_path, "/dev/stdin")
+    r = subprocess.run([sys.executable, "-m", "dcf2bin", "network", "check", path],
+                       input=(FIX / "technosoft.eds").read_bytes(), capture_output=True,
+                       timeout=60)
+    assert (r.returncode, r.stdout.decode().splitlines()[0]) == (
+        3, f"{path}:15: error: cannot read /dev/stdin: a FIFO, not a regular file [NET010]")

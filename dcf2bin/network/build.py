@@ -70,8 +70,8 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
             "show, download and scan read it)", path, rule="NET012"))
         return res
     if data is None:
-        from dcf2bin.network.files import read_node_file
-        data = read_node_file(path)          # the one bounded reader; OSError as promised
+        from dcf2bin.fileio import read_file
+        data = read_file(path)               # the one bounded reader; OSError as promised
     checked = examine(path, select=select, ignore=ignore, data=data, lint=ERRORS,
                       binding=True, master=kind)
     net = checked.network
@@ -128,6 +128,7 @@ def output_names(net: Network, diags: Diagnostics) -> dict[str, str] | None:
 def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, bytes]:
     from dcf2bin.network.concise import concise_dcf
     from dcf2bin.network.dcfedit import edit
+    from dcf2bin.network.files import cia306
     names = output_names(net, diags)
     if names is None:
         return {}
@@ -143,11 +144,11 @@ def make_outputs(net: Network, diags: Diagnostics, outdir: str) -> dict[str, byt
         return outputs
     outputs: dict[str, bytes] = {}
     plc_name = names[master.name] + ".dcf"
-    base = net.files[master.device.path]
+    base, base_ini = cia306(net, master.device)
     from dcf2bin.plc.allocate import AllocationError
     try:
         plc = edit(base, master.device.path, master.settings, master.node_id, diags,
-                   shown_as=plc_name, ini=master.device.ini, merge_plan=net.plc_plan)
+                   shown_as=plc_name, ini=base_ini, merge_plan=net.plc_plan)
     except AllocationError as exc:          # a name the PLC file's encoding cannot hold
         for d in exc.diagnostics:
             diags.error(d.message, Where(d.file, d.line), rule="NET118")
@@ -166,11 +167,14 @@ def slave_dcf(net: Network, s, names: dict[str, str], diags: Diagnostics,
               cache: dict) -> bytes | None:
     """``<slave>.dcf``: the slave's file with its configured values (``Node.settings``)
     and the identity its network file gives it (0x1018 sub 1-4, ``dcfedit.identity``)
-    as ParameterValue, and its NodeID; None when a value has no place (reported)."""
+    as ParameterValue, and its NodeID; None when a value has no place (reported). A
+    file in CiA 311 XML gives its sections as CiA 306 text (``files.cia306``)."""
     from dcf2bin.network.dcfedit import edit, identity
+    from dcf2bin.network.files import cia306
     settings = {**identity(s), **s.settings}
-    return edit(net.files[s.device.path], s.device.path, settings, s.node_id, diags,
-                shown_as=names[s.name] + ".dcf", ini=s.device.ini, cache=cache)
+    text, parsed = cia306(net, s.device)
+    return edit(text, s.device.path, settings, s.node_id, diags,
+                shown_as=names[s.name] + ".dcf", ini=parsed, cache=cache)
 
 
 def write_all(outdir: str, outputs: dict[str, bytes], inputs=(), on_wait=None):

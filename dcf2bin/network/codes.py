@@ -22,10 +22,11 @@ CODES: list[tuple[str, str, str]] = [
     ("NET008", WARNING, "eds: is read as dcf:"),
     ("NET009", WARNING, "a key given in both defaults: and the node: the node's is taken "
                         "(ros2_canopen's generator takes the one of defaults:)"),
-    ("NET010", ERROR, "a node's EDS/DCF cannot be read (missing, a directory, no "
-                      "permission)"),
-    ("NET011", ERROR, "a node's file is not EDS/DCF text (a binary container, its JSON "
-                      "form): it is not read"),
+    ("NET010", ERROR, "a node's file (EDS, DCF, XDD, XDC) cannot be read (missing, a "
+                      "directory, no permission)"),
+    ("NET011", ERROR, "a node's file is no device description (EDS, DCF, XDD, XDC): a "
+                      "binary container, its JSON form, a concise DCF, another kind of "
+                      "file: it is not read"),
     ("NET012", ERROR, "build reads a YAML network file: a .cpj project has no master and "
                       "nothing to build"),
     # -- the configuration (D-17, D-18) ---------------------------------------------------

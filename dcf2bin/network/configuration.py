@@ -79,7 +79,7 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
     get copies of its Device that differ in the node-ID ($NODEID values) only."""
     import copy
 
-    from dcf2bin import model
+    from dcf2bin import formats
     parsed: dict[str, object] = {}
     built: dict[str, object] = {}
     for node in net.nodes:
@@ -90,11 +90,11 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
         if path not in parsed:
             parsed[path] = _parse(net, path, where, diags)
         if parsed[path] is None or parsed[path].rejected or not parsed[path].sections:
-            continue     # (not EDS/DCF text, no section: its findings say so, and nothing
-            #              is configured from it -- the node has no device)
+            continue     # (not a description, no section: its findings say so, and
+            #              nothing is configured from it -- the node has no device)
         base = built.get(path)
         if base is None:
-            base = built[path] = model.build(parsed[path], node_id=node.node_id)
+            base = built[path] = formats.build(parsed[path], node_id=node.node_id)
             node.device = base
             continue
         dev = copy.copy(base)
@@ -107,10 +107,11 @@ def _read_files(net: Network, diags: Diagnostics) -> None:
 def _parse(net: Network, path: str, where, diags: Diagnostics):
     """A node's file read as every network command reads it (issue 26): through the one
     bounded reader (never a FIFO or /dev/zero), then its kind by content as every command
-    tells it (a container or its JSON form is refused: NET011), then the INI reader. The
-    syntax and model findings are the node file's findings (``check.node_files``); None
-    when the file cannot be read or is of another kind."""
-    from dcf2bin import ini as ini_mod
+    tells it (a container or its JSON form is refused: NET011), then the reader of its
+    format (issue 28: CiA 306 text or CiA 311 XML, ``dcf2bin.formats``). The syntax and
+    model findings are the node file's findings, at its own lines (``check``); None when
+    the file cannot be read or is of another kind."""
+    from dcf2bin import formats
     from dcf2bin.network.files import read_node_file, wrong_kind
     try:
         data = read_node_file(path)
@@ -122,7 +123,7 @@ def _parse(net: Network, path: str, where, diags: Diagnostics):
         diags.error(wrong, where, rule="NET011")
         return None
     net.files[path] = data
-    return ini_mod.parse_bytes(data, path)
+    return formats.read(data, path)
 
 
 def _plc_pdos(mirrors, plc: nmt.PlcWriter) -> None:

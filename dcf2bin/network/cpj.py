@@ -80,12 +80,13 @@ def section_name(net: int | None) -> str:
 def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Network:
     """Read a .cpj project: the network of ``[Topology]`` (``net`` N > 1: ``[TopologyN]``)
     with every present node read from its DCF."""
-    from dcf2bin import model
+    from dcf2bin import formats
     from dcf2bin.network import pdos
     from dcf2bin.network.configuration import _node_facts as node_facts
     from dcf2bin.network.files import read_node_file, wrong_kind
     if data is None:
-        data = read_node_file(path)
+        from dcf2bin.fileio import read_file
+        data = read_file(path)
     network = Network(path, kind="cpj", diagnostics=Summarised())   # issue 26: see there
     diags = network.diagnostics
     lines = data.count(b"\n") + 1
@@ -165,7 +166,7 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         if wrong is not None:               # as a YAML network's node file (NET011)
             diags.error(wrong, Where(path, dcf[1]), rule="NET011")
             continue
-        node.device = model.load(node.file, node_id=x, data=node_data)
+        node.device = formats.load(node.file, node_id=x, data=node_data)
         network.files.setdefault(node.file, node_data)     # every command lints these
         own = _own_node_id(node.device)
         if own is not None and own != x:

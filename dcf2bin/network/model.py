@@ -210,6 +210,9 @@ class Network:
     plc_plan: Any = None               # the variables allocate --into adds to the PLC's
                                        # file (dcf2bin.plc.merge.Plan; D-15)
     files: dict[str, bytes] = field(default_factory=dict, repr=False)  # path -> bytes read
+    # path -> (CiA 306 text, its INI reading, the sections it was written from) of a node
+    # file in another format (CiA 311 XML): what its configured DCF is made of (files.cia306)
+    texts: dict[str, tuple] = field(default_factory=dict, repr=False)
 
     @property
     def master(self) -> Node | None:

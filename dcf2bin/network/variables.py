@@ -181,10 +181,8 @@ def place(net: Network, diags: Diagnostics) -> None:
     master = net.master
     dev = master.device
     yaml_path = net.path
-    base = net.files.get(dev.path)
-    if base is None:
-        from dcf2bin.fileio.reading import read_file
-        base = read_file(dev.path)
+    from dcf2bin.network.files import cia306
+    base, parsed = cia306(net, dev)      # (CiA 306 text: a PLC's file in XML, converted)
     order = ([v for v in net.variables if v.direction == "input"]
              + [v for v in net.variables if v.direction == "output"])
     fallback = net.node(order[0].node_id).where.line if order else None
@@ -193,7 +191,8 @@ def place(net: Network, diags: Diagnostics) -> None:
                  for v in order]
     try:
         edit, placed, kept = plan(base, dev.path, variables, yaml_path,
-                                  dev=dev if dev.path in net.files else None)
+                                  dev=dev if parsed is dev.ini and dev.path in net.files
+                                  else None)
     except AllocationError as exc:
         for d in exc.diagnostics:
             diags.error(d.message, Where(d.file, d.line), rule="NET118")

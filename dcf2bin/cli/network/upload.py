@@ -97,6 +97,7 @@ def _jobs(network, output: str, max_upload: int, quiet: bool):
     from dcf2bin.bus import upload as up
     from dcf2bin.bus.netconf import is_plc
     from dcf2bin.network.build import output_names
+    from dcf2bin.network.files import cia306
     diags = Diagnostics()
     names = output_names(network, diags)
     if names is None:
@@ -108,7 +109,8 @@ def _jobs(network, output: str, max_upload: int, quiet: bool):
             plcs.append(n)
             continue
         dev = n.device
-        desc = up.Description(dev, network.files[dev.path], dev.ini, dev.path, n.node_id)
+        text, parsed = cia306(network, dev)       # an XDD/XDC: its sections as CiA 306 text
+        desc = up.Description(dev, text, parsed, dev.path, n.node_id)
         todo, infos = up.targets(dev, max_upload=max_upload)
         if dev.path not in said:
             emit(infos, quiet)
