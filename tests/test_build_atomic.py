@@ -308,7 +308,7 @@ def test_sigkill_between_two_renames_is_undone_by_the_next_run(built, then):
     assert r.exit_code == 0, r.stderr
     assert r.stderr.splitlines()[0] == (
         f"{out}: warning: a build stopped while renaming its files was rolled back (2 files "
-        "restored, 0 removed)")
+        "restored, 0 removed) [NET131]")
     assert leftovers(out) == []
     got = snapshot(out)
     assert [n for n in OUTPUTS if got[n][0] != before[n][0]] == ["io.bin", "io.dcf", "plc.dcf"]
@@ -329,7 +329,7 @@ def test_sigkill_while_writing_leaves_temporaries_the_next_run_removes(built):
     assert r.exit_code == 0, r.stderr
     assert r.stderr.splitlines()[0] == (
         f"{out}: warning: a build stopped while writing its files was cleared away (its "
-        "temporary files removed; no file had been replaced)")
+        "temporary files removed; no file had been replaced) [NET131]")
     assert leftovers(out) == []
 
 
@@ -370,9 +370,9 @@ def test_files_of_a_removed_slave_are_named_and_kept(built, tmp_path):
     c_dir.mkdir()
     c = network(c_dir, with_io=False)
     stale = [f"{out}/io.bin: warning: written by an earlier build, not an output of this "
-             "network: kept (remove it if it is no longer needed)",
+             "network: kept (remove it if it is no longer needed) [NET130]",
              f"{out}/io.dcf: warning: written by an earlier build, not an output of this "
-             "network: kept (remove it if it is no longer needed)"]
+             "network: kept (remove it if it is no longer needed) [NET130]"]
     r = run("network", "build", c, "-o", out)
     assert r.exit_code == 0, r.stderr
     assert r.stderr.splitlines() == stale + [

@@ -236,3 +236,30 @@ def test_a_cpj_projects_nodes_are_found_by_their_dcfs_identity():
         f"{path}:11: error: node 2 (io) has no serial number (its DCF's 0x1018 sub 4), but "
         "node 3 (io3) has its vendor-ID 0x000000AB and product code 0x00000401: LSS cannot "
         "tell which node is which")
+
+
+def test_a_pdo_plan_error_does_not_keep_the_node_ids_back(bench, tmp_path):
+    """The reviewer's case: a network whose PDO plan has an error (NET240: a synchronous
+    TPDO and no SYNC producer) answered "1 error, nothing changed". The node-IDs do not
+    depend on the PDOs: the error is reported as check reports it, the node-IDs are given,
+    and the exit status is check's (1); --ignore NET240 silences it as in check."""
+    from conftest import ROOT
+    text = (ROOT / THREE).read_text().replace("../network/", f"{ROOT}/tests/fixtures/network/")
+    text = text.replace("../../../samples/", f"{ROOT}/samples/")
+    path = tmp_path / "three.yml"
+    path.write_text(text + "  tpdo:\n    1:\n      transmission: 1\n      mapping:\n"
+                           "        - {index: 0x2001, sub_index: 0}\n")
+    nodes = three_unconfigured(bench)
+    r = lss(bench, str(path), "-q")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines() == [
+        f"{path}:23: error: io3 (node 4) TPDO1 is synchronous (transmission type 1) but no "
+        "node of the network produces SYNC [NET240]",
+        "    hint: give the master a sync_period, or make the PDO event-driven (254/255)",
+        f"{path}: 1 error, which network lss does not depend on: the node-IDs are given, and "
+        "the exit status is 1"]
+    assert sorted(n.id for n in nodes.values()) == [2, 3, 4]
+    r = lss(bench, str(path), "--ignore", "NET240")
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert seconds_out(r.stdout).splitlines()[0] == (
+        f"{path}: 0 assigned, 3 already right, 0 not found, 0 refused (S s)")

@@ -215,6 +215,138 @@ def test_a_lint_error_in_a_node_file_fails_every_command(tmp_path, command):
     assert errors and all(e in other.stderr.splitlines() for e in errors)
 
 
+# -- --select/--ignore/--strict in every command; what stops which (issue 26 item 8) --------
+
+SUBCOMMANDS = ("check", "show", "build", "download", "scan", "lss", "upload")
+
+
+def test_every_network_command_takes_select_ignore_and_strict():
+    from dcf2bin.cli import network as group
+    from dcf2bin.cli.network import SUBCOMMANDS as ALL_OF_THEM
+    assert set(ALL_OF_THEM) == set(SUBCOMMANDS)
+    for name in SUBCOMMANDS:
+        cmd = group.network_group.get_command(None, name)
+        opts = {o for p in cmd.params for o in p.opts}
+        assert {"--select", "--ignore", "--strict"} <= opts, name
+
+
+def _no_sync(tmp_path) -> str:
+    """The golden network with the master's SYNC gone: the drive's synchronous PDOs have
+    no SYNC producer (NET240, an error of the PDO plan, twice)."""
+    path = network(tmp_path)
+    text = (tmp_path / "bus.yml").read_text().replace("  sync_period: 10000\n", "")
+    (tmp_path / "bus.yml").write_text(text)
+    return path
+
+
+NET240 = "but no node of the network produces SYNC [NET240]"
+
+
+def test_ignore_silences_a_pdo_plan_error_in_every_command(tmp_path):
+    """The same way to silence a finding everywhere: with --ignore NET240 every command
+    does what it does on a clean network (scan: nobody answers, exit 1 as there)."""
+    path = _no_sync(tmp_path)
+    plain = every_command(tmp_path, path)
+    assert [code for code, _, _ in plain] == [1, 1, 1, 1, 1, 1]
+    for command, (_, stdout, stderr) in zip(COMMANDS, plain):
+        assert NET240 in stdout + stderr, command
+    ignored = []
+    for command in COMMANDS:
+        args = [a.replace("OUT", str(tmp_path / "out")) for a in command]
+        r = run("network", args[0], path, *args[1:], "--ignore", "NET240")
+        ignored.append(r.exit_code)
+        assert NET240 not in r.stdout + r.stderr, command
+    assert ignored == [0, 0, 0, 0, 1, 0]
+    assert (tmp_path / "out" / "drive.bin").exists()
+
+
+def test_download_stops_on_a_pdo_plan_error_and_strict_on_a_warning(tmp_path):
+    path = _no_sync(tmp_path)
+    r = run("network", "download", path, "--dry-run", "-q")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines()[-1] == f"{path}: 2 errors, nothing sent"
+    path = network(tmp_path, extra="  software_version: 2\n")        # a warning
+    r = run("network", "download", path, "--dry-run", "-q", "--strict")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines()[-1] == \
+        f"{path}: 0 errors, 1 warning (--strict), nothing sent"
+    assert run("network", "download", path, "--dry-run", "-q").exit_code == 0
+    r = run("network", "show", path, "-q", "--strict")
+    assert r.exit_code == 1
+    assert r.stderr.splitlines()[-1] == \
+        f"{path}: 0 errors, 1 warning (--strict); shown as configured"
+    assert run("network", "show", path, "-q").exit_code == 0
+
+
+def test_scan_and_upload_are_not_stopped_by_the_pdo_plan(tmp_path):
+    """They do not depend on the PDOs: the network's errors are reported as check reports
+    them, the work is done (nobody answers on this bus), and they exit 1 as check would."""
+    path = _no_sync(tmp_path)
+    r = run("network", "scan", path, "-i", "virtual", "--listen", "0", "--timeout", "0.01",
+            "-q")
+    assert r.exit_code == 1
+    assert r.stderr.splitlines()[3:] == [
+        f"{path}: 2 errors, which network scan does not depend on: the bus is scanned, and "
+        "the exit status is 1",
+        f"{path}:13: error: node 2 (drive) is in the network but does not answer",
+        f"{path}:45: error: node 5 (io) is in the network but does not answer"]
+    r = run("network", "scan", path, "-i", "virtual", "--listen", "0", "--timeout", "0.01",
+            "-q", "--ignore", "NET240")
+    assert r.exit_code == 1 and "NET240" not in r.stderr and "does not depend" not in r.stderr
+    r = run("network", "upload", path, "-o", tmp_path / "up", "-i", "virtual", "--timeout",
+            "0.01", "--retries", "0", "-q")
+    assert r.exit_code == 1
+    assert (f"{path}: 2 errors, which network upload does not depend on: the slaves are read "
+            "back, and the exit status is 1") in r.stderr.splitlines()
+    assert "did not answer" in r.stderr and not (tmp_path / "up").exists()
+
+
+def test_a_node_id_given_twice_stops_them_whatever_ignore_says(tmp_path):
+    path = network(tmp_path)
+    text = (tmp_path / "bus.yml").read_text().replace("  node_id: 5\n", "  node_id: 2\n")
+    (tmp_path / "bus.yml").write_text(text)
+    for command, outcome in (("scan", "nothing scanned"), ("lss", "nothing changed"),
+                             ("upload", "nothing read"), ("download", "nothing sent")):
+        more = ["-o", str(tmp_path / "up")] if command == "upload" else []
+        r = run("network", command, path, *more, "-i", "virtual", "--ignore", "NET2", "-q")
+        assert r.exit_code == 1, command
+        assert "[NET200]" in r.stderr, command
+        assert r.stderr.splitlines()[-1].endswith(f", {outcome}"), command
+
+
+def test_an_unreadable_network_file_is_io001_in_every_command(tmp_path):
+    """Issue 26: `network show z.yml` (z.yml a link to /dev/zero) printed the error without
+    its code, check with it: the same finding, exit 3, in every command."""
+    z = tmp_path / "z.yml"
+    z.symlink_to("/dev/zero")
+    line = f"{z}: error: cannot read: a device, not a regular file [IO001]"
+    for command in SUBCOMMANDS:
+        more = ["-o", str(tmp_path / "o")] if command in ("build", "upload") else []
+        r = run("network", command, z, *more)
+        assert r.exit_code == 3, command
+        assert line in (r.stdout + r.stderr).splitlines(), command
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_warnings_of_the_output_folder_have_codes(tmp_path):
+    """'written by an earlier build, not an output of this network: kept' had no code:
+    NET130, which --ignore leaves out as any other."""
+    path = network(tmp_path)
+    out = tmp_path / "out"
+    assert run("network", "build", path, "-o", out, "-q").exit_code == 0
+    text = (tmp_path / "bus.yml").read_text()
+    (tmp_path / "bus.yml").write_text(text[:text.index("\nio:")] + "\n")
+    r = run("network", "build", path, "-o", out)
+    assert (r.exit_code, r.stderr.splitlines()[:2]) == (0, [
+        f"{out}/io.bin: warning: written by an earlier build, not an output of this network: "
+        "kept (remove it if it is no longer needed) [NET130]",
+        f"{out}/io.dcf: warning: written by an earlier build, not an output of this network: "
+        "kept (remove it if it is no longer needed) [NET130]"])
+    r = run("network", "build", path, "-o", out, "--ignore", "NET130")
+    assert (r.exit_code, r.stderr) == (0, f"network build: 3 files in {out}: plc.dcf and 1 "
+                                          "slave for a PLC master, 2 links, 4 variables\n")
+
+
 def test_a_node_file_named_dev_stdin_is_never_this_process_input(tmp_path):
     """`dcf: /dev/stdin` in a network file read the EDS piped into dcf2bin (exit 0): a name
     written in a file is a path like any other there, and standard input a FIFO."""

@@ -61,7 +61,7 @@ def build_network(path: str, outdir: str | None = None, *, data: bytes | None = 
 
 def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None = None,
            select=None, ignore=None) -> BuildResult:
-    from dcf2bin.network.check import ERRORS, examine, is_cpj
+    from dcf2bin.network.check import CONFIGURES, ERRORS, examine, is_cpj
     if is_cpj(path):
         res = BuildResult(Network(path, kind="cpj"))
         res.diagnostics.append(Diagnostic(
@@ -73,7 +73,7 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
         from dcf2bin.fileio import read_file
         data = read_file(path)               # the one bounded reader; OSError as promised
     checked = examine(path, select=select, ignore=ignore, data=data, lint=ERRORS,
-                      binding=True, master=kind)
+                      binding=CONFIGURES, master=kind)
     net = checked.network
     master = net.master
     mode = kind or (PLC if master is not None and master.file is not None else LELY)
@@ -192,7 +192,8 @@ def write_warnings(report, outdir: str) -> list[Diagnostic]:
     slave removed from the network): kept, never deleted."""
     out = []
     if report.recovered:
-        out.append(Diagnostic(Severity.WARNING, report.recovered, outdir))
+        out.append(Diagnostic(Severity.WARNING, report.recovered, outdir, rule="NET131"))
     return out + [Diagnostic(Severity.WARNING, "written by an earlier build, not an output of "
-                             "this network: kept (remove it if it is no longer needed)", path)
+                             "this network: kept (remove it if it is no longer needed)", path,
+                             rule="NET130")
                   for path in report.stale]

@@ -122,6 +122,13 @@ def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
     return active | set(ALWAYS)
 
 
+def unreadable(path: str, exc: OSError) -> Diagnostic:
+    """IO001: the network file cannot be read (missing, a directory, a device, too large),
+    as every network command says it."""
+    return Diagnostic(Severity.ERROR, f"cannot read: {exc.strerror or exc}", path,
+                      rule="IO001", hint="check the path and its permissions")
+
+
 def is_cpj(path: str) -> bool:
     """A CiA 306-3 nodelist project is told by its name, as every network command tells
     it (a YAML file named .cpj would be read as INI)."""
@@ -151,36 +158,49 @@ def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0
 
 
 # What every network command finds (issue 26: one verdict). ``check`` lints each node's
-# file with every rule of validate; build, show, download and scan with the rules that can
-# report an error (their warnings and infos are check's alone), so that an error check
-# reports is an error of every command, and their exit codes agree.
+# file with every rule of validate; build, show, download, scan, lss and upload with the
+# rules that can report an error (their warnings and infos are check's alone), so that an
+# error check reports is an error of every command, and their exit codes agree.
 ALL, ERRORS = "all", "errors"
+
+# What a command needs sound before it does its work: the errors that make it unsound are
+# reported whatever --select/--ignore say, and stop it (``is_binding``). Each need holds
+# the one before it.
+#   FILE        the network file read and configured (show: else there is nothing to show)
+#   NODES       and each node: its node-ID, its file read (its identity, its objects) --
+#               what scan, lss and upload work from; the PDO plan is not their work
+#   CONFIGURES  and the configuration (NET1xx): what build writes and download sends
+FILE, NODES, CONFIGURES = "file", "nodes", "configures"
+NEEDS = (FILE, NODES, CONFIGURES)
+NODE_ID_RULES = ("NET200", "NET201")     # a node-ID given twice, or outside 1..127
 
 
 def examine(path: str, *, select=None, ignore=None, max_load: float = 80.0,
             net: int | None = None, data: bytes | None = None, lint: str = ALL,
-            binding: bool = False, master: str | None = None) -> CheckResult:
+            binding: str | bool | None = None, master: str | None = None) -> CheckResult:
     """Read, configure and check a network as every ``network`` command does: the network
     file's findings, the configuration's, each node's file (read as ``validate`` reads it:
     its kind, syntax and model, and with ``lint`` ALL every rule of validate, with ERRORS
     the rules that can report an error), the rules of the network as a whole and the bus
-    load. ``binding``: the errors that leave nothing sound to build (the network file's,
-    the configuration's, the reading of a node's file: its syntax, structure and values)
-    are kept whatever ``select``/``ignore`` say (``network build``). ``master``: the kind
+    load. ``binding``: what the command needs sound (FILE, NODES, CONFIGURES; True is
+    CONFIGURES, ``network build``'s): the errors that make its work unsound
+    (:func:`is_binding`) are kept whatever ``select``/``ignore`` say. ``master``: the kind
     of master, PLC or LELY, when the user forces it (D-21; by default it follows ``dcf:``)."""
+    need = CONFIGURES if binding is True else binding or None
     active = resolve(select, ignore)
     # As build does: a network makes many small objects and no reference cycles worth
     # collecting (a fifth of the time at 126 slaves); the caller's setting is restored.
     was_enabled = gc.isenabled()
     gc.disable()
     try:
-        res = _check(path, active | (_reading_rules() if binding else set()), max_load,
-                     net, data, lint, master)
+        res = _check(path, active | (_reading_rules() if need in (NODES, CONFIGURES)
+                                     else set()), max_load, net, data, lint, master)
     finally:
         if was_enabled:
             gc.enable()
     res.diagnostics = one_per_cause([d for d in res.diagnostics if not d.rule
-                                     or d.rule in active or binding and is_binding(d)])
+                                     or d.rule in active
+                                     or need is not None and is_binding(d, need)])
     return res
 
 
@@ -200,13 +220,20 @@ def one_per_cause(diags: list[Diagnostic]) -> list[Diagnostic]:
             if not any((r, d.file, d.line) in said for r in SAME_CAUSE.get(d.rule, ()))]
 
 
-def is_binding(d: Diagnostic) -> bool:
-    """An error that build cannot leave out (``--ignore``): the network file's and the
-    configuration's (NET0xx, NET1xx), an input that cannot be read, and the reading of a
-    node's file (validate's core rules of syntax, structure and values, DCF0xx-DCF3xx)."""
+def is_binding(d: Diagnostic, need: str = CONFIGURES) -> bool:
+    """An error that a command with this ``need`` (see NEEDS) cannot leave out
+    (``--ignore``), and that stops it: with FILE the network file's (NET0xx: its reading,
+    a node's file that cannot be read or is no description) and an input that cannot be
+    read; with NODES also a node-ID given twice or out of range (NET200, NET201) and the
+    reading of a node's file (validate's core rules of syntax, structure and values,
+    DCF0xx-DCF3xx); with CONFIGURES (build, download) also the configuration's (NET1xx)."""
     if d.severity is not Severity.ERROR:
         return False
-    if d.rule.startswith(("NET0", "NET1")) or d.rule in ALWAYS:
+    if d.rule.startswith("NET0") or d.rule in ALWAYS or d.rule in UNREADABLE:
+        return True
+    if need == FILE:
+        return False
+    if d.rule in NODE_ID_RULES or need == CONFIGURES and d.rule.startswith("NET1"):
         return True
     from dcf2bin.lint.registry import RULES
     r = RULES.get(d.rule)
@@ -237,9 +264,7 @@ def _check(path: str, active: set[str], max_load: float, net: int | None,
     try:
         network = read_network(path, net=net, data=data)
     except OSError as exc:
-        d = Diagnostic(Severity.ERROR, f"cannot read: {exc.strerror or exc}", path,
-                       rule="IO001", hint="check the path and its permissions")
-        return CheckResult(None, [d], [(path, "unreadable")])
+        return CheckResult(None, [unreadable(path, exc)], [(path, "unreadable")])
     if master is not None and network.kind == "yaml":
         from dcf2bin.network.configuration import master_kind
         master_kind(network, master)
@@ -376,5 +401,6 @@ def _line_owner(node: Node):
     return owner
 
 
-__all__ = ["ALL", "ERRORS", "CheckResult", "SelectorError", "check_network", "examine",
-           "is_binding", "is_cpj", "read_network", "resolve", "rule_table", "run_rules"]
+__all__ = ["ALL", "CONFIGURES", "ERRORS", "FILE", "NEEDS", "NODES", "CheckResult",
+           "SelectorError", "check_network", "examine", "is_binding", "is_cpj", "read_network",
+           "resolve", "rule_table", "run_rules", "unreadable"]

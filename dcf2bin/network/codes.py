@@ -1,7 +1,7 @@
-"""The codes of the network file reader (NET001-NET099) and of the configuration
-(NET100-NET199): id, severity, one line. Plain data: ``network check`` builds its rule
-table (and ``--select``/``--ignore``) from this and its own NET2xx rules; docs/network.md
-lists the same table (a test compares them).
+"""The codes of the network file reader (NET001-NET099), of the configuration and of
+build's output folder (NET100-NET199): id, severity, one line. Plain data: ``network
+check`` builds its rule table (and ``--select``/``--ignore``) from this and its own NET2xx
+rules; docs/network.md lists the same table (a test compares them).
 """
 from __future__ import annotations
 
@@ -64,6 +64,11 @@ CODES: list[tuple[str, str, str]] = [
     ("NET122", WARNING, "one object mapped twice in one PDO's mapping:"),
     ("NET123", WARNING, "a names: entry for an object that no linked PDO of that slave "
                         "maps: the name is not used"),
+    # -- build's output folder ------------------------------------------------------------
+    ("NET130", WARNING, "a file an earlier build wrote in the output folder that this "
+                        "network does not make (a slave that left it): kept, never deleted"),
+    ("NET131", WARNING, "a build stopped while writing its files (SIGKILL, power loss) was "
+                        "undone in the output folder before this one wrote"),
 ]
 
 BY_CODE = {c: (sev, text) for c, sev, text in CODES}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, OutputPath, debug_option, emit, fail, guarded,
-                                quiet_option, read_input, register_input, registered_inputs,
+                                quiet_option, register_input, registered_inputs,
                                 rule_options, say, verbose_option)
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
@@ -35,39 +35,33 @@ def build_cmd(network, output, master_kind, select_, ignore, strict, verbose, qu
     marked auto are assigned. The findings are those of 'network check' (validate's
     warnings about the node files left out): nothing is written when there is an error.
     --ignore cannot leave out an error of the network file, of the configuration or of
-    reading a node's file (NET0xx, NET1xx, DCF0xx-DCF3xx). NETWORK is YAML (a .cpj
-    project has nothing to build).
+    reading a node's file, nor a node-ID given twice (NET0xx, NET1xx, NET200, NET201,
+    DCF0xx-DCF3xx). NETWORK is YAML (a .cpj project has nothing to build).
 
     The files are written all or none: nothing is written when there is an error, and
     an error, Ctrl-C or SIGTERM while they are written leaves the folder as it was.
     """
+    from dcf2bin.cli.network.show import (check_rules, counts, exit_code, failing,
+                                          read_network_file)
     from dcf2bin.network import build_network
-    from dcf2bin.network.check import SelectorError, resolve
-    try:
-        resolve(select_, ignore)
-    except SelectorError as exc:
-        raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
-    data = read_input(network)
+    check_rules(select_, ignore)
+    data = read_network_file(network)       # unreadable: IO001, as check says it
     _check_folder(output)
     res = build_network(network, data=data, master=master_kind, select=select_,
                         ignore=ignore)
     emit(res.diagnostics, quiet)
-    errors = [d for d in res.diagnostics if d.severity is Severity.ERROR]
-    warnings = [d for d in res.diagnostics if strict and d.severity is Severity.WARNING]
-    if errors or warnings:
-        from dcf2bin.cli.network.show import exit_code
-        counts = [f"{len(errors)} error{'s' if len(errors) != 1 else ''}"]
-        if warnings:
-            counts.append(f"{len(warnings)} warning{'s' if len(warnings) != 1 else ''} "
-                          "(--strict)")
-        click.echo(f"network build: {', '.join(counts)}, nothing written", err=True)
-        raise Failure(exit_code(errors or warnings))
+    bad = failing(res.diagnostics, strict)
+    if bad:
+        click.echo(f"network build: {counts(bad)}, nothing written", err=True)
+        raise Failure(exit_code(bad))
     net = res.network
     for path in sorted({n.device.path for n in net.nodes if n.device is not None}):
         register_input(path)        # no output may overwrite a node's file
     report = _write(output, res.outputs, quiet)
     from dcf2bin.network.build import write_warnings
-    emit(write_warnings(report, output), quiet)
+    from dcf2bin.network.check import resolve
+    active = resolve(select_, ignore)       # (the files are written: --strict cannot stop it)
+    emit([d for d in write_warnings(report, output) if d.rule in active], quiet)
     if verbose and not quiet:
         for line in describe(net):
             say(line)

@@ -4,9 +4,9 @@ from __future__ import annotations
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, check_output, debug_option, emit, guarded,
-                                quiet_option, write_output)
+                                quiet_option, rule_options, write_output)
 from dcf2bin.cli.download import bus_options, open_bus, sdo_options
-from dcf2bin.cli.network.show import configured_network, net_option
+from dcf2bin.cli.network.show import check_rules, configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
@@ -25,11 +25,13 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
               help="After a slave is configured, write \"save\" to its 0x1010 sub 1 (store "
               "all parameters).")
 @net_option
+@rule_options
 @quiet_option("No progress lines and no summary.")
 @debug_option
 @guarded
 def download_cmd(network_file, interface, channel, bitrate, timeout, retries, max_upload,
-                 dry_run, verify, keep_going, save, net, quiet, debug):
+                 dry_run, verify, keep_going, save, net, select_, ignore, strict, quiet,
+                 debug):
     """Configure every slave of a network by SDO, in node-ID order.
 
     Each slave's identity is checked first: its device type (0x1000) and 0x1018 sub 1...4
@@ -43,10 +45,18 @@ def download_cmd(network_file, interface, channel, bitrate, timeout, retries, ma
     A .cpj project has no master: each node's DCF is written as `download` writes it,
     after the check of the identity its DCF states; a PLC (a file with network variables)
     is not written.
+
+    The findings are those of 'network check' (validate's warnings about the node files
+    left out), with --select/--ignore as there: an error, or with --strict a warning,
+    sends nothing. --ignore cannot leave out an error of the network file, of the
+    configuration or of reading a node's file (NET0xx, NET1xx, NET200, NET201,
+    DCF0xx-DCF3xx).
     """
     from dcf2bin.bus import netconf
+    check_rules(select_, ignore)
     check_output("-")           # the summary's way out, before any bus work
-    network = configured_network(network_file, quiet, "nothing sent", net)
+    network, _ = configured_network(network_file, quiet, "nothing sent", net,
+                                    select=select_, ignore=ignore, strict=strict)
     plans = _plans(network, network_file, quiet)
     if dry_run:
         write_output(_dry(network, plans), "-", [], binary=False)

@@ -6,10 +6,11 @@ import json
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, Seconds, debug_option, emit, fail,
-                                format_option, guarded, output_option, quiet_option, say,
-                                write_output)
+                                format_option, guarded, output_option, quiet_option,
+                                rule_options, say, write_output)
 from dcf2bin.cli.download import bus_options, open_bus
-from dcf2bin.cli.network.show import configured_network, net_option
+from dcf2bin.cli.network.scan import GOING_ON
+from dcf2bin.cli.network.show import check_rules, configured_network, net_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 # what the master enforces (0x1F85...0x1F88) -> the part of the LSS address
@@ -55,11 +56,12 @@ def check_bitrate(value: int | None) -> None:
                "standard error.")
 @output_option("The table or the JSON.")
 @net_option
+@rule_options
 @quiet_option("No table; the errors.")
 @debug_option
 @guarded
 def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_bitrate, fmt,
-            output, net, quiet, debug):
+            output, net, select_, ignore, strict, quiet, debug):
     """Give every slave of a network its node-ID by LSS, store it, and check it.
 
     A slave is found by its identity -- vendor-ID and product code from the network file
@@ -76,10 +78,22 @@ def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_b
     without a serial number among several of one vendor-ID and product code, two nodes
     on the bus that match one slave, and a node-ID another node already answers at.
     Exit status 1 when a slave is not found, refuses, or does not answer afterwards.
+
+    The network's findings are those of 'network check' (validate's warnings about the
+    node files left out), with --select/--ignore as there, and decide the exit status as
+    there (--strict: warnings too); only those that make the node-IDs unsound stop it
+    before anything is changed, whatever --ignore says: an error of the network file, a
+    node-ID given twice, a node's file that cannot be read (NET0xx, NET200, NET201,
+    DCF0xx-DCF3xx). The PDO plan and the configuration (NET1xx, NET2xx) do not stop it.
     """
     from dcf2bin.bus import link, lssnet
+    from dcf2bin.network.check import NODES
+    check_rules(select_, ignore)
     check_bitrate(set_bitrate)
-    network = configured_network(network_file, quiet, "nothing changed", net)
+    network, verdict = configured_network(
+        network_file, quiet, "nothing changed", net, select=select_, ignore=ignore,
+        strict=strict, need=NODES, going_on=GOING_ON.format(command="lss",
+                                                            done="the node-IDs are given"))
     wanted = wanted_of(network)
     serial_key = "its DCF's 0x1018 sub 4" if network.kind == "cpj" else "serial_number"
     stop_on(lssnet.file_problems(wanted, serial_key), network_file, quiet)
@@ -92,6 +106,8 @@ def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_b
     stop_on(result.problems, network_file, quiet)
     report(result, header=network_file, where=network_file, file=network_file, fmt=fmt,
            output=output, quiet=quiet, inputs=[network_file], bitrate=set_bitrate)
+    if verdict != ExitCode.OK:              # the network's own findings (said before)
+        raise Failure(verdict)
 
 
 def wanted_of(network) -> list:

@@ -8,9 +8,12 @@ import click
 
 from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Seconds, check_output, debug_option,
                                 emit, format_option, guarded, output_option, quiet_option,
-                                write_output)
+                                rule_options, write_output)
 from dcf2bin.cli.download import bus_options, open_bus
-from dcf2bin.cli.network.show import configured_network, net_option
+from dcf2bin.cli.network.show import check_rules, configured_network, net_option
+
+#: what scan, lss and upload say of a network's errors that they do not depend on
+GOING_ON = "which network {command} does not depend on: {done}, and the exit status is 1"
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, Where
 
 NO_SUCH_ENTRY = (0x06020000, 0x06090011)    # SDO aborts: object / sub-index does not exist
@@ -33,11 +36,12 @@ COLUMNS = [((0x1000, 0), "device type"), ((0x1018, 1), "vendor-ID"),
                "standard error.")
 @output_option("The table or the JSON.")
 @net_option
+@rule_options
 @quiet_option("No table; the findings that are errors.")
 @debug_option
 @guarded
 def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries, fmt, output,
-             net, quiet, debug):
+             net, select_, ignore, strict, quiet, debug):
     """Find the nodes on the bus and compare them with a network.
 
     Listens for boot-up and heartbeat messages and asks every node-ID 1...127 for 0x1000
@@ -52,12 +56,24 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     seconds, 1.7 s with the defaults, plus the time to send 127 requests (about 30 ms at
     500 kbit/s); nodes that answer at once end each round early. Exit status 1 when a
     node is missing, silent or differs.
+
+    The network's findings are those of 'network check' (validate's warnings about the
+    node files left out), with --select/--ignore as there, and decide the exit status as
+    there (--strict: warnings too); only those that make the scan unsound stop it before
+    the bus (nothing scanned), whatever --ignore says: an error of the network file, a
+    node-ID given twice, a node's file that cannot be read (NET0xx, NET200, NET201,
+    DCF0xx-DCF3xx). The PDO plan and the configuration (NET1xx, NET2xx) do not stop it.
     """
     from dcf2bin.bus import link
     from dcf2bin.bus import scan as sc
+    from dcf2bin.network.check import NODES
     from dcf2bin.network.show import identity_of
+    check_rules(select_, ignore)
     check_output(output, [network_file])    # before the bus is opened
-    network = configured_network(network_file, quiet, "nothing scanned", net)
+    network, verdict = configured_network(
+        network_file, quiet, "nothing scanned", net, select=select_, ignore=ignore,
+        strict=strict, need=NODES, going_on=GOING_ON.format(command="scan",
+                                                            done="the bus is scanned"))
     expected = [sc.Expected(n.node_id, n.name, identity_of(network, n),
                             master=n.role == "master", from_file=network.kind == "cpj")
                 for n in network.nodes]
@@ -86,6 +102,8 @@ def scan_cmd(network_file, interface, channel, bitrate, listen, timeout, retries
     emit(diags, quiet)
     if any(d.severity is Severity.ERROR for d in diags):
         raise Failure(ExitCode.FINDINGS)
+    if verdict != ExitCode.OK:              # the network's own findings (said before)
+        raise Failure(verdict)
 
 
 def _cell(found, key) -> str:

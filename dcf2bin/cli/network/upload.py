@@ -6,9 +6,10 @@ import os
 import click
 
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, debug_option, emit, fail, guarded,
-                                quiet_option, register_input, say)
+                                quiet_option, register_input, rule_options, say)
 from dcf2bin.cli.download import bus_options, open_bus
-from dcf2bin.cli.network.show import configured_network, net_option
+from dcf2bin.cli.network.scan import GOING_ON
+from dcf2bin.cli.network.show import check_rules, configured_network, net_option
 from dcf2bin.cli.upload import commissioning, phrase, report, upload_options
 from dcf2bin.diagnostics import Diagnostics, ExitCode
 
@@ -26,11 +27,13 @@ PLC_LINE = "not read (a PLC: its configuration goes with the PLC program)"
               help="Read up to N slaves at a time, each with one SDO request in flight "
               "(1: one after the other).")
 @net_option
+@rule_options
 @quiet_option("No progress lines and no summary.")
 @debug_option
 @guarded
 def upload_cmd(network_file, output, interface, channel, bitrate, timeout, retries,
-               max_upload, node_timeout, keep_going, network_name, jobs, net, quiet, debug):
+               max_upload, node_timeout, keep_going, network_name, jobs, net, select_, ignore,
+               strict, quiet, debug):
     """Read every slave of a network back by SDO, each into <slave>.dcf in DIR.
 
     Each slave is read as 'dcf2bin upload' reads a node, with its file (dcf:) as its EDS:
@@ -40,10 +43,22 @@ def upload_cmd(network_file, output, interface, channel, bitrate, timeout, retri
     slave in node-ID order, then a summary row for each: uploaded, failed (the entry and
     the reason) or did not answer. The files are written only when every slave was read
     (--keep-going: those that were, each entry not read as a comment).
+
+    The network's findings are those of 'network check' (validate's warnings about the
+    node files left out), with --select/--ignore as there, and decide the exit status as
+    there (--strict: warnings too); only those that make the upload unsound stop it
+    before the bus (nothing read), whatever --ignore says: an error of the network file,
+    a node-ID given twice, a node's file that cannot be read (NET0xx, NET200, NET201,
+    DCF0xx-DCF3xx). The PDO plan and the configuration (NET1xx, NET2xx) do not stop it.
     """
     from dcf2bin.bus import link
     from dcf2bin.bus import upload as up
-    network = configured_network(network_file, quiet, "nothing read", net)
+    from dcf2bin.network.check import NODES
+    check_rules(select_, ignore)
+    network, verdict = configured_network(
+        network_file, quiet, "nothing read", net, select=select_, ignore=ignore,
+        strict=strict, need=NODES, going_on=GOING_ON.format(
+            command="upload", done="the slaves are read back"))
     if os.path.exists(output) and not os.path.isdir(output):
         fail("cannot write: Not a directory", output, ExitCode.UNREADABLE)
     work, plcs = _jobs(network, output, max_upload, quiet)
@@ -89,6 +104,8 @@ def upload_cmd(network_file, output, interface, channel, bitrate, timeout, retri
         say(f"network upload: {len(files)} file{'s' if len(files) != 1 else ''} in {output}")
     if failed:
         raise Failure(ExitCode.FINDINGS)
+    if verdict != ExitCode.OK:              # the network's own findings (said before)
+        raise Failure(verdict)
 
 
 def _jobs(network, output: str, max_upload: int, quiet: bool):
