@@ -197,6 +197,12 @@ def test_lss_download_upload_and_diff_agree_and_a_change_by_hand_is_named(bench,
     r = run_within(upload_bound(eds, 3), "network", "upload", network, "-o", "up", "-q",
                    *sdo_bus(bench.channel))
     assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
+    for name, node_id in NODE_IDS.items():      # the serial number read is its LSS one
+        with open(f"up/{name}.dcf", encoding="utf-8") as f:
+            text = f.read()
+        assert text.split("[DeviceComissioning]\n")[1].split("\n\n")[0].splitlines() == [
+            f"NodeID={node_id}", f"NodeName={name}",
+            f"LSS_SerialNumber=0x{SERIALS[name]:08X}"]
     r = run("network", "build", network, "-o", "out", "-q")
     assert (r.exit_code, r.stderr) == (0, "")
     # 5. nothing differs: file by file, folder by folder, and each node against its DCF
