@@ -24,6 +24,7 @@ pytest_plugins = ["bus_fixtures"]
 
 SDO_TIMEOUT = 1.0           # each SDO answer (it comes in milliseconds on the virtual bus)
 LSS_TIMEOUT = 0.5           # network lss's default
+CHECK_WAIT = 0.3            # network lss's --check-wait default
 SLACK = 3.0                 # what a loaded machine may add to a command's own bound
 SERIALS = {"io1": 0x1001, "io2": 0x1002, "io3": 0x1003}
 NODE_IDS = {"io1": 2, "io2": 3, "io3": 4}
@@ -138,9 +139,9 @@ def sdo_bus(channel: str) -> list[str]:
 def lss_bound(slaves: int) -> float:
     """network lss: per slave a selective switch (4 answers at most, the last one
     answered), configure node-ID, store, switch back and the boot-up message: 8 waits of
-    --timeout at most; before, one SDO round at the node-IDs of the file; after, the scan
-    (listen, then 0x1000 and 0x1018 sub 1-4 of each node: 5 rounds)."""
-    return (8 * slaves + 1 + 6) * LSS_TIMEOUT + SLACK
+    --timeout at most; before, one SDO round at the node-IDs of the file (--check-wait);
+    after, the scan (listen, then 0x1000 and 0x1018 sub 1-4 of each node: 5 rounds)."""
+    return (8 * slaves + 6) * LSS_TIMEOUT + CHECK_WAIT + SLACK
 
 
 def writes_bound(network: str, slaves: int) -> float:
