@@ -126,6 +126,24 @@ def test_a_new_node_id_works_out_every_nodeid_value_and_keeps_the_configuration(
         assert _u32(ch, 0x1014, 0) == 0x89                  # the file's, at node-ID 9
 
 
+def test_a_nodeid_value_that_does_not_fit_at_the_new_node_id_has_no_value(tmp_path):
+    """Never truncated: $NODEID+0x81 in an UNSIGNED8 is 0x84 at node-ID 3, and no value at
+    127 (SDO then answers 0x060A0023), which the node says."""
+    from dcf2bin.bus.node import from_file
+    eds = drive_eds(tmp_path, NODE_ID_VALUE.replace("0x0006", "0x0005").replace(
+        "0x100", "0x81"))
+    node, errors = from_file(eds, 3)
+    said = []
+    node.on_event = said.append
+    var = node.object_dictionary.get_variable(0x5F00)
+    assert (errors, var.default) == ([], 0x84)
+    node.take_node_id(127)
+    assert var.default is None
+    assert said == ["0x5F00 sub 0: '$NODEID+0x81' is no UNSIGNED8 at node-ID 127: no value"]
+    node.take_node_id(5)
+    assert var.default == 0x86
+
+
 def test_refusals_carry_their_error_code(bench):
     lss_node(bench, 1, node_id=3, store_error=2)
     m = master(bench)

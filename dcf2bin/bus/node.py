@@ -208,6 +208,8 @@ class BenchNode(canopen.LocalNode):
         od = self.object_dictionary
         for (index, sub), f in self.formulas.items():
             var = od.get_variable(index, sub)
+            if var is None:              # a formula of an object the node was not given
+                continue
             for attr in ("default", "value"):
                 text = getattr(f, attr)
                 if text is None:
