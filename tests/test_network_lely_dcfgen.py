@@ -28,7 +28,8 @@ CORPUS = HERE.parent.parent / "shared" / "corpus" / "files"
 # Why dcf2bin's outputs differ from dcfgen's (docs/network.md, "dcf2bin as dcfgen").
 GIVEN = "D-18: every value the YAML gives is written; dcfgen skips one equal to the file's"
 ORDER = ("D-18: the PDOs first, then 0x100C/0x100D/0x1017, the master's heartbeat "
-         "consumer, the sdo list; dcfgen writes 0x1016 first and 0x1017 before the PDOs")
+         "consumer, time_cob_id (0x1012), error_behavior (0x1029), the sdo list; dcfgen "
+         "writes 0x1016 first and 0x1012, 0x1017 and 0x1029 before the PDOs")
 DISABLE = ("D-18: a PDO listed with enabled: false gets its COB-ID with bit 31 set even "
            "when its file already has it so")
 AUTO = ("D-18: cob_id: auto of PDOs 5-8 takes the lowest free CAN-ID from 0x181; dcfgen "
@@ -44,6 +45,9 @@ COLLISION = ("dcfgen is wrong: its auto TPDO1 of node 5 is 0x185, which b's TPDO
 REAL = "dcfgen is wrong: it writes the REAL32 value 1.5 as 1.0 (int() of the YAML value)"
 SIZE = ("dcfgen is wrong: UNSIGNED24 and INTEGER40 are written with size 3 and 5 but 4 "
         "and 8 bytes of data, so the rest of its .bin cannot be read")
+SERIAL = ("the master's own serial_number: dcfgen writes it in master.bin, into 0x1018 sub 4, "
+          "which its master.dcf marks ro (a concise DCF that writes a read-only entry); "
+          "dcf2bin states it as that entry's DefaultValue in master.dcf")
 
 # dcfgen's master PDO number -> dcf2bin's for the same slave PDO, where they differ
 # (None: dcfgen mirrors a slave PDO that dcf2bin does not, the "dcfgen RPDOn (...)" row
@@ -82,6 +86,8 @@ EXPECTED = [
     ("plc-as-lely", ("drive.bin order",), ORDER),
     ("plc-as-lely", ("master.dcf dcfgen TPDO[234] (node 2 RPDO[234])",),
      MIRRORED + " (drive's RPDO2-4: its file's COB-IDs are valid)"),
+    ("keys", ("cn.bin order",), ORDER),
+    ("keys", ("master.dcf 0x1018", "master.bin 0x1018sub4"), SERIAL),
 ]
 
 # Where dcfgen stops: the last line of its traceback.
@@ -104,6 +110,7 @@ NETWORKS = [
     ("plc", "plc.yml", None, True),
     ("plc_nodes", "plc_nodes.yml", None, True),
     ("plc-as-lely", "plc.yml", "lely", False),
+    ("keys", "keys.yml", None, False),
 ]
 
 
