@@ -31,7 +31,8 @@ default) and by python canopen's SDO client one node at a time, with their ratio
 The check (exit 1 when it fails): download and upload wait only for answers; lss waits
 for answers, but for its one check round before it changes anything -- an SDO upload of
 0x1000 to the node-IDs of the file, which nobody may answer yet, so that round lasts its
-`--timeout` -- and makes no fixed wait (the file gives every identity: no fastscan).
+`--check-wait` (0.3 s, network scan's time for an SDO answer; it was `--timeout`, 0.5 s)
+-- and makes no fixed wait (the file gives every identity: no fastscan).
 """
 from __future__ import annotations
 

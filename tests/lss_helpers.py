@@ -10,6 +10,21 @@ IO8 = "samples/device.eds"                         # [DeviceInfo]: 0xAB, 8, 0x00
 IO8_INFO = {2: 8, 3: 0x00010002}                   # its 0x1018 has sub 1 only
 AI = "tests/fixtures/network/IoX4_8AI.eds"         # 0x1018: 63, 3001003, 0x01390538
 AI_ID = (0x3F, 0x2DCAAB, 0x01390538)
+DRIVE_ID = (0x1A3, 0xC01, 0x00010004)              # drive_eds
+
+
+def drive_eds(folder, more: str = "") -> str:
+    """tests/fixtures/network/technosoft.eds, a real drive's EDS, with its product code and
+    revision in [DeviceInfo] (the file gives neither: LSS needs them to select a drive by
+    its whole identity), and ``more`` sections at its end. Its 0x1014 (EMCY) and 0x1200
+    (SDO server) COB-IDs, and its PDOs', are $NODEID formulas."""
+    from conftest import ROOT
+    text = (ROOT / "tests" / "fixtures" / "network" / "technosoft.eds").read_text()
+    text = text.replace("VendorNumber=0x000001A3\n", "VendorNumber=0x000001A3\n"
+                        "ProductNumber=0x00000C01\nRevisionNumber=0x00010004\n", 1)
+    path = folder / "drive.eds"
+    path.write_text(text + more)
+    return str(path)
 
 
 def lss_node(bench, serial: int, *, path: str = IO8, node_id: int | None = None, **faults):

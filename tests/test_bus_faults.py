@@ -345,8 +345,10 @@ def test_a_node_from_an_eds_answers_its_identity_from_device_info(bench, epos):
                    (0x1018, 2): bytes.fromhex("00000163"),
                    (0x1018, 3): bytes.fromhex("00002121")}
     assert e.value.code == 0x060A0023          # the serial number: nowhere in the file
-    assert node.warnings == ["0x1000 (device type) has no value in the file: the node "
-                             "answers 0x00000000"]
+    assert [d.format() for d in node.warnings] == [
+        f"{epos}:14: warning: 0x1000 (device type) has no value in the file, and every "
+        "CANopen device answers it: the node answers 0x00000000, the device type of a "
+        "device that follows no device profile [NOD002]"]
 
 
 def test_node_warns_at_start_about_what_it_cannot_answer(channel, tmp_path):
@@ -358,14 +360,28 @@ def test_node_warns_at_start_about_what_it_cannot_answer(channel, tmp_path):
     r = run("node", str(eds), "-n", "5", "-i", "virtual", "--channel", channel, "--duration",
             "0")
     assert r.exit_code == 0
+    # each at its object's section (a missing one: the file), each with its code
     assert r.stderr.splitlines()[:3] == [
         f"{eds}: warning: the file has no 0x1001 (error register), which every CANopen device "
-        "has: the node answers SDO abort 0x06020000 (object does not exist)",
-        f"{eds}: warning: 0x1000 (device type) has no value in the file: the node answers "
-        "0x00000000",
-        f"{eds}: warning: 0x1018 sub 1 (vendor-ID) has no value in the file nor in "
+        "has: the node answers SDO abort 0x06020000 (object does not exist) [NOD001]",
+        f"{eds}:13: warning: 0x1000 (device type) has no value in the file, and every "
+        "CANopen device answers it: the node answers 0x00000000, the device type of a "
+        "device that follows no device profile [NOD002]",
+        f"{eds}:31: warning: 0x1018 sub 1 (vendor-ID) has no value in the file nor in "
         "[DeviceInfo] VendorNumber: the node answers SDO abort 0x060A0023 (resource not "
-        "available)"]
+        "available) [NOD003]"]
+
+
+def test_node_names_the_first_error_of_its_file(channel, tmp_path):
+    eds = tmp_path / "bad.eds"
+    eds.write_text(EPOS.replace("DataType=0x0005\nAccessType=ro\n",
+                                "DataType=0x0005\nAccessType=rx\n", 1))    # [1001], line 24
+    r = run("node", str(eds), "-n", "5", "-i", "virtual", "--channel", channel, "--duration",
+            "0")
+    assert r.exit_code == 0
+    assert r.stderr.splitlines()[0] == (
+        f"{eds}:24: warning: the file has 1 error, the first here (see 'dcf2bin validate'); "
+        "the node has the objects that could be read [NOD004]")
 
 
 def test_a_network_naming_such_an_eds_passes_its_identity_check(bench, epos, tmp_path):

@@ -4,7 +4,9 @@ three software slaves start without a node-ID, told apart by their serial number
 them, `network upload` reads them back, `network build` writes the build's DCFs, and
 `diff` of each upload against the build's <slave>.dcf -- and of the two folders, and of
 each built DCF against its live node -- finds nothing. A value changed on one node by
-hand (an SDO download from here) makes `diff` exit 1 naming exactly that entry.
+hand (an SDO download from here) makes `diff` exit 1 naming exactly that entry. The same
+loop with a real drive's EDS (technosoft.eds: 0x1014 and 0x1200 are $NODEID formulas)
+shows a node that took its node-ID from LSS holding every COB-ID of that node-ID.
 
 Every step is the CLI (CliRunner: the virtual bus reaches only this process), each
 bounded in time by the harness (``run_within``) with the bound its documentation gives,
@@ -16,12 +18,13 @@ import json
 import pytest
 from bus_helpers import run, run_within
 from conftest import ROOT
-from lss_helpers import lss_node, seconds_out
+from lss_helpers import drive_eds, lss_node, seconds_out
 
 pytest_plugins = ["bus_fixtures"]
 
 SDO_TIMEOUT = 1.0           # each SDO answer (it comes in milliseconds on the virtual bus)
 LSS_TIMEOUT = 0.5           # network lss's default
+CHECK_WAIT = 0.3            # network lss's --check-wait default
 SLACK = 3.0                 # what a loaded machine may add to a command's own bound
 SERIALS = {"io1": 0x1001, "io2": 0x1002, "io3": 0x1003}
 NODE_IDS = {"io1": 2, "io2": 3, "io3": 4}
@@ -136,9 +139,9 @@ def sdo_bus(channel: str) -> list[str]:
 def lss_bound(slaves: int) -> float:
     """network lss: per slave a selective switch (4 answers at most, the last one
     answered), configure node-ID, store, switch back and the boot-up message: 8 waits of
-    --timeout at most; before, one SDO round at the node-IDs of the file; after, the scan
-    (listen, then 0x1000 and 0x1018 sub 1-4 of each node: 5 rounds)."""
-    return (8 * slaves + 1 + 6) * LSS_TIMEOUT + SLACK
+    --timeout at most; before, one SDO round at the node-IDs of the file (--check-wait);
+    after, the scan (listen, then 0x1000 and 0x1018 sub 1-4 of each node: 5 rounds)."""
+    return (8 * slaves + 6) * LSS_TIMEOUT + CHECK_WAIT + SLACK
 
 
 def writes_bound(network: str, slaves: int) -> float:
@@ -195,6 +198,12 @@ def test_lss_download_upload_and_diff_agree_and_a_change_by_hand_is_named(bench,
     r = run_within(upload_bound(eds, 3), "network", "upload", network, "-o", "up", "-q",
                    *sdo_bus(bench.channel))
     assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
+    for name, node_id in NODE_IDS.items():      # the serial number read is its LSS one
+        with open(f"up/{name}.dcf", encoding="utf-8") as f:
+            text = f.read()
+        assert text.split("[DeviceComissioning]\n")[1].split("\n\n")[0].splitlines() == [
+            f"NodeID={node_id}", f"NodeName={name}",
+            f"LSS_SerialNumber=0x{SERIALS[name]:08X}"]
     r = run("network", "build", network, "-o", "out", "-q")
     assert (r.exit_code, r.stderr) == (0, "")
     # 5. nothing differs: file by file, folder by folder, and each node against its DCF
@@ -242,3 +251,59 @@ def test_lss_download_upload_and_diff_agree_and_a_change_by_hand_is_named(bench,
     assert r.exit_code == 1
     assert r.stdout.splitlines() == ["--- out/io2.bin", "+++ node 3", "@@ 0x1017 @@",
                                      "-0x1017sub0: 100", "+0x1017sub0: 250"]
+
+
+def drives_file(folder, eds: str) -> str:
+    """A PLC and two drives of one vendor-ID and product code, told apart by serial."""
+    path = folder / "drives.yml"
+    path.write_text(f"""master:
+  node_id: 1
+  name: plc
+  sync_period: 10000
+  dcf: {ROOT}/tests/fixtures/network/plc.dcf
+""" + "".join(f"""axis{k}:
+  dcf: {eds}
+  node_id: {node_id}
+  vendor_id: 0x1A3
+  product_code: 0xC01
+  revision_number: 0x00010004
+  serial_number: {serial}
+  heartbeat_producer: 100
+  tpdo:
+    1:
+      transmission: 1
+      mapping:
+        - {{index: 0x6041, sub_index: 0, name: status{k}}}
+""" for k, (node_id, serial) in enumerate(((5, 0x2001), (6, 0x2002)), 1)))
+    return str(path)
+
+
+def test_a_drive_given_its_node_id_by_lss_holds_the_cob_ids_of_it(bench, tmp_path,
+                                                                   monkeypatch):
+    """A node given a node-ID by LSS resets its communication: every entry whose value its
+    EDS states as a $NODEID formula takes the new node-ID -- 0x1014 (EMCY), 0x1200 (SDO
+    server) and the PDOs' COB-IDs -- so that its upload equals the build's DCF."""
+    monkeypatch.chdir(tmp_path)
+    eds = drive_eds(tmp_path)
+    network = drives_file(tmp_path, eds)
+    nodes = [lss_node(bench, serial, path=eds) for serial in (0x2002, 0x2001)]
+    r = run_within(lss_bound(2), "network", "lss", network, "-i", "virtual", "--channel",
+                   bench.channel)
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert [n.id for n in nodes] == [6, 5]
+    r = run_within(writes_bound(network, 2), "network", "download", network,
+                   *sdo_bus(bench.channel))
+    assert r.exit_code == 0, r.stderr
+    r = run_within(upload_bound(eds, 2), "network", "upload", network, "-o", "up", "-q",
+                   *sdo_bus(bench.channel))
+    assert (r.exit_code, r.stderr) == (0, "")
+    r = run("network", "build", network, "-o", "out", "-q")
+    assert (r.exit_code, r.stderr) == (0, "")
+    for name, node_id in (("axis1", 5), ("axis2", 6)):
+        r = run("diff", f"up/{name}.dcf", f"out/{name}.dcf")
+        assert (r.exit_code, r.stdout) == (0, ""), (name, r.stdout)
+        with bench.sdo(node_id) as ch:
+            assert [int.from_bytes(ch.upload(index, sub), "little") for index, sub in (
+                (0x1014, 0), (0x1200, 1), (0x1200, 2), (0x1401, 1), (0x1803, 1))] == [
+                0x80 + node_id, 0x600 + node_id, 0x580 + node_id, 0x300 + node_id,
+                0x80000480 + node_id]

@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from lss_helpers import AI, AI_ID, Frames, lss_node, plain_node
+from lss_helpers import AI, AI_ID, DRIVE_ID, Frames, drive_eds, lss_node, plain_node
 
 from dcf2bin.bus import lss as L
 
@@ -76,6 +76,72 @@ def test_the_predefined_cob_ids_follow_the_new_node_id(bench):
     boot.wait(1)
     sdo = bench.sdo(12)
     assert sdo.upload(0x1800, 1)[:2] == (0x18C).to_bytes(2, "little")
+
+
+NODE_ID_VALUE = """
+[5F00]
+ParameterName=A manufacturer's node-ID based value
+ObjectType=0x7
+DataType=0x0006
+AccessType=rw
+DefaultValue=$NODEID+0x100
+"""
+
+
+def _u32(sdo, index: int, sub: int) -> int:
+    return int.from_bytes(sdo.upload(index, sub), "little")
+
+
+def test_a_new_node_id_works_out_every_nodeid_value_and_keeps_the_configuration(
+        bench, tmp_path):
+    """At the reset communication that takes node-ID 9 (CiA 301): each value the EDS
+    states as a $NODEID formula is worked out with 9, whatever its object (0x1200 and a
+    manufacturer's 0x5F00 too: no list of the predefined connection set); a value written
+    by SDO and stored ("save", 0x1010) comes back as written, one not stored is gone with
+    the reset of the communication area; "load" (0x1011) forgets what was stored."""
+    eds = drive_eds(tmp_path, NODE_ID_VALUE)
+    lss_node(bench, 0x55, path=eds, node_id=3)
+    with bench.sdo(3) as ch:
+        ch.download(0x1014, 0, (0xF3).to_bytes(4, "little"))      # EMCY moved by hand
+        ch.download(0x1010, 1, b"save")
+        ch.download(0x1017, 0, (250).to_bytes(2, "little"))       # after the save
+        assert [_u32(ch, 0x1014, 0), _u32(ch, 0x1017, 0), _u32(ch, 0x1200, 1),
+                _u32(ch, 0x5F00, 0)] == [0xF3, 250, 0x603, 0x103]
+    m = master(bench, timeout=2)
+    assert m.select(L.Identity(*DRIVE_ID, 0x55)) and m.configure_node_id(9).ok
+    assert m.store().ok
+    m.switch_global(configuration=False)
+    boot = Frames(m.net, 0x709)
+    m.net.send_message(0, bytes([0x82, 3]))            # NMT reset communication, node 3
+    assert boot.wait(1) == [(0x709, b"\x00")]
+    with bench.sdo(9) as ch:
+        assert [_u32(ch, index, sub) for index, sub in (
+            (0x1200, 1), (0x1200, 2), (0x1400, 1), (0x1803, 1), (0x5F00, 0), (0x1014, 0),
+            (0x1017, 0))] == [0x609, 0x589, 0x209, 0x80000489, 0x109, 0xF3, 0]
+        ch.download(0x1011, 1, b"load")
+    boot = Frames(m.net, 0x709)
+    m.net.send_message(0, bytes([0x82, 9]))
+    assert boot.wait(1) == [(0x709, b"\x00")]
+    with bench.sdo(9) as ch:
+        assert _u32(ch, 0x1014, 0) == 0x89                  # the file's, at node-ID 9
+
+
+def test_a_nodeid_value_that_does_not_fit_at_the_new_node_id_has_no_value(tmp_path):
+    """Never truncated: $NODEID+0x81 in an UNSIGNED8 is 0x84 at node-ID 3, and no value at
+    127 (SDO then answers 0x060A0023), which the node says."""
+    from dcf2bin.bus.node import from_file
+    eds = drive_eds(tmp_path, NODE_ID_VALUE.replace("0x0006", "0x0005").replace(
+        "0x100", "0x81"))
+    node, errors = from_file(eds, 3)
+    said = []
+    node.on_event = said.append
+    var = node.object_dictionary.get_variable(0x5F00)
+    assert (errors, var.default) == ([], 0x84)
+    node.take_node_id(127)
+    assert var.default is None
+    assert said == ["0x5F00 sub 0: '$NODEID+0x81' is no UNSIGNED8 at node-ID 127: no value"]
+    node.take_node_id(5)
+    assert var.default == 0x86
 
 
 def test_refusals_carry_their_error_code(bench):

@@ -128,6 +128,19 @@ def test_the_default_scan_wait_is_the_libraries():
         assert wait.default == L.WAIT == 0.05, path
 
 
+def test_the_default_check_wait_is_network_scans():
+    """The check before any change is an SDO round that hopes for silence: it waits as
+    long as network scan gives a node to answer, not the LSS --timeout (0.5 s)."""
+    from dcf2bin.bus import lssnet, scan
+    from dcf2bin.cli import main
+    for path in (("network", "lss"), ("lss", "set")):
+        cmd = main
+        for name in path:
+            cmd = cmd.commands[name]
+        wait = next(p for p in cmd.params if p.name == "check_wait")
+        assert wait.default == lssnet.Options().check_wait == scan.TIMEOUT == 0.3, path
+
+
 # -- dcf2bin node answers LSS -------------------------------------------------------------------
 
 def node_beside(scenario, channel: str, *args):

@@ -8,7 +8,7 @@ import json
 import time
 
 import pytest
-from bus_helpers import run
+from bus_helpers import run, run_within
 from lss_helpers import AI, lss_node, plain_node, seconds_out
 
 pytest_plugins = ["bus_fixtures"]
@@ -53,6 +53,27 @@ def test_three_unconfigured_nodes_get_their_node_ids(bench):
         f"{THREE}: 0 assigned, 3 already right, 0 not found, 0 refused (S s)")
     assert r.stdout.splitlines()[2] == (
         f"2     io1   already right  selective switch  2    {IO8}  0x00001001  yes")
+
+
+def test_the_check_before_any_change_waits_check_wait_not_timeout(bench):
+    """With --timeout 5 every wait but the check's ends on an answer, so the run takes
+    --check-wait (0.05 s) and the answers' time, far from the 5 s the check round waited
+    when it waited --timeout."""
+    three_unconfigured(bench)
+    r = run_within(4.0, "network", "lss", THREE, "-i", "virtual", "--channel", bench.channel,
+                   "--timeout", "5", "--check-wait", "0.05", "-q")
+    assert (r.exit_code, r.stdout, r.stderr) == (0, "", "")
+
+
+def test_a_taken_node_id_is_seen_within_check_wait(bench):
+    three_unconfigured(bench)
+    plain_node(bench, 3, path=AI)
+    r = run_within(4.0, "network", "lss", THREE, "-i", "virtual", "--channel", bench.channel,
+                   "--timeout", "5", "--check-wait", "0.05")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines()[0] == (
+        f"{THREE}:12: error: node 3 (io2): node-ID 3 is taken: another node answers there "
+        "(vendor-ID 0x0000003F, product code 0x002DCAAB, revision 0x01390538)")
 
 
 def test_nodes_with_other_node_ids_are_reset_to_theirs(bench):

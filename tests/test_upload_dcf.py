@@ -181,6 +181,33 @@ def test_commissioning_keys_of_a_dcf_are_replaced_where_they_stand():
                               "Baudrate=500", "NetworkName=cell"]
 
 
+def test_the_serial_number_read_is_lss_serial_number_in_device_comissioning():
+    """CiA 306 [DeviceComissioning] LSS_SerialNumber: the serial number of the node's LSS
+    address, which the upload reads as 0x1018 sub 4 (technosoft.eds: CRLF, no
+    [DeviceComissioning] of its own)."""
+    desc = _desc((ROOT / "tests" / "fixtures" / "network" / "technosoft.eds").read_bytes(),
+                 "drive.eds")
+    out = up.dcf(desc, _result(desc, {(0x1018, 4): (0x2001).to_bytes(4, "little")}),
+                 {"NodeName": "axis1"})
+    assert out.split(b"[DeviceComissioning]")[1] == (
+        b"\r\nNodeID=3\r\nNodeName=axis1\r\nLSS_SerialNumber=0x00002001\r\n")
+    refused = up.dcf(desc, _result(desc, {(0x1018, 4): 0x06090011}))
+    assert refused.split(b"[DeviceComissioning]")[1] == b"\r\nNodeID=3\r\n"
+
+
+def test_an_lss_serial_number_of_a_dcf_is_replaced_where_it_stands():
+    text = (ROOT / "samples" / "device.dcf").read_bytes().replace(
+        b"[DeviceComissioning]\n", b"[DeviceComissioning]\nLSS_SerialNumber=0x00000007\n")
+    text = text.replace(b"[1018sub1]", b"[1018sub4]\nParameterName=Serial number\n"
+                        b"ObjectType=0x7\nDataType=0x0007\nAccessType=ro\n\n[1018sub1]")
+    desc = _desc(text, "device.dcf")
+    out = up.dcf(desc, _result(desc, {(0x1018, 4): b"\x10\x20\x00\x00"}))
+    lines = out.decode().splitlines()
+    k = lines.index("[DeviceComissioning]")
+    assert lines[k:k + 3] == ["[DeviceComissioning]", "LSS_SerialNumber=0x00002010",
+                              "NodeID=3"]
+
+
 def test_a_name_the_file_s_encoding_cannot_hold_is_an_error():
     desc = _desc((ROOT / "tests" / "fixtures" / "upload" / "stored.eds").read_bytes())
     with pytest.raises(up.UploadError) as e:

@@ -10,9 +10,13 @@ hardware: `dcf2bin node` answers the LSS master on 0x7E5 (answers on 0x7E4).
   own). A node that has a node-ID takes the one configured at its next NMT reset
   (communication or application).
 * The identity is 0x1018 sub 1-4; the entries the object dictionary lacks are added, so
-  that SDO reads what LSS answers. When the node takes a new node-ID, the COB-IDs of the
-  predefined connection set that its object dictionary holds (EMCY 0x1014, PDOs 1-4)
-  follow it.
+  that SDO reads what LSS answers.
+* A new node-ID is taken as a CiA 301 node takes it, at a reset communication (bus/node.py
+  restores the communication area from the stored values, else the file's): every value
+  of the file that is a $NODEID formula is worked out again with it -- EMCY 0x1014, the SDO
+  server 0x1200, the PDOs' COB-IDs and any other object's -- from the formulas the model
+  keeps (``BenchNode.formulas``); values written by SDO, stored or not, stay as written.
+  An emulated SYS TEC target has no formulas: its values are what its container wrote.
 * A software node has no memory across runs: store keeps the pending node-ID and bit
   timing for the node's own resets only. A bit timing activated is reported, not
   applied (the bus rate is the interface's).
@@ -32,9 +36,6 @@ from canopen.sdo import SdoAbortedError
 from dcf2bin.bus import lss as L
 
 _VALID_TIMINGS = frozenset(L.BIT_TIMINGS.values())
-# COB-IDs of the predefined connection set: index -> CAN-ID base (sub 0 for EMCY, else 1)
-_PREDEFINED = {0x1014: 0x080, 0x1400: 0x200, 0x1401: 0x300, 0x1402: 0x400, 0x1403: 0x500,
-               0x1800: 0x180, 0x1801: 0x280, 0x1802: 0x380, 0x1803: 0x480}
 _IDENTITY_NAMES = ("Vendor-ID", "Product code", "Revision number", "Serial number")
 
 
@@ -209,8 +210,10 @@ class LssSlave:
 # -- the node's side ----------------------------------------------------------------------
 
 def renumber(node, node_id: int) -> None:
-    """Give a ``BenchNode`` another node-ID: its SDO server, NMT, heartbeat and EMCY, and
-    the predefined connection set's COB-IDs its object dictionary holds."""
+    """Give a ``BenchNode`` another node-ID, as a reset communication does: its SDO server,
+    NMT, heartbeat and EMCY, and every value of its file that is a $NODEID formula
+    (``BenchNode.take_node_id``: 0x1014, 0x1200, the PDOs' COB-IDs, whatever the object).
+    The values written by SDO stay as written: they are configuration."""
     old = node.id
     net = node.network if node.has_network() else None
     if net is not None:
@@ -223,29 +226,7 @@ def renumber(node, node_id: int) -> None:
         if net.nodes.get(old) is node:
             del net.nodes[old]
             net.nodes[node_id] = node
-    od = node.object_dictionary
-    if 1 <= old <= 127:
-        for index, base in _PREDEFINED.items():
-            var = _variable(od, index, 0 if index == 0x1014 else 1)
-            if var is None:
-                continue
-            for attr in ("value", "default"):
-                raw = getattr(var, attr, None)
-                if raw is None:
-                    continue
-                cob = _number(raw)
-                if not cob & 0x20000000 and cob & 0x7FF == base + old:
-                    setattr(var, attr, _like(raw, (cob & ~0x7FF) | (base + node_id)))
-    od.node_id = node_id
-
-
-def _variable(od, index: int, sub: int):
-    if index not in od:
-        return None
-    obj = od[index]
-    if isinstance(obj, od_mod.ODVariable):
-        return obj if sub == 0 else None
-    return obj[sub] if sub in obj else None
+    node.take_node_id(node_id)
 
 
 def identity_of(node, serial: int | None = None,

@@ -11,7 +11,10 @@ Three passes, and nothing is changed before the first two are clean:
    node-ID (inquire node-ID; a fastscan finds only nodes without one, 0xFF).
 2. *Check*: no two nodes match one slave's identity (a second unconfigured one is
    asked for by fastscan, a second one by the halving); no slave's node-ID answers SDO
-   on the bus unless it is held by a slave found here.
+   on the bus unless it is held by a slave found here. That SDO round hopes for silence,
+   so it lasts its whole wait, ``check_wait``: as long as ``network scan`` gives a node
+   to answer (0.3 s), not the LSS ``timeout``. It is not made shorter, as a fastscan
+   step's is: a node missed there is not merely "not found" but a node-ID given twice.
 3. *Assign*, one slave after the other (those whose new node-ID another one still holds
    after that one): switch state selective, configure node-ID (and bit timing),
    store, switch state global to waiting; a node that had no node-ID takes the new one
@@ -20,7 +23,7 @@ Three passes, and nothing is changed before the first two are clean:
    scan (``scan``) shows whether each node answers at its node-ID with the identity
    found.
 
-    result = commission(net, wanted, Options(timeout=0.5, wait=0.05))
+    result = commission(net, wanted, Options(timeout=0.5, wait=0.05, check_wait=0.3))
 
 Nothing here imports click; the command renders the rows.
 """
@@ -65,6 +68,7 @@ class Options:
     bitrate: int | None = None          # configure this bit timing too
     store: bool = True
     serial_key: str = "serial_number"   # where the network file gives a serial number
+    check_wait: float = sc.TIMEOUT      # the SDO round before any change (silence: free)
 
 
 @dataclass
@@ -230,7 +234,7 @@ def _taken(net, rows: list[Row], options: Options) -> list[Problem]:
     asked = {r.wanted.node_id: r for r in rows if r.status != SKIPPED}
     if not asked:
         return []
-    scan = sc.scan(net, listen=0, timeout=options.timeout, retries=0, ids=sorted(asked))
+    scan = sc.scan(net, listen=0, timeout=options.check_wait, retries=0, ids=sorted(asked))
     out = []
     for node_id, row in sorted(asked.items()):
         f = scan.found.get(node_id)

@@ -13,7 +13,15 @@ included) are canopen's; this module connects them:
   enforced.
 * NMT reset application restores every entry, reset communication the entries
   0x1000–0x1FFF, to the values stored by "save" in 0x1010 sub 1 (else the file's);
-  then the node sends its boot-up message and enters PRE-OPERATIONAL.
+  then the node sends its boot-up message and enters PRE-OPERATIONAL. "load" in 0x1011
+  (restore default parameters: sub 1 all, sub 2 communication, sub 3 application)
+  forgets what was stored, from the next reset on (CiA 301).
+* A new node-ID (LSS, bus/lss_slave.py) is taken at a reset communication: every value
+  of the file that is a ``$NODEID`` formula -- DefaultValue or ParameterValue, whatever
+  the object: 0x1014, 0x1200, the PDOs' COB-IDs, a manufacturer's -- is worked out
+  again with it (``take_node_id``). Values written by SDO are configuration: a stored one
+  comes back at the reset as it was written, one not stored in the communication area
+  is gone (the reset restores that area), as on a device that keeps its configuration.
 
 With a process image (an emulated SYS TEC target), the network variables live in one
 ``bytearray`` at their PI addresses: SDO, RPDOs and TPDOs all read and write there.
@@ -30,6 +38,7 @@ import canopen.objectdictionary as od_mod
 from canopen.sdo import SdoAbortedError
 
 from dcf2bin import datatypes as dt
+from dcf2bin import values
 from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 
 SYNC_COB_ID = 0x080
@@ -41,10 +50,48 @@ OUT_OF_MEMORY = 0x05040005      # CiA 301 abort: out of memory
 _TPDO_COMM, _RPDO_COMM = 0x1800, 0x1400
 # CiA 301 dummy entries (mappable data-type objects): index -> canopen data type code
 _DUMMIES = {1: 0x1, 2: 0x2, 3: 0x3, 4: 0x4, 5: 0x5, 6: 0x6, 7: 0x7}
+# CiA 301 0x1010/0x1011 sub-indexes -> the indexes they store or restore
+_PARAMETERS = {1: (0x1000, 0xFFFF), 2: (0x1000, 0x1FFF), 3: (0x6000, 0x9FFF)}
 
 
 class NodeError(Exception):
     """The node cannot be built from what it was given (one line for the user)."""
+
+
+@dataclass(frozen=True)
+class Formula:
+    """An entry whose value in the file depends on the node-ID: its DefaultValue and its
+    ParameterValue text where each is a ``$NODEID`` formula (else None)."""
+    dtype: dt.DataType
+    default: str | None
+    value: str | None
+
+    def at(self, text: str, node_id: int):
+        """``text`` worked out with ``node_id``, as canopen holds a value (None: it is no
+        value of the type there, e.g. $NODEID+0x80 in an UNSIGNED8 at node-ID 0x80)."""
+        number = values.split_numeric_comment(text)[0]
+        try:
+            return values.to_python(self.dtype, values.encode(self.dtype, number,
+                                                               node_id=node_id))
+        except values.ValueProblem:
+            return None
+
+
+def formulas(dev) -> dict[tuple[int, int], Formula]:
+    """Every integer entry of the model whose DefaultValue or ParameterValue uses
+    $NODEID (the objects ``to_canopen`` gives the node: 0x1000 and above)."""
+    out = {}
+    for obj in dev.sorted_objects():
+        if obj.index < 0x1000:
+            continue
+        for e in obj.sorted_entries():
+            if e.dtype is None or not e.dtype.is_integer:
+                continue
+            default, value = (t if t is not None and values.uses_nodeid(t) else None
+                              for t in (e.default, e.param))
+            if default is not None or value is not None:
+                out[(e.index, e.sub)] = Formula(e.dtype, default, value)
+    return out
 
 
 @dataclass
@@ -97,12 +144,13 @@ class BenchNode(canopen.LocalNode):
         self.on_event: Callable[[str], None] | None = None
         self.nmt_state = INITIALISING
         self.pdos = Pdos(self)
-        self.warnings: list[str] = []     # what from_file had to make up or cannot answer
+        self.warnings: list = []    # Diagnostics: what from_file made up or cannot answer
         self.max_download = MAX_DOWNLOAD
         self.sdo.segmented_download = self._bounded(self.sdo.segmented_download)
         self._saved: dict[int, dict[int, bytes]] = {}
         self._saved_image = bytes(image.data) if image is not None else b""
         self.lss = None          # its LSS slave (bus/lss_slave.py), when it answers LSS
+        self.formulas: dict[tuple[int, int], Formula] = {}   # the file's $NODEID values
 
     def _bounded(self, segmented_download):
         """canopen's server collects a segmented download without a limit: a client that
@@ -134,6 +182,10 @@ class BenchNode(canopen.LocalNode):
         if index == 0x1010 and subindex == 1 and bytes(data) == b"save":
             self._saved = copy.deepcopy(self.data_store)
             self._saved_image = bytes(self.image.data) if self.image is not None else b""
+        elif index == 0x1011 and subindex in _PARAMETERS and bytes(data) == b"load":
+            first, last = _PARAMETERS[subindex]
+            self._saved = {i: subs for i, subs in self._saved.items()
+                           if not first <= i <= last}
         if is_pdo_comm(index) or is_pdo_mapping(index):
             self.pdos.reread(index)
         else:
@@ -148,6 +200,25 @@ class BenchNode(canopen.LocalNode):
         self.nmt_state = PRE_OPERATIONAL
         self.pdos.read_all()
         self.nmt.start_heartbeat(self._heartbeat_ms())
+
+    def take_node_id(self, node_id: int) -> None:
+        """The file's $NODEID values worked out with ``node_id`` (``formulas``); the values
+        written by SDO (``data_store``) are configuration and stay as written. The node's
+        own services (SDO server, NMT, EMCY) are bus/lss_slave.py's ``renumber``."""
+        od = self.object_dictionary
+        for (index, sub), f in self.formulas.items():
+            var = od.get_variable(index, sub)
+            if var is None:              # a formula of an object the node was not given
+                continue
+            for attr in ("default", "value"):
+                text = getattr(f, attr)
+                if text is None:
+                    continue
+                setattr(var, attr, f.at(text, node_id))
+                if getattr(var, attr) is None:
+                    self.event(f"0x{index:04X} sub {sub}: '{text}' is no {f.dtype.name} at "
+                               f"node-ID {node_id}: no value")
+        od.node_id = node_id
 
     def _heartbeat_ms(self) -> int:
         try:
@@ -402,7 +473,8 @@ def bench_node(node_id: int, od, image: ProcessImage | None = None) -> BenchNode
 def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
     """A node from an EDS/DCF: canopen's object dictionary built from the dcf2bin model
     (values exactly as compile encodes them), the mandatory objects an EDS leaves without a
-    value filled as ``fill_mandatory`` says (its warnings in ``node.warnings``). Returns
+    value filled as ``fill_mandatory`` says (its warnings in ``node.warnings``), the file's
+    $NODEID values kept as formulas for a new node-ID (``node.formulas``). Returns
     (node, model errors)."""
     from dcf2bin import formats
     from dcf2bin.diagnostics import Severity
@@ -412,13 +484,16 @@ def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
         raise NodeError("no node-ID: give --node-id N or set NodeID in [DeviceComissioning]")
     errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR]
     od = dev.to_canopen()
-    warnings = fill_mandatory(od, _device_info(dev))
+    warnings = fill_mandatory(od, dev)
     node = bench_node(nid, od)
     node.warnings = warnings
+    node.formulas = formulas(dev)
     return node, errors
 
 
 # -- the mandatory objects (CiA 301: 0x1000, 0x1001, 0x1018 sub 0 and 1) ---------------------
+# The node's diagnostics at start, each with its code (man/dcf2bin-node.1, "DIAGNOSTICS"):
+MISSING, NO_DEVICE_TYPE, NO_VENDOR, FILE_ERRORS = "NOD001", "NOD002", "NOD003", "NOD004"
 
 _INFO_KEYS = {1: ("vendornumber", "VendorNumber", "vendor-ID"),
               2: ("productnumber", "ProductNumber", "product code"),
@@ -428,7 +503,6 @@ _NO_VALUE = "SDO abort 0x060A0023 (resource not available)"
 
 def _device_info(dev) -> dict[str, int]:
     """[DeviceInfo] VendorNumber, ProductNumber, RevisionNumber that read as numbers."""
-    from dcf2bin import values
     info = dev.ini.section("deviceinfo") if dev.ini is not None else None
     out = {}
     for key, _, _ in _INFO_KEYS.values():
@@ -446,24 +520,36 @@ def _unset(var) -> bool:
     return var is not None and var.value is None and var.default is None
 
 
-def fill_mandatory(od, info: dict[str, int]) -> list[str]:
+def _warning(message: str, where, path: str, rule: str):
+    from dcf2bin.diagnostics import Diagnostic, Severity
+    return Diagnostic(Severity.WARNING, message, where.file if where else path,
+                      where.line if where else None, rule=rule)
+
+
+def fill_mandatory(od, dev) -> list:
     """An EDS often gives its identity in [DeviceInfo] only, and no value to 0x1000 or
     0x1018: a real device answers them, so the node does too. Without a value in the file,
     0x1018 sub 1-3 take [DeviceInfo] VendorNumber, ProductNumber and RevisionNumber, sub 0
     the highest sub-index present, 0x1001 (error register) 0 (a software node has no
-    error) and 0x1000 (device type) 0x00000000; each value the node has to make up that
-    way, and each mandatory object it cannot answer, is one warning."""
+    error) and 0x1000 (device type) 0x00000000 (CiA 301: no device profile); each value
+    the node has to make up that way, and each mandatory object it cannot answer, is one
+    warning (a ``Diagnostic`` at the object's section, else the file, with its code)."""
+    info = _device_info(dev)
     warnings = []
     for index, what in ((0x1000, "device type"), (0x1001, "error register"),
                         (0x1018, "identity object")):
         if index not in od:
-            warnings.append(f"the file has no 0x{index:04X} ({what}), which every CANopen "
-                            "device has: the node answers SDO abort 0x06020000 (object does "
-                            "not exist)")
+            warnings.append(_warning(
+                f"the file has no 0x{index:04X} ({what}), which every CANopen device has: "
+                "the node answers SDO abort 0x06020000 (object does not exist)",
+                None, dev.path, MISSING))
     if _unset(od.get_variable(0x1000)):
         od.get_variable(0x1000).default = 0
-        warnings.append("0x1000 (device type) has no value in the file: the node answers "
-                        "0x00000000")
+        warnings.append(_warning(
+            "0x1000 (device type) has no value in the file, and every CANopen device "
+            "answers it: the node answers 0x00000000, the device type of a device that "
+            "follows no device profile", dev.objects[0x1000].where, dev.path,
+            NO_DEVICE_TYPE))
     if _unset(od.get_variable(0x1001)):
         od.get_variable(0x1001).default = 0
     identity = od.get(0x1018)
@@ -476,8 +562,11 @@ def fill_mandatory(od, info: dict[str, int]) -> list[str]:
         if key in info:
             var.default = info[key]
         elif sub == 1:
-            warnings.append(f"0x1018 sub 1 ({what}) has no value in the file nor in "
-                            f"[DeviceInfo] {shown}: the node answers {_NO_VALUE}")
+            entry = dev.objects[0x1018].entries.get(1)
+            warnings.append(_warning(
+                f"0x1018 sub 1 ({what}) has no value in the file nor in [DeviceInfo] "
+                f"{shown}: the node answers {_NO_VALUE}",
+                entry.where if entry is not None else None, dev.path, NO_VENDOR))
     sub0 = identity.get(0)
     if _unset(sub0):
         sub0.default = max(identity.subindices)

@@ -395,10 +395,11 @@ def _finished(results: list) -> int:
 
 def dcf(desc: Description, result: NodeRead, commissioning: dict[str, str] | None = None
         ) -> bytes:
-    """The description's text with every value read as ParameterValue, NodeID and the
-    ``commissioning`` keys (NodeName, NetworkName, Baudrate) in [DeviceComissioning],
-    and a comment for every entry not stated (an input DCF's ParameterValue of such an
-    entry becomes that comment). ``UploadError`` for a name the file's encoding lacks."""
+    """The description's text with every value read as ParameterValue, NodeID, the
+    ``commissioning`` keys (NodeName, NetworkName, Baudrate) and LSS_SerialNumber (when
+    0x1018 sub 4 was read: ``lss_keys``) in [DeviceComissioning], and a comment for every
+    entry not stated (an input DCF's ParameterValue of such an entry becomes that
+    comment). ``UploadError`` for a name the file's encoding lacks."""
     from dcf2bin import values
     from dcf2bin.diagnostics import Diagnostics
     from dcf2bin.network.dcfedit import edit
@@ -410,7 +411,20 @@ def dcf(desc: Description, result: NodeRead, commissioning: dict[str, str] | Non
                 ini=desc.ini)
     if text is None:     # an entry without a section: ``targets`` never reads one
         raise AssertionError(diags.errors[0].message)
-    return annotate(text, desc.path, result.notes, commissioning or {})
+    return annotate(text, desc.path, result.notes, {**(commissioning or {}),
+                                                   **lss_keys(result)})
+
+
+def lss_keys(result: NodeRead) -> dict[str, str]:
+    """The CiA 306 [DeviceComissioning] keys the values read give: LSS_SerialNumber, the
+    serial number of the node's LSS address (0x1018 sub 4), when it was read. The other
+    keys of that section are not the node's to say: NodeID, NodeName, NetworkName and
+    Baudrate are the caller's; NetNumber, NodeRefd, NetRefd and CANopenManager no entry
+    states (0x1F80 bit 0 says NMT master, which is not all of a CANopen manager)."""
+    read = result.values.get((0x1018, 4))
+    if read is None or len(read[1]) != 4:
+        return {}
+    return {"LSS_SerialNumber": f"0x{int.from_bytes(read[1], 'little'):08X}"}
 
 
 def check_keys(desc: Description, keys: dict[str, str]) -> None:

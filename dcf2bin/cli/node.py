@@ -136,10 +136,12 @@ def _from_file(path: str, node_id: int | None, quiet: bool):
     except nodemod.NodeError as exc:
         fail(str(exc), name)
     if errors:
-        emit([Diagnostic(Severity.WARNING, f"the file has {len(errors)} error"
-                         f"{'s' if len(errors) != 1 else ''} (see 'dcf2bin validate'); the "
-                         "node has the objects that could be read", name)], quiet)
-    emit([Diagnostic(Severity.WARNING, w, name) for w in node.warnings], quiet)
+        n, first = len(errors), errors[0]
+        emit([Diagnostic(Severity.WARNING, f"the file has {n} error{'s' if n != 1 else ''}, "
+                         f"the first here (see 'dcf2bin validate'); the node has the objects "
+                         "that could be read", first.file or name, first.line,
+                         rule=nodemod.FILE_ERRORS)], quiet)
+    emit(node.warnings, quiet)
     return node, name
 
 

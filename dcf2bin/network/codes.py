@@ -17,8 +17,8 @@ CODES: list[tuple[str, str, str]] = [
                       "list, mapping, PDO number, node-ID)"),
     ("NET005", ERROR, "a required key is missing: master, a slave, node_id, a slave's dcf"),
     ("NET006", WARNING, "a key that resembles a key dcf2bin reads (a misspelling?)"),
-    ("NET007", INFO, "a key dcf2bin does not use (ros2_canopen's driver, lely's dcf_path, "
-                     "...): ignored"),
+    ("NET007", INFO, "a key dcf2bin does not use (ros2_canopen's driver, package, ...): "
+                     "ignored"),
     ("NET008", WARNING, "eds: is read as dcf:"),
     ("NET009", WARNING, "a key given in both defaults: and the node: the node's is taken "
                         "(ros2_canopen's generator takes the one of defaults:)"),
@@ -64,6 +64,9 @@ CODES: list[tuple[str, str, str]] = [
     ("NET122", WARNING, "one object mapped twice in one PDO's mapping:"),
     ("NET123", WARNING, "a names: entry for an object that no linked PDO of that slave "
                         "maps: the name is not used"),
+    ("NET124", WARNING, "a key of lely's dcfgen that a PLC master does not use (its own "
+                        "identity, dcf_path, configuration_file, software_file): what dcfgen "
+                        "would do for a lely master is not done"),
     # -- build's output folder ------------------------------------------------------------
     ("NET130", WARNING, "a file an earlier build wrote in the output folder that this "
                         "network does not make (a slave that left it): kept, never deleted"),

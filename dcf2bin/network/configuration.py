@@ -195,6 +195,8 @@ def _master_facts(master: Node) -> None:
     master.sync_producer = bool(master.sync_period)
     master.sync_cob_id = 0x80
     master.emcy_cob_id = 0x80 + master.node_id
+    master.sync_counter = cfg.get("sync_overflow", 0)       # a lely master's 0x1019 and
+    master.time_cob_id = cfg.get("time_cob_id", 0x100)      # 0x1012 (D-21, as dcfgen)
 
 
 PLC, LELY = "plc", "lely"

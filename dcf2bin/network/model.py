@@ -201,6 +201,7 @@ class Network:
     kind: str = "yaml"                 # "yaml" or "cpj"
     nodes: list[Node] = field(default_factory=list)          # node-ID order after configure
     options: dict[str, Any] = field(default_factory=dict)    # heartbeat_multiplier, …
+    options_where: dict[str, Where] = field(default_factory=dict)  # option -> its line
     bitrate: int = 500_000             # bit/s, for the load estimate (D-20)
     variables: list[Variable] = field(default_factory=list)
     diagnostics: Diagnostics = field(default_factory=Diagnostics)

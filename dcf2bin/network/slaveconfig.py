@@ -5,7 +5,8 @@ the subs the YAML gives; only with ``mapping:``, mapping sub 0 = 0, subs 1..n, s
 last comm sub 1 = COB-ID (left invalid for ``enabled: false``). Then guard_time (0x100C),
 life_time_factor (0x100D), heartbeat_producer (0x1017), the heartbeat consumer entry for
 the master (0x1016) -- or, for a slave that does not monitor the master, its file's 0x1016
-entries that do, cleared as lely's dcfgen clears them --, and the ``sdo`` list in order.
+entries that do, cleared as lely's dcfgen clears them --, time_cob_id (0x1012),
+error_behavior (0x1029, its subs in the YAML's order), and the ``sdo`` list in order.
 """
 from __future__ import annotations
 
@@ -76,12 +77,34 @@ def configure_slave(net: Network, node: Node, diags: Diagnostics) -> None:
             put(index, 0, node.config[key], what, cw.get(key))
     if not (node.config.get("heartbeat_consumer") and _consumer(net, node, put, diags)):
         _stop_watching(net, node, put)
+    if "time_cob_id" in node.config:
+        put(0x1012, 0, node.config["time_cob_id"], "COB-ID TIME", cw.get("time_cob_id"))
+    for sub, (value, where) in node.config.get("error_behavior", {}).items():
+        put(0x1029, sub, value, f"error behaviour of class {sub}", where)
+    _restore_entry(node, diags)
     for item in node.sdo_config:
         w = sdo_write(dev, item.index, item.sub, item.value, item.where, node.name, diags)
         if w is not None:
             out.append(w)
     for w in out:
         node.settings[(w.index, w.sub)] = w
+
+
+def _restore_entry(node: Node, diags: Diagnostics) -> None:
+    """``restore_configuration: n`` has the master write "load" to the slave's 0x1011
+    sub n (CiA 302's restore before configuring): that entry must exist and be
+    writable."""
+    n = node.config.get("restore_configuration", 0)
+    if not n:
+        return
+    e = node.device.entry(0x1011, n)
+    where = node.config_where.get("restore_configuration")
+    if e is None:
+        diags.error(f"{node.name}'s file has no 0x1011sub{n:X}, where the master is to restore "
+                    "its defaults (restore_configuration)", where, rule="NET114")
+    elif e.access in ("ro", "const"):
+        diags.error(f"0x1011sub{n:X} of {node.name} is {e.access}: the master cannot restore "
+                    "its defaults there (restore_configuration)", where, rule="NET114")
 
 
 def _stop_watching(net: Network, node: Node, put) -> None:

@@ -166,13 +166,6 @@ class _Reader(Items):
             return
         for key, v in value.items():
             kline = value.lines[key]
-            if key == "dcf_path":       # a lely master's 0x1F22 names the .bin under it
-                self.diags.info("options: dcf_path is used only in a lely master's "
-                                "UploadFile= names; the outputs go where -o says",
-                                self.w(kline), rule="NET007")
-                if isinstance(v, str):
-                    self.net.options["dcf_path"] = v
-                continue
             kind = OPTION_KEYS.get(key)
             if kind is None:
                 self.unknown(key, kline, OPTION_KEYS)
@@ -180,6 +173,7 @@ class _Reader(Items):
             got = self.scalar(key, kind, v, kline)
             if got is not None:
                 self.net.options[key] = got
+                self.net.options_where[key] = self.w(kline)
 
     # -- a node ----------------------------------------------------------------------------
     def node(self, name: str, value, line: int, role: str, defaults: YMap | None) -> None:

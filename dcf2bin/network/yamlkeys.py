@@ -14,14 +14,21 @@ from dcf2bin.network.yamltree import LongInt, YMap, YSeq
 PLACEHOLDER = "@BUS_CONFIG_PATH@/"
 MAX_FILE = 64 << 20
 
-# key -> kind of value: int, bool, float (a number), str, or a special reader
-OPTION_KEYS = {"heartbeat_multiplier": "float", "retry_factor": "int", "dcf_path": "info"}
+# key -> kind of value: int, bool, float (a number), str (a text, not empty), text (a
+# text, maybe empty), cob (a COB-ID), behavior ({sub: value}), or a special reader. Every
+# key lely's dcfgen (dcf-tools 2.4.2) reads is here: docs/network.md says what each does
+# for a lely master and for a PLC master.
+OPTION_KEYS = {"heartbeat_multiplier": "float", "retry_factor": "int", "dcf_path": "text"}
 MASTER_KEYS = {
     "node_id": "int", "dcf": "path", "name": "str", "heartbeat_producer": "int",
     "heartbeat_consumer": "consumer", "heartbeat_multiplier": "float", "sync_period": "int",
     "sync_window": "int", "start": "bool", "start_nodes": "bool", "start_all_nodes": "bool",
     "reset_all_nodes": "bool", "stop_all_nodes": "bool", "boot_time": "int",
     "bitrate": "int", "baudrate": "int",
+    # the lely master's own identity (0x1018, [DeviceInfo]) and communication objects
+    "vendor_id": "int", "product_code": "int", "revision_number": "int",
+    "serial_number": "int", "sync_overflow": "int", "time_cob_id": "cob",
+    "emcy_inhibit_time": "int", "nmt_inhibit_time": "int", "error_behavior": "behavior",
 }
 SLAVE_KEYS = {
     "dcf": "path", "node_id": "int", "rpdo": "pdos", "tpdo": "pdos",
@@ -29,7 +36,9 @@ SLAVE_KEYS = {
     "boot": "bool", "mandatory": "bool", "reset_communication": "bool", "retry_factor": "int",
     "guard_time": "int", "life_time_factor": "int", "vendor_id": "int", "product_code": "int",
     "revision_number": "int", "serial_number": "int", "software_version": "int",
-    "sdo": "sdo", "names": "names",
+    "sdo": "sdo", "names": "names", "time_cob_id": "cob", "error_behavior": "behavior",
+    "software_file": "str", "restore_configuration": "int", "configuration_file": "str",
+    "dcf_path": "text",
 }
 PDO_KEYS = {"enabled": "bool", "cob_id": "cob", "transmission": "int", "inhibit_time": "int",
             "event_timer": "int", "event_deadline": "int", "sync_start": "int",
@@ -38,13 +47,10 @@ MAP_KEYS = {"index": "int", "sub_index": "int", "name": "str"}
 SDO_KEYS = {"index": "int", "sub_index": "int", "value": "any"}
 # keys lely's dcfgen or ros2_canopen read that dcf2bin does not use: info, never a near-miss
 KNOWN_UNUSED = frozenset("""
-dcf_path baud_rate driver package polling period enable_lazy_load position_mode
+baud_rate driver package polling period enable_lazy_load position_mode
 sdo_timeout_ms boot_timeout_ms scale_pos_to_dev scale_pos_from_dev scale_vel_to_dev
 scale_vel_from_dev scale_eff_to_dev scale_eff_from_dev switching_state homing_timeout_seconds
-diagnostics use_ros2_control emcy_inhibit_time sync_overflow error_behavior
-nmt_inhibit_time time_cob_id time_producer software_file configuration_file
-restore_configuration offset_pos_to_dev offset_pos_from_dev vendor_id product_code
-revision_number serial_number
+diagnostics use_ros2_control time_producer offset_pos_to_dev offset_pos_from_dev
 """.split())
 # ranges of the integer keys (inclusive); a time multiplied later is checked there
 RANGES = {
@@ -57,7 +63,13 @@ RANGES = {
     "transmission": (0, 0xFF), "inhibit_time": (0, 0xFFFF), "event_timer": (0, 0xFFFF),
     "event_deadline": (0, 0xFFFF), "sync_start": (0, 0xFF), "index": (0, 0xFFFF),
     "sub_index": (0, 0xFF), "heartbeat_consumer": (0, 0xFFFF),   # {slave: ms}: 16 bits
+    # at the type of the entry each is written to: 0x1019 UNSIGNED8, 0x1015 and 0x102A
+    # UNSIGNED16 (x 100 us), 0x1F8A UNSIGNED8 (a sub-index of the slave's 0x1011)
+    "sync_overflow": (0, 0xFF), "emcy_inhibit_time": (0, 0xFFFF),
+    "nmt_inhibit_time": (0, 0xFFFF), "restore_configuration": (0, 0xFF),
 }
+# error_behavior: {sub: value}, 0x1029 sub 1..254 (sub 0 is the count), UNSIGNED8 values
+BEHAVIOR_SUBS, BEHAVIOR_VALUES = (1, 0xFE), (0, 0xFF)
 
 
 # -- near misses (NET006) ------------------------------------------------------------------
@@ -195,7 +207,14 @@ class _Values:
                 lo, hi = RANGES.get(key, (0, 0xFFFFFFFF))
                 if not lo <= got <= hi:
                     raise _Bad(f"{got} is outside {lo}..{hi}")
+                if key == "sync_overflow" and (got == 1 or got > 240):
+                    # CiA 301: a device refuses them (SDO abort 0x06090030)
+                    raise _Bad(f"{got} is not 0 or 2..240 (CiA 301 reserves 1 and 241..255)")
                 return got
+            if kind == "cob":
+                return as_cob(value)
+            if kind == "behavior":
+                return self.behavior(key, value, line)
             if kind == "bool":
                 return as_bool(value)
             if kind == "float":
@@ -208,8 +227,9 @@ class _Values:
                 if not 0 <= got <= 1000 or got != got:
                     raise _Bad(f"{shorten(value)} is outside 0..1000")
                 return got
-            if kind == "str":
-                if not isinstance(value, str) or isinstance(value, LongInt) or not value:
+            if kind in ("str", "text"):
+                if not isinstance(value, str) or isinstance(value, LongInt) or (
+                        not value and kind == "str"):
                     raise _Bad(f"expected a text, found {kind_of(value)}")
                 return value
             if kind == "any":
@@ -218,6 +238,45 @@ class _Values:
             self.err(f"{key}: {exc}", line)
             return None
         raise AssertionError(kind)
+
+    def behavior(self, key: str, value, line: int) -> dict[int, tuple[int, Where]]:
+        """``error_behavior: {1: 0x00}``: 0x1029 sub -> (value, its line); each item
+        checked (a bad one reported and left out)."""
+        if not isinstance(value, YMap):
+            raise _Bad(f"expected a mapping of 0x1029 sub-indexes to values, found "
+                       f"{kind_of(value)}")
+        out: dict[int, tuple[int, Where]] = {}
+        for k, v in value.items():
+            kline = value.lines[k]
+            try:
+                sub = as_int(k)
+                lo, hi = BEHAVIOR_SUBS
+                if not lo <= sub <= hi:
+                    raise _Bad(f"sub-index {sub} is outside {lo}..{hi}")
+                got = as_int(v)
+                lo, hi = BEHAVIOR_VALUES
+                if not lo <= got <= hi:
+                    raise _Bad(f"0x1029sub{sub:X}: {got} is outside {lo}..{hi}")
+            except _Bad as exc:
+                self.err(f"{key}: {exc}", kline)
+                continue
+            out[sub] = (got, self.w(kline))
+        return out
+
+
+def as_cob(value, accepted: str = "") -> int:
+    """A COB-ID (CiA 301): an UNSIGNED32 whose bits 11-28 are clear unless bit 29 marks a
+    29-bit CAN-ID. ``accepted`` ends the message of a value that is no such integer."""
+    try:
+        cob = as_int(value)
+        if not 0 <= cob <= 0xFFFFFFFF:
+            raise _Bad(f"{cob} is outside 0..0xFFFFFFFF")
+    except _Bad as exc:
+        raise _Bad(f"{exc}{accepted}") from None
+    if not cob & 0x20000000 and cob & 0x1FFFF800:
+        raise _Bad(f"0x{cob:X} has bits 11-28 set but not bit 29 (an 11-bit CAN-ID is at "
+                   "most 0x7FF; bit 29 marks a 29-bit one)")
+    return cob
 
 
 class Items(_Values):
@@ -281,19 +340,9 @@ class Items(_Values):
                         pc.cob_id = "auto"
                     else:
                         try:
-                            cob = as_int(item)
-                            if not 0 <= cob <= 0xFFFFFFFF:
-                                raise _Bad(f"{cob} is outside 0..0xFFFFFFFF")
+                            pc.cob_id = as_cob(item, " (auto or an integer)")
                         except _Bad as exc:
-                            self.err(f"cob_id: {exc} (auto or an integer)", iline)
-                            continue
-                        if not cob & 0x20000000 and cob & 0x1FFFF800:
-                            # CiA 301: bit 29 clear is an 11-bit CAN-ID (bits 0-10)
-                            self.err(f"cob_id: 0x{cob:X} has bits 11-28 set but not bit 29 "
-                                     "(an 11-bit CAN-ID is at most 0x7FF; bit 29 marks a "
-                                     "29-bit one)", iline)
-                            continue
-                        pc.cob_id = cob
+                            self.err(f"cob_id: {exc}", iline)
                 else:
                     setattr(pc, k, self.scalar(k, pkind, item, iline))
 

@@ -31,7 +31,7 @@ U32 = Integer(0, 0xFFFFFFFF)
 @debug_option
 @guarded
 def set_cmd(serial, vendor, product, revision, node_id, store, interface, channel, bitrate,
-            timeout, scan_wait, set_bitrate, fmt, output, quiet, debug):
+            timeout, scan_wait, check_wait, set_bitrate, fmt, output, quiet, debug):
     """Give the node with this serial number (and vendor-ID, product code, revision) a
     node-ID by LSS.
 
@@ -49,8 +49,8 @@ def set_cmd(serial, vendor, product, revision, node_id, store, interface, channe
     wanted = lssnet.Wanted("", node_id, {k: v for k, v in given.items() if v is not None})
     bus = open_bus(interface, channel, bitrate)
     try:
-        result = lssnet.commission(bus, [wanted], lssnet.Options(timeout, scan_wait,
-                                                                 set_bitrate, store))
+        result = lssnet.commission(bus, [wanted], lssnet.Options(
+            timeout, scan_wait, set_bitrate, store, check_wait=check_wait))
     finally:
         link.close_network(bus)
     if result.problems:

@@ -19,12 +19,17 @@ BIT_RATES = (1_000_000, 800_000, 500_000, 250_000, 125_000, 50_000, 20_000, 10_0
 
 
 def lss_options(fn):
-    """--timeout, --scan-wait and --set-bitrate of network lss and lss set."""
+    """--timeout, --scan-wait, --check-wait and --set-bitrate of network lss and lss set."""
     fn = click.option("--set-bitrate", "set_bitrate", type=Integer(1), metavar="BPS",
                       help="Also configure this bit rate (bit/s, one of the CiA table: "
                       "1000000, 800000, 500000, 250000, 125000, 50000, 20000, 10000); it "
                       "takes effect when the node starts again. --bitrate is the rate the "
                       "bus is opened at.")(fn)
+    fn = click.option("--check-wait", "check_wait", type=Seconds(0.001), default=0.3,
+                      show_default=True, metavar="SECONDS",
+                      help="Seconds the check before any change waits for a node to answer "
+                      "SDO at each node-ID to give: silence says the node-ID is free, so "
+                      "every node must answer within it (as long as network scan waits).")(fn)
     return scan_wait_option(timeout_option(fn))
 
 
@@ -60,8 +65,8 @@ def check_bitrate(value: int | None) -> None:
 @quiet_option("No table; the errors.")
 @debug_option
 @guarded
-def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_bitrate, fmt,
-            output, net, select_, ignore, strict, quiet, debug):
+def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, check_wait,
+            set_bitrate, fmt, output, net, select_, ignore, strict, quiet, debug):
     """Give every slave of a network its node-ID by LSS, store it, and check it.
 
     A slave is found by its identity -- vendor-ID and product code from the network file
@@ -100,7 +105,7 @@ def lss_cmd(network_file, interface, channel, bitrate, timeout, scan_wait, set_b
     bus = open_bus(interface, channel, bitrate)
     try:
         result = lssnet.commission(bus, wanted, lssnet.Options(
-            timeout, scan_wait, set_bitrate, serial_key=serial_key))
+            timeout, scan_wait, set_bitrate, serial_key=serial_key, check_wait=check_wait))
     finally:
         link.close_network(bus)
     stop_on(result.problems, network_file, quiet)

@@ -61,7 +61,9 @@ def apply(net: Network) -> None:
 
 def master_writes(net: Network) -> list[Write]:
     """The lely master's own configuration (``master.bin``), slaves in dcfgen's order:
-    0x1F55 (``software_version``), 0x1F87, 0x1F88."""
+    0x1F55 (``software_version``), 0x1F87, 0x1F88; each only when nonzero. (dcfgen also
+    writes the master's own ``serial_number`` here, into 0x1018 sub 4, which master.dcf
+    marks ro; dcf2bin states it as that entry's DefaultValue: docs/network.md.)"""
     out = []
     for s in dcfgen_order(net):
         version = s.config.get("software_version", 0)

@@ -4,7 +4,9 @@
 The file is a list of sections, each a list of (key, value); :func:`render` joins them.
 Everything the master does is stated as DefaultValue: its PDOs (layout), the slaves it
 manages (0x1F81), monitors (0x1016), checks (0x1F84-0x1F86), whose EMCY it consumes
-(0x1028) and configures (0x1F22 names each slave's concise DCF with ``UploadFile=``).
+(0x1028), configures (0x1F22 names each slave's concise DCF with ``UploadFile=``), restores
+(0x1F8A) and updates (0x1F58 names a slave's ``software_file``). The master's own keys
+give its identity (0x1018, [DeviceInfo]) and 0x1012, 0x1015, 0x1019, 0x1029, 0x102A.
 """
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ Section = tuple[str, list[tuple[str, str]]]
 
 _DUMMIES = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x10, 0x12, 0x13, 0x14, 0x15, 0x16,
             0x18, 0x19, 0x1A, 0x1B)
-_MANAGER = (0x1F25, 0x1F55, 0x1F80, 0x1F81, 0x1F82, 0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88,
+_MANAGER = (0x1F25, 0x1F55, 0x1F58, 0x1F80, 0x1F81, 0x1F82, 0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88,
             0x1F89, 0x1F8A)
 
 
@@ -68,9 +70,9 @@ def master_dcf(net: Network, names: dict[str, str]) -> str:
     lay = layout(net)
     slaves = dcfgen_order(net)
     master = net.master
-    uploads = {s.node_id: _upload(net, names[s.name]) for s in slaves}
+    uploads = {s.node_id: upload_file(net, s, names[s.name]) for s in slaves}
     sections = _header(master, lay)
-    sections += _lists(master, lay, bool(uploads))
+    sections += _lists(master, lay, bool(uploads), _updates(slaves))
     sections += _communication(net, slaves)
     sections += _pdos(lay)
     if uploads:
@@ -91,16 +93,31 @@ def master_dcf(net: Network, names: dict[str, str]) -> str:
     return render(sections)
 
 
-def _upload(net: Network, base: str) -> str:
-    """The slave's concise DCF as the lely master finds it: under ``options: dcf_path``,
-    as written (ros2_canopen's build replaces @BUS_CONFIG_PATH@ before)."""
-    return posixpath.join(net.options.get("dcf_path", ""), base + ".bin")
+def upload_file(net: Network, s: Node, base: str) -> str:
+    """The slave's concise DCF as the lely master finds it: the slave's
+    ``configuration_file``, else ``<base>.bin`` under the slave's ``dcf_path``, else under
+    ``options: dcf_path``; as written (ros2_canopen's build replaces @BUS_CONFIG_PATH@
+    before; dcfgen expands $VARIABLES from its environment, dcf2bin does not).
+    (dcfgen 2.4.2 reads ``configuration_file`` into its dcf_path, which it has used
+    already, so the key has no effect there: docs/network.md.)"""
+    if "configuration_file" in s.config:
+        return s.config["configuration_file"]
+    folder = s.config.get("dcf_path", net.options.get("dcf_path", ""))
+    return posixpath.join(folder, base + ".bin")
+
+
+def _updates(slaves: list[Node]) -> dict[int, str]:
+    """node-ID -> the program the master downloads to it (``software_file``, 0x1F58)."""
+    return {s.node_id: s.config["software_file"] for s in slaves
+            if "software_file" in s.config}
 
 
 def _header(master: Node, lay: Layout) -> list[Section]:
-    baud = master.config.get("baudrate", 1000)
-    info = [("VendorName", ""), ("VendorNumber", h8(0)), ("ProductName", ""),
-            ("ProductNumber", h8(0)), ("RevisionNumber", h8(0)), ("OrderCode", "")]
+    cfg = master.config
+    baud = cfg.get("baudrate", 1000)
+    info = [("VendorName", ""), ("VendorNumber", h8(cfg.get("vendor_id", 0))),
+            ("ProductName", ""), ("ProductNumber", h8(cfg.get("product_code", 0))),
+            ("RevisionNumber", h8(cfg.get("revision_number", 0))), ("OrderCode", "")]
     info += [(f"BaudRate_{b}", "1") for b in (10, 20, 50, 125, 250, 500, 800, 1000)]
     info += [("SimpleBootUpMaster", "1"), ("SimpleBootUpSlave", "0"), ("Granularity", "1"),
              ("DynamicChannelsSupported", "0"), ("GroupMessaging", "0"),
@@ -109,7 +126,8 @@ def _header(master: Node, lay: Layout) -> list[Section]:
     return [("DeviceComissioning",
              [("NodeID", str(master.node_id)), ("NodeName", ""), ("NodeRefd", ""),
               ("Baudrate", str(baud)), ("NetNumber", "1"), ("NetworkName", ""),
-              ("NetRefd", ""), ("CANopenManager", "1"), ("LSS_SerialNumber", h8(0))]),
+              ("NetRefd", ""), ("CANopenManager", "1"),
+              ("LSS_SerialNumber", h8(cfg.get("serial_number", 0)))]),
             ("DeviceInfo", info),
             ("DummyUsage", [(f"Dummy{d:04X}", "1") for d in _DUMMIES])]
 
@@ -119,7 +137,8 @@ def _object_list(name: str, indexes: list[int]) -> Section:
             + [(str(k), f"0x{i:04X}") for k, i in enumerate(indexes, 1)])
 
 
-def _lists(master: Node, lay: Layout, configures: bool) -> list[Section]:
+def _lists(master: Node, lay: Layout, configures: bool,
+           updates: dict[int, str]) -> list[Section]:
     consumer = master.config.get("heartbeat_consumer", True) is not False
     nr, nt = len(lay.rpdos), len(lay.tpdos)
     optional = [0x1003, 0x1005, 0x1006, 0x1007, 0x1012, 0x1013, 0x1014, 0x1015]
@@ -128,7 +147,7 @@ def _lists(master: Node, lay: Layout, configures: bool) -> list[Section]:
     for first, count in ((0x1400, nr), (0x1600, nr), (0x1800, nt), (0x1A00, nt)):
         optional += range(first, first + count)
     optional += [0x1F22] if configures else []
-    optional += _MANAGER
+    optional += [i for i in _MANAGER if i != 0x1F58 or updates]
     maker = [r.index for r in lay.records]
     for first, count in ((0x5800, nr), (0x5A00, nr), (0x5C00, nt), (0x5E00, nt)):
         maker += range(first, first + count)
@@ -148,30 +167,40 @@ def _communication(net: Network, slaves: list[Node]) -> list[Section]:
                          str(cfg.get("sync_period", 0)))),
             ("1007", var("Synchronous window length", 0x07, "rw",
                          str(cfg.get("sync_window", 0)))),
-            ("1012", var("COB-ID time stamp object", 0x07, "rw", h8(0x100))),
+            ("1012", var("COB-ID time stamp object", 0x07, "rw",
+                         h8(cfg.get("time_cob_id", 0x100)))),
             ("1013", var("High resolution time stamp", 0x07, "rw", None,
                          ("PDOMapping", "1"))),
             ("1014", var("COB-ID EMCY", 0x07, "rw", "$NODEID+0x80")),
-            ("1015", var("Inhibit time EMCY", 0x06, "rw", "0"))]
+            ("1015", var("Inhibit time EMCY", 0x06, "rw",
+                         str(cfg.get("emcy_inhibit_time", 0))))]
     if cfg.get("heartbeat_consumer", True) is not False:
         out += array(0x1016, "Consumer heartbeat time", 0x07, "rw", 127,
                      _consumers(net, slaves))
     out += [("1017", var("Producer heartbeat time", 0x06, "rw",
                          str(cfg.get("heartbeat_producer", 0))))]
+    # the master's own serial number as the entry's value: dcfgen writes it in master.bin,
+    # a concise DCF that would write a read-only entry (docs/network.md)
+    serial = [h8(cfg["serial_number"])] if cfg.get("serial_number") else []
     out += record(0x1018, "Identity Object",
                   [var("Highest sub-index supported", 0x05, "const", "4"),
-                   var("Vendor-ID", 0x07, "ro", h8(0)), var("Product code", 0x07, "ro", h8(0)),
-                   var("Revision number", 0x07, "ro", h8(0)),
-                   var("Serial number", 0x07, "ro")])
-    out += [("1019", var("Synchronous counter overflow value", 0x05, "rw", "0"))]
+                   var("Vendor-ID", 0x07, "ro", h8(cfg.get("vendor_id", 0))),
+                   var("Product code", 0x07, "ro", h8(cfg.get("product_code", 0))),
+                   var("Revision number", 0x07, "ro", h8(cfg.get("revision_number", 0))),
+                   var("Serial number", 0x07, "ro", *serial)])
+    out += [("1019", var("Synchronous counter overflow value", 0x05, "rw",
+                         str(cfg.get("sync_overflow", 0))))]
     emcy = {}
     for s in slaves:
         cob = entry_int(s.device, 0x1014, 0) if s.device is not None else None
         if cob is not None and not cob & COB_INVALID:
             emcy[s.node_id] = h8(cob)
     out += array(0x1028, "Emergency consumer object", 0x07, "rw", 127, emcy, h8(COB_INVALID))
-    out += array(0x1029, "Error behavior object", 0x05, "rw", 254, {1: "0x00"})
-    out += [("102A", var("NMT inhibit time", 0x06, "rw", "0"))]
+    behavior = {1: 0} | {k: v for k, (v, _) in cfg.get("error_behavior", {}).items()}
+    out += array(0x1029, "Error behavior object", 0x05, "rw", 254,
+                 {k: f"0x{behavior[k]:02X}" for k in sorted(behavior)})
+    out += [("102A", var("NMT inhibit time", 0x06, "rw",
+                         str(cfg.get("nmt_inhibit_time", 0))))]
     return out
 
 
@@ -226,8 +255,9 @@ def _pdos(lay: Layout) -> list[Section]:
 
 
 def slave_assignment(net: Network, s: Node) -> int:
-    """0x1F81 as dcfgen fills it: the retry factor and the guard time (YAML, else the
-    file's 0x100C) -- no guard time when the slave also has a life time factor and
+    """0x1F81 as dcfgen fills it: software update (``software_file``, bit 6), restore
+    (``restore_configuration``, bit 7), the retry factor and the guard time (YAML, else
+    the file's 0x100C) -- no guard time when the slave also has a life time factor and
     produces a heartbeat, which rules node guarding out."""
     sc = s.config
     guard = _configured(s, 0x100C, "guard_time")
@@ -238,6 +268,8 @@ def slave_assignment(net: Network, s: Node) -> int:
             | (0x08 if sc.get("mandatory", False) else 0)
             | (0x10 if not sc.get("reset_communication", True) else 0)
             | (0x20 if sc.get("software_version", 0) else 0)
+            | (0x40 if "software_file" in sc else 0)
+            | (0x80 if sc.get("restore_configuration", 0) else 0)
             | (sc.get("retry_factor", net.options.get("retry_factor", 3)) << 8)
             | (guard << 16)) & 0xFFFFFFFF
 
@@ -252,6 +284,13 @@ def _manager(net: Network, slaves: list[Node]) -> list[Section]:
     cfg = net.master.config
     out = array(0x1F25, "Configuration request", 0x05, "wo", 127)
     out += array(0x1F55, "Expected software identification", 0x07, "rw", 127)
+    updates = _updates(slaves)
+    if updates:
+        out += record(0x1F58, "Program data", [var("Highest sub-index supported", 0x05,
+                                                    "const", "127")]
+                      + [var(f"Program data of node-ID {i}", 0x0F, "ro", None,
+                             *([("UploadFile", updates[i])] if i in updates else []))
+                         for i in range(1, 128)], "0x08")
     start = (0x01 | (0x02 if cfg.get("start_all_nodes", False) else 0)
              | (0x04 if not cfg.get("start", True) else 0)
              | (0x08 if not cfg.get("start_nodes", True) else 0)
@@ -269,7 +308,9 @@ def _manager(net: Network, slaves: list[Node]) -> list[Section]:
     out += array(0x1F87, "Revision_number", 0x07, "rw", 127)
     out += array(0x1F88, "Serial number", 0x07, "rw", 127)
     out.append(("1F89", var("Boot time", 0x07, "rw", str(cfg.get("boot_time", 0)))))
-    out += array(0x1F8A, "Restore configuration", 0x05, "rw", 127, {})
+    out += array(0x1F8A, "Restore configuration", 0x05, "rw", 127,
+                 {s.node_id: f"0x{s.config['restore_configuration']:02X}" for s in slaves
+                  if s.config.get("restore_configuration", 0)})
     return out
 
 
