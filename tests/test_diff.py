@@ -333,6 +333,28 @@ def test_an_error_of_an_entry_counts_where_the_entry_is_compared(cd):
         "b.dcf, b.bin: equal; 1 entry compared"]
 
 
+def test_long_values_are_shown_bounded(cd):
+    """A huge literal and a long string are shown as every message quotes a user's value:
+    the first 40 and last 12 characters and the count (issue 26 item 3); the JSON form's
+    value is the same text, its data the whole bytes."""
+    dcf(cd, "a.dcf")
+    dcf(cd, "b.dcf", ("DefaultValue=0x10", "DefaultValue=" + "9" * 4000),
+        ("DefaultValue=T-1", "DefaultValue=" + "x" * 99 + "y"))
+    r = run("a.dcf", "b.dcf", "-q")
+    assert r.stdout.splitlines()[2:] == [
+        "@@ 0x1017 Producer heartbeat time @@",
+        "-0x1017sub0 Producer heartbeat time: 16",
+        f"+0x1017sub0 Producer heartbeat time: {'9' * 40}...{'9' * 12} (4000 characters) "
+        "(invalid: integer literal too long (4000 digits, at most 64))",
+        "@@ 0x2000 Tool name @@",
+        '-0x2000sub0 Tool name: "T-1"',
+        f'+0x2000sub0 Tool name: "{"x" * 39}...{"x" * 10}y" (102 characters)']
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json", "-q").stdout)
+    tool = doc["files"][0]["differences"][1]["b"]
+    assert tool["value"] == f'"{"x" * 39}...{"x" * 10}y" (102 characters)'
+    assert tool["data"] == "78" * 99 + "79"
+
+
 def test_pdo_mapping_entries_name_the_objects_they_map(cd):
     dcf(cd, "a.dcf")
     dcf(cd, "b.dcf", ("DefaultValue=0x60410010", "DefaultValue=0x60400010"))
