@@ -14,7 +14,7 @@ import click
 from dcf2bin.cli.common import (CONTEXT, Integer, debug_option, emit, fail, format_option,
                                 guarded, input_kind, node_id_option, output_option, quiet_option,
                                 read_input, stop_on_errors, without_cyclic_gc, write_output)
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.diagnostics import ExitCode, shorten
 
 # Kept literally here (module-level imports stay light); tests check it equals
 # dcf2bin.export.FORMATS.
@@ -47,9 +47,9 @@ def _identifier(kind: str):
         for v in values:
             if kind == "header":
                 if not v or '"' in v or "\n" in v:
-                    raise click.BadParameter(f"'{v}' is not a header name")
+                    raise click.BadParameter(f"'{shorten(v)}' is not a header name")
             elif not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", v):
-                raise click.BadParameter(f"'{v}' is not {kind} identifier")
+                raise click.BadParameter(f"'{shorten(v)}' is not {kind} identifier")
         return value
     return check
 
