@@ -225,16 +225,22 @@ def test_the_format_from_the_suffix_or_f(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["-o", "x.bin"], "dcf2bin: error: cannot tell the format of 'x.bin' from its suffix; "
-                      "give -f eds|dcf|xdd|xdc"),
-    ([], "dcf2bin: error: convert needs -o OUTPUT (its suffix, or -f, names the format; -o - "
-         "for standard output)"),
-    (["-o", "x.eds", "-n", "3"], "dcf2bin: error: -n applies to a DCF or an XDC only (the "
-                                 "output is EDS: it holds no configured values)"),
+    (["-o", "x.bin"], "Invalid value for '-o' / '--output': cannot tell the format of 'x.bin' "
+                      "from its suffix; give -f eds|dcf|xdd|xdc"),
+    (["-o", "t.txt"], "Invalid value for '-o' / '--output': cannot tell the format of 't.txt' "
+                      "from its suffix; give -f eds|dcf|xdd|xdc"),
+    ([], "Missing option '-o' / '--output'. Its suffix, or -f, names the format (-o - for "
+         "standard output)."),
+    (["-o", "x.eds", "-n", "3"], "-n applies to a DCF or an XDC only (the output is EDS: it "
+                                 "holds no configured values)"),
 ])
 def test_usage_errors(args, message):
+    """In click's form, as every other usage error: Usage, Try, Error."""
     r = run("convert", SMALL, *args)
-    assert (r.exit_code, r.stderr.strip()) == (2, message)
+    assert r.exit_code == 2
+    assert r.stderr.splitlines() == ["Usage: main convert [OPTIONS] INPUT",
+                                     "Try 'main convert --help' for help.", "",
+                                     f"Error: {message}"]
 
 
 def test_node_id_is_the_commissioned_one(tmp_path):
@@ -256,6 +262,23 @@ def test_the_input_is_never_overwritten(tmp_path):
     r = run("convert", src, "-o", src, "-f", "eds")
     assert r.exit_code == 2 and "is the input file" in r.stderr
     assert src.read_bytes() == SMALL.read_bytes()
+
+
+OLD_PROFILE = ROOT.parent / "shared" / "corpus" / "xdd" / "canopeneditor" / "DS301_profile_old.xpd"
+
+
+@pytest.mark.skipif(not OLD_PROFILE.is_file(), reason=f"corpus file not found: {OLD_PROFILE}")
+def test_validates_findings_beyond_reading_do_not_stop_it(tmp_path):
+    """The help's words: only reading errors stop convert. CANopenEditor's old DS301
+    profile reads cleanly but has 4 DCF404 errors (a PDO mapping's sub 0 counts entries
+    that map nothing): it is converted as written, and validate says the same of both."""
+    src = OLD_PROFILE
+    out = tmp_path / "x.eds"
+    assert run("convert", src, "-o", out, "-q").exit_code == 0
+    for path in (src, out):
+        r = run("validate", path, "--select", "DCF404")
+        assert r.exit_code == 1
+        assert r.stdout.splitlines()[-1] == "4 errors, 0 warnings, 0 infos in 1 file"
 
 
 def test_a_value_out_of_range_is_carried_as_written_and_validate_says_it_of_both(tmp_path):
