@@ -293,3 +293,60 @@ def test_a_value_out_of_range_is_carried_as_written_and_validate_says_it_of_both
         assert r.stdout.splitlines()[0].endswith(
             "error: 0x2000sub0: value 300 out of range for UNSIGNED8 (0..255) [DCF200]"), \
             r.stdout
+
+
+UNREADABLE_FLAGS = """\
+[1017]
+ParameterName=Producer heartbeat time
+ObjectType=0x7
+DataType=0x0006
+AccessType=rw
+ObjFlags=none
+DefaultValue=0
+
+[2100]
+ParameterName=Rec
+ObjectType=0x9
+SubNumber=2
+ObjFlags=some
+
+[2100sub0]
+ParameterName=Count
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=1
+
+[2100sub1]
+ParameterName=V
+ObjectType=0x7
+DataType=0x0005
+AccessType=rw
+ObjFlags=x2
+DefaultValue=0
+"""
+
+
+def test_an_objflags_that_is_no_number_is_written_as_it_is_never_as_0(tmp_path):
+    """convert refuses such a file (DCF020, a reading error); the writers, called on its
+    Device, keep each ObjFlags text as written -- before, the XDD writer wrote the
+    object's as objFlags="0000" and dropped the VAR's, the EDS writer wrote the VAR's as
+    ObjFlags=0x0: a number made up for a text that is none."""
+    src = tmp_path / "flags.dcf"
+    src.write_text(UNREADABLE_FLAGS)
+    dev = formats.load(str(src))
+    assert sorted({p.diagnostic.rule for p in dev.problems}) == ["DCF020"]
+    xdd = formats.dump(dev, "xdd").data.decode()
+    assert ('<CANopenObject index="1017" name="Producer heartbeat time" objectType="7" '
+            'dataType="0006" accessType="rw" defaultValue="0" PDOmapping="no" '
+            'objFlags="none"/>') in xdd
+    assert '<CANopenObject index="2100" name="Rec" objectType="9" objFlags="some" ' \
+           'subNumber="2">' in xdd
+    assert ('<CANopenSubObject subIndex="01" name="V" objectType="7" dataType="0005" '
+            'accessType="rw" defaultValue="0" PDOmapping="no" objFlags="x2"/>') in xdd
+    eds = formats.dump(dev, "eds").data.decode()
+    assert "\nAccessType=rw\nDefaultValue=0\nPDOMapping=0\nObjFlags=none\n" in eds
+    assert "\nSubNumber=0x2\nObjFlags=some\n" in eds
+    assert "[2100sub1]\nParameterName=V\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n" \
+           "DefaultValue=0\nPDOMapping=0\nObjFlags=x2\n" in eds
+    assert "ObjFlags=0x" not in eds
