@@ -29,10 +29,11 @@ from __future__ import annotations
 
 from dcf2bin import concise, schema
 from dcf2bin.container import BinContainer
+from dcf2bin.dump.concise_text import disagrees
 from dcf2bin.dump.concise_types import EDS, GUESS, entry_type
 from dcf2bin.dump.eds import EdsInfo
 from dcf2bin.dump.text import (_FLAGS, _SEGMENT_TITLES, _address_columns, _Num, _pi_notes,
-                               header_notes, nv_keys, typed_value, value_text)
+                               header_notes, nv_keys, typed_value, value_text, write_marks)
 from dcf2bin.dump.binary import header_of
 
 
@@ -80,7 +81,8 @@ def concise_dcf(entries, *, eds: EdsInfo | None = None, eds_name: str = "") -> s
             name = eds.name(index, sub)
             label += f" {name}" if name else ""
             if source != EDS:
-                notes.append(_disagrees(eds, eds_name, index, sub, len(data)))
+                note = disagrees(eds, eds_name, index, sub, len(data))
+                notes.append(f"! {note}" if note else "")
         line = f"{label}: {typed}{_data(data, typed_value(t, index, sub, data, True))}"
         out.append(line + writes[k])
     return "\n".join(out + list(dict.fromkeys(n for n in notes if n))) + "\n"
@@ -132,17 +134,6 @@ def _whole_entries(data: bytes) -> list:
     return out
 
 
-def _disagrees(eds: EdsInfo, eds_name: str, index: int, sub: int, size: int) -> str:
-    """The note where the EDS gives an entry another size, or has no such entry."""
-    given = eds.dtype(index, sub)
-    if given is not None:
-        return (f"! {_label(index, sub)}: {size} data bytes, {eds_name} gives {given.name} "
-                f"({given.size} bytes)")
-    if (index, sub) not in eds.entries:
-        return f"! {_label(index, sub)}: {eds_name} has no such entry"
-    return ""
-
-
 def _label(index: int, sub: int) -> str:
     return f"0x{index:04X}sub{sub:X}"
 
@@ -156,15 +147,7 @@ def _data(data: bytes, value: str) -> str:
 
 def _writes(keys: list[tuple[int, int]]) -> list[str]:
     """``  write k/n`` for the k-th of n writes of one entry, else ``""``."""
-    counts: dict = {}
-    for key in keys:
-        counts[key] = counts.get(key, 0) + 1
-    seen: dict = {}
-    out = []
-    for key in keys:
-        seen[key] = k = seen.get(key, 0) + 1
-        out.append(f"  write {k}/{counts[key]}" if counts[key] > 1 else "")
-    return out
+    return [f"  write {m}" if m else "" for m in write_marks(keys)]
 
 
 def _header(h: dict[str, int], notes: dict[str, str]) -> list[str]:
