@@ -12,7 +12,6 @@ first two pass there too (it took no lock, so it left none) and pin that the set
 leaves nothing of its own in a firmware's folder."""
 from __future__ import annotations
 
-import errno
 import os
 import signal
 import subprocess
@@ -23,7 +22,7 @@ from click.testing import CliRunner
 
 from conftest import ROOT
 from dcf2bin.cli import main
-from test_build_atomic import _temp_name, child, linux_only, network, snapshot
+from test_build_atomic import child, full_disk, linux_only, network, snapshot
 
 SAMPLE = ROOT / "tests" / "fixtures" / "canopennode" / "sample.eds"
 ENV = {**os.environ, "NO_COLOR": "1"}
@@ -79,21 +78,11 @@ def test_a_network_builds_lock_file_in_the_folder_stays_as_it_was(tmp_path):
     assert r.exit_code == 0 and "warning" not in r.stderr
 
 
-@pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="needs /proc/self/fd")
+@linux_only
 @pytest.mark.parametrize("call", ["fsync", "write"])
 def test_a_full_disk_at_the_second_file_leaves_both_as_they_were(exported, monkeypatch, call):
     od, b, before = exported
-    real = getattr(os, call)
-    seen: list[str] = []
-
-    def full(fd, *args):
-        name = _temp_name(fd)
-        if name is not None and name not in seen:
-            seen.append(name)
-        if name is not None and seen.index(name) == 1:
-            raise OSError(errno.ENOSPC, "No space left on device")
-        return real(fd, *args)
-    monkeypatch.setattr(os, call, full)
+    full_disk(monkeypatch, call, 1)
     r = run("export", "-q", "-f", "canopennode", b, "-o", od)
     monkeypatch.undo()
     assert (r.exit_code, r.stderr) == (3, f"{od}/OD.c: error: cannot write: No space left on "
