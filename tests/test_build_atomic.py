@@ -178,13 +178,9 @@ def _temp_name(fd: int) -> str | None:
     return None
 
 
-@linux_only
-@pytest.mark.parametrize("call", ["fsync", "write"])
-def test_a_full_disk_at_the_third_file_leaves_the_earlier_build(built, monkeypatch, call):
-    """ENOSPC while the third file is written (os.write) or synced (os.fsync, where a
-    file system with delayed allocation reports it): exit 3 naming that output, the
-    earlier build's five files as they were, no temporary file left."""
-    out, b, before = built
+def full_disk(monkeypatch, call: str, at: int) -> None:
+    """``os.<call>`` ("write" or "fsync") fails with ENOSPC on the output temporary file
+    written ``at``-th (0 first), as a full disk does."""
     real = getattr(os, call)
     seen: list[str] = []
 
@@ -192,10 +188,20 @@ def test_a_full_disk_at_the_third_file_leaves_the_earlier_build(built, monkeypat
         name = _temp_name(fd)
         if name is not None and name not in seen:
             seen.append(name)
-        if name is not None and seen.index(name) == 2:
+        if name is not None and seen.index(name) == at:
             raise OSError(errno.ENOSPC, "No space left on device")
         return real(fd, *args)
     monkeypatch.setattr(os, call, full)
+
+
+@linux_only
+@pytest.mark.parametrize("call", ["fsync", "write"])
+def test_a_full_disk_at_the_third_file_leaves_the_earlier_build(built, monkeypatch, call):
+    """ENOSPC while the third file is written (os.write) or synced (os.fsync, where a
+    file system with delayed allocation reports it): exit 3 naming that output, the
+    earlier build's five files as they were, no temporary file left."""
+    out, b, before = built
+    full_disk(monkeypatch, call, 2)
     r = run("network", "build", b, "-o", out, "-q")
     monkeypatch.undo()
     assert snapshot(out) == before and leftovers(out) == []

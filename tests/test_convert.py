@@ -225,16 +225,22 @@ def test_the_format_from_the_suffix_or_f(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["-o", "x.bin"], "dcf2bin: error: cannot tell the format of 'x.bin' from its suffix; "
-                      "give -f eds|dcf|xdd|xdc"),
-    ([], "dcf2bin: error: convert needs -o OUTPUT (its suffix, or -f, names the format; -o - "
-         "for standard output)"),
-    (["-o", "x.eds", "-n", "3"], "dcf2bin: error: -n applies to a DCF or an XDC only (the "
-                                 "output is EDS: it holds no configured values)"),
+    (["-o", "x.bin"], "Invalid value for '-o' / '--output': cannot tell the format of 'x.bin' "
+                      "from its suffix; give -f eds|dcf|xdd|xdc"),
+    (["-o", "t.txt"], "Invalid value for '-o' / '--output': cannot tell the format of 't.txt' "
+                      "from its suffix; give -f eds|dcf|xdd|xdc"),
+    ([], "Missing option '-o' / '--output'. Its suffix, or -f, names the format (-o - for "
+         "standard output)."),
+    (["-o", "x.eds", "-n", "3"], "-n applies to a DCF or an XDC only (the output is EDS: it "
+                                 "holds no configured values)"),
 ])
 def test_usage_errors(args, message):
+    """In click's form, as every other usage error: Usage, Try, Error."""
     r = run("convert", SMALL, *args)
-    assert (r.exit_code, r.stderr.strip()) == (2, message)
+    assert r.exit_code == 2
+    assert r.stderr.splitlines() == ["Usage: main convert [OPTIONS] INPUT",
+                                     "Try 'main convert --help' for help.", "",
+                                     f"Error: {message}"]
 
 
 def test_node_id_is_the_commissioned_one(tmp_path):
@@ -258,6 +264,23 @@ def test_the_input_is_never_overwritten(tmp_path):
     assert src.read_bytes() == SMALL.read_bytes()
 
 
+OLD_PROFILE = ROOT.parent / "shared" / "corpus" / "xdd" / "canopeneditor" / "DS301_profile_old.xpd"
+
+
+@pytest.mark.skipif(not OLD_PROFILE.is_file(), reason=f"corpus file not found: {OLD_PROFILE}")
+def test_validates_findings_beyond_reading_do_not_stop_it(tmp_path):
+    """The help's words: only reading errors stop convert. CANopenEditor's old DS301
+    profile reads cleanly but has 4 DCF404 errors (a PDO mapping's sub 0 counts entries
+    that map nothing): it is converted as written, and validate says the same of both."""
+    src = OLD_PROFILE
+    out = tmp_path / "x.eds"
+    assert run("convert", src, "-o", out, "-q").exit_code == 0
+    for path in (src, out):
+        r = run("validate", path, "--select", "DCF404")
+        assert r.exit_code == 1
+        assert r.stdout.splitlines()[-1] == "4 errors, 0 warnings, 0 infos in 1 file"
+
+
 def test_a_value_out_of_range_is_carried_as_written_and_validate_says_it_of_both(tmp_path):
     src = tmp_path / "bad.dcf"
     src.write_text("[2000]\nParameterName=x\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n"
@@ -270,3 +293,60 @@ def test_a_value_out_of_range_is_carried_as_written_and_validate_says_it_of_both
         assert r.stdout.splitlines()[0].endswith(
             "error: 0x2000sub0: value 300 out of range for UNSIGNED8 (0..255) [DCF200]"), \
             r.stdout
+
+
+UNREADABLE_FLAGS = """\
+[1017]
+ParameterName=Producer heartbeat time
+ObjectType=0x7
+DataType=0x0006
+AccessType=rw
+ObjFlags=none
+DefaultValue=0
+
+[2100]
+ParameterName=Rec
+ObjectType=0x9
+SubNumber=2
+ObjFlags=some
+
+[2100sub0]
+ParameterName=Count
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=1
+
+[2100sub1]
+ParameterName=V
+ObjectType=0x7
+DataType=0x0005
+AccessType=rw
+ObjFlags=x2
+DefaultValue=0
+"""
+
+
+def test_an_objflags_that_is_no_number_is_written_as_it_is_never_as_0(tmp_path):
+    """convert refuses such a file (DCF020, a reading error); the writers, called on its
+    Device, keep each ObjFlags text as written -- before, the XDD writer wrote the
+    object's as objFlags="0000" and dropped the VAR's, the EDS writer wrote the VAR's as
+    ObjFlags=0x0: a number made up for a text that is none."""
+    src = tmp_path / "flags.dcf"
+    src.write_text(UNREADABLE_FLAGS)
+    dev = formats.load(str(src))
+    assert sorted({p.diagnostic.rule for p in dev.problems}) == ["DCF020"]
+    xdd = formats.dump(dev, "xdd").data.decode()
+    assert ('<CANopenObject index="1017" name="Producer heartbeat time" objectType="7" '
+            'dataType="0006" accessType="rw" defaultValue="0" PDOmapping="no" '
+            'objFlags="none"/>') in xdd
+    assert '<CANopenObject index="2100" name="Rec" objectType="9" objFlags="some" ' \
+           'subNumber="2">' in xdd
+    assert ('<CANopenSubObject subIndex="01" name="V" objectType="7" dataType="0005" '
+            'accessType="rw" defaultValue="0" PDOmapping="no" objFlags="x2"/>') in xdd
+    eds = formats.dump(dev, "eds").data.decode()
+    assert "\nAccessType=rw\nDefaultValue=0\nPDOMapping=0\nObjFlags=none\n" in eds
+    assert "\nSubNumber=0x2\nObjFlags=some\n" in eds
+    assert "[2100sub1]\nParameterName=V\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n" \
+           "DefaultValue=0\nPDOMapping=0\nObjFlags=x2\n" in eds
+    assert "ObjFlags=0x" not in eds

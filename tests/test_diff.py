@@ -255,7 +255,7 @@ def test_without_any_node_id_formulas_equal_for_every_node_id(cd):
         "+0x1800sub1 COB-ID used by TPDO: 0x00000185 = COB-ID 0x185"]
 
 
-def test_a_value_that_cannot_be_encoded_is_compared_as_written_with_a_warning(cd):
+def test_a_value_that_cannot_be_encoded_is_compared_as_written_with_an_error(cd):
     dcf(cd, "a.dcf")
     dcf(cd, "b.dcf", ("DefaultValue=255", "DefaultValue=300"))
     r = run("a.dcf", "b.dcf")
@@ -266,8 +266,93 @@ def test_a_value_that_cannot_be_encoded_is_compared_as_written_with_a_warning(cd
         "+0x1800sub2 Transmission type: 300 (invalid: value 300 out of range for UNSIGNED8 "
         "(0..255))"]
     assert r.stderr.splitlines()[0] == (
-        "b.dcf:54: warning: 0x1800sub2: value 300 out of range for UNSIGNED8 (0..255); "
+        "b.dcf:54: error: 0x1800sub2: value 300 out of range for UNSIGNED8 (0..255); "
         "compared as written [DCF200]")
+
+
+def test_the_same_bad_value_on_both_sides_is_not_equal(cd):
+    """Exit 0 means both inputs read cleanly and are equal: the same value out of range in
+    both files is compared as written (no entry differs), and the run still exits 1."""
+    dcf(cd, "a.dcf", ("DefaultValue=255", "DefaultValue=300"))
+    dcf(cd, "b.dcf", ("DefaultValue=255", "DefaultValue=300"))
+    r = run("a.dcf", "b.dcf")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines() == [
+        "a.dcf:54: error: 0x1800sub2: value 300 out of range for UNSIGNED8 (0..255); "
+        "compared as written [DCF200]",
+        "b.dcf:54: error: 0x1800sub2: value 300 out of range for UNSIGNED8 (0..255); "
+        "compared as written [DCF200]",
+        "a.dcf, b.dcf: no entry differs as read, but a.dcf has 1 error and b.dcf has 1 "
+        "error; 10 entries compared, 3 of the node's state left out (--all compares them)"]
+
+
+def test_a_file_with_conflict_markers_is_never_equal(cd):
+    """A DCF left with git's conflict markers (both sides of the conflict the same line)
+    reads as the other file does; its reading errors are findings, each on its own line,
+    and the run exits 1 -- a CI drift check does not pass on a broken file."""
+    dcf(cd, "good.dcf")
+    dcf(cd, "conflict.dcf", ("DefaultValue=0x10", "<<<<<<< HEAD\nDefaultValue=0x10\n"
+                             "=======\nDefaultValue=0x10\n>>>>>>> other"))
+    r = run("conflict.dcf", "good.dcf")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines() == [
+        "conflict.dcf:28: error: line without '=': '<<<<<<< HEAD' [DCF002]",
+        "conflict.dcf:30: error: key missing before '=': '=======' [DCF002]",
+        "conflict.dcf:32: error: line without '=': '>>>>>>> other' [DCF002]",
+        "conflict.dcf:31: error: key 'DefaultValue' repeated in [1017] (first at line 29) "
+        "[DCF010]",
+        "    hint: remove one of them; dcf2bin does not guess which is meant",
+        "conflict.dcf, good.dcf: no entry differs as read, but conflict.dcf has 4 errors; "
+        "10 entries compared, 3 of the node's state left out (--all compares them)"]
+    doc = json.loads(run("conflict.dcf", "good.dcf", "-f", "json", "-q").stdout)
+    assert doc["equal"] is False
+    assert [doc["files"][0][s]["errors"] for s in "ab"] == [4, 0]
+    assert doc["files"][0]["differences"] == []
+
+
+def test_an_error_of_an_entry_counts_where_the_entry_is_compared(cd):
+    """An error the reader ties to an entry (an unknown AccessType) is an error where that
+    entry is compared -- two descriptions compare every entry -- and a warning where it is
+    not: a container written from the DCF leaves the device's defaults out, as compile
+    itself says of an entry it does not write."""
+    dcf(cd, "a.dcf", ("DefaultValue=0x10", "ParameterValue=100"))
+    dcf(cd, "b.dcf", ("DefaultValue=0x10", "ParameterValue=100"),
+        ("Controlword\nObjectType=0x7\nDataType=0x0006\nAccessType=rww",
+         "Controlword\nObjectType=0x7\nDataType=0x0006\nAccessType=rx"))
+    r = run("a.dcf", "b.dcf", "--values-only")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr.splitlines() == [
+        "b.dcf:106: error: [6040] unknown AccessType 'rx' [DCF032]",
+        "a.dcf, b.dcf: no entry differs as read, but b.dcf has 1 error; 10 entries "
+        "compared, 3 of the node's state left out (--all compares them)"]
+    assert CliRunner().invoke(main, ["compile", "b.dcf", "-o", "b.bin"]).exit_code == 0
+    r = run("b.dcf", "b.bin")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert r.stderr.splitlines() == [
+        "b.dcf:106: warning: [6040] unknown AccessType 'rx' (not compared) [DCF032]",
+        "b.dcf, b.bin: equal; 1 entry compared"]
+
+
+def test_long_values_are_shown_bounded(cd):
+    """A huge literal and a long string are shown as every message quotes a user's value:
+    the first 40 and last 12 characters and the count (issue 26 item 3); the JSON form's
+    value is the same text, its data the whole bytes."""
+    dcf(cd, "a.dcf")
+    dcf(cd, "b.dcf", ("DefaultValue=0x10", "DefaultValue=" + "9" * 4000),
+        ("DefaultValue=T-1", "DefaultValue=" + "x" * 99 + "y"))
+    r = run("a.dcf", "b.dcf", "-q")
+    assert r.stdout.splitlines()[2:] == [
+        "@@ 0x1017 Producer heartbeat time @@",
+        "-0x1017sub0 Producer heartbeat time: 16",
+        f"+0x1017sub0 Producer heartbeat time: {'9' * 40}...{'9' * 12} (4000 characters) "
+        "(invalid: integer literal too long (4000 digits, at most 64))",
+        "@@ 0x2000 Tool name @@",
+        '-0x2000sub0 Tool name: "T-1"',
+        f'+0x2000sub0 Tool name: "{"x" * 39}...{"x" * 10}y" (102 characters)']
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json", "-q").stdout)
+    tool = doc["files"][0]["differences"][1]["b"]
+    assert tool["value"] == f'"{"x" * 39}...{"x" * 10}y" (102 characters)'
+    assert tool["data"] == "78" * 99 + "79"
 
 
 def test_pdo_mapping_entries_name_the_objects_they_map(cd):
@@ -605,6 +690,9 @@ def test_unreadable_inputs_are_exit_3_with_one_line(cd):
                      "a file with a file"),
     ([".", ".", "-n", "3"], "-n names one node: with two folders each file's own node-ID is "
                             "taken"),
+    ([".", "-n", "7"], ". is a folder: with -n, diff compares one file (a DCF, EDS, XDD/XDC, "
+                       "container or concise DCF) with that node on the bus; two folders are "
+                       "compared with each other"),
 ])
 def test_usage_errors(cd, args, message):
     dcf(cd, "a.dcf")
@@ -634,8 +722,8 @@ def test_json_form_exactly(cd):
         "scope": {"state_left_out": True, "ignore": [], "values_only": False}}
     f = doc["files"][0]
     assert {k: v for k, v in f.items() if k != "differences"} == {
-        "a": {"file": "a.dcf", "kind": "dcf", "node_id": 5},
-        "b": {"file": "b.dcf", "kind": "dcf", "node_id": 5},
+        "a": {"file": "a.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
+        "b": {"file": "b.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
         "equal": False, "compared": 11, "left_out": {"state": 3, "ignored": 0},
         "objects_only_in_a": [], "objects_only_in_b": ["0x6100"]}
     assert f["differences"] == [
@@ -662,7 +750,7 @@ def test_json_of_equal_inputs_and_of_a_container(tmp_path):
     check_schema(doc)
     assert doc["equal"] is True and doc["files"][0]["differences"] == []
     assert doc["files"][0]["b"] == {"file": f"{SAMPLES}/plc.bin", "kind": "bin",
-                                    "node_id": None}
+                                    "node_id": None, "errors": 0}
 
 
 def test_output_file_and_quiet(cd):

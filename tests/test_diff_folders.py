@@ -121,6 +121,29 @@ def test_the_writers_lock_journal_and_temporaries_are_not_compared(tmp_path):
         "drive.bin", "drive.dcf", "io.bin", "io.dcf", "plc.dcf"]
 
 
+def test_a_name_that_is_no_regular_file_is_said_and_not_compared(build, tmp_path):
+    """A FIFO, a folder or a link to nothing named like an input is not read (a FIFO
+    would block the run): a warning says what it is, and a regular file of that name in
+    the other folder is a file only in that folder."""
+    import os
+    shutil.copytree(build, tmp_path / "other")
+    (tmp_path / "other" / "io.bin").unlink()
+    os.mkfifo(tmp_path / "other" / "io.bin")
+    os.mkfifo(tmp_path / "other" / "extra.dcf")
+    (tmp_path / "other" / "sub.eds").mkdir()
+    (tmp_path / "other" / "gone.xdc").symlink_to(tmp_path / "nowhere")
+    r = run("diff", "out", "other")
+    assert (r.exit_code, r.stdout) == (1, "Only in out: io.bin\n")
+    assert r.stderr.splitlines() == [
+        "other/extra.dcf: warning: a FIFO, not a regular file: not compared",
+        "other/gone.xdc: warning: a symbolic link to nothing, not a regular file: not "
+        "compared",
+        "other/io.bin: warning: a FIFO, not a regular file: not compared",
+        "other/sub.eds: warning: a folder, not a regular file: not compared",
+        "out, other: 4 files equal, 1 file only in one folder; 1552 entries compared, 151 "
+        "of the node's state left out (--all compares them)"]
+
+
 def test_folders_that_cannot_be_read_are_exit_3(build, tmp_path):
     (tmp_path / "bad").mkdir()
     (tmp_path / "bad" / "drive.dcf").write_bytes(b"\x00" * 100)

@@ -250,3 +250,52 @@ def test_git_diff_names_no_temporary_file_in_the_cached_diff_either(repo):
     lines = changed(repo, "--cached")
     assert "-binary DCF segment container, 434 bytes, canonical layout" in lines
     assert "+binary DCF segment container, 127 bytes, canonical layout" in lines
+
+
+@needs_git
+def test_git_diff_of_a_damaged_concise_dcf_shows_what_is_read_and_the_error(repo):
+    """`head -c 50 drive.bin > drive.bin`: the filter turns the damaged file into its four
+    whole entries and the error as a line of text, exit 0 -- a failing filter makes git
+    abort the whole diff ("unable to read files to diff")."""
+    data = (FLAT / "drive.bin").read_bytes()
+    commit(repo, "drive.bin", data)
+    (repo / "drive.bin").write_bytes(data[:50])
+    lines = changed(repo)
+    assert [x for x in lines if x.startswith("+")] == [
+        "+concise DCF (CiA 302-3), 50 bytes, damaged: 4 whole entries",
+        "+0x1400sub1: UNSIGNED32  4 bytes 02020080 = 0x80000202 = COB-ID 0x202, invalid",
+        "+0x1600sub0: UNSIGNED8  1 byte 00 = 0",
+        "+! 8 bytes after them not read",
+        "+! error at 0x2D: entry 5 of 22 (0x1600sub2) claims 4 data bytes, 1 remain [CON002]"]
+    # the first two lines written twice are no longer "write 1/2": their second writes
+    # are past the damage
+    assert lines[:2] == [
+        "-concise DCF (CiA 302-3), 223 bytes, 22 entries",
+        "-0x1400sub1: UNSIGNED32  4 bytes 02020080 = 0x80000202 = COB-ID 0x202, invalid  "
+        "write 1/2"]
+    assert len(lines) == 21 + 5          # 23 lines of 22 entries, 2 of them unchanged
+
+
+def test_textconv_of_bytes_that_are_no_container_is_text_and_exit_0(tmp_path):
+    """What can be read and the error, as lines of the text; a file that cannot be read at
+    all (missing, a FIFO) still fails, exit 3."""
+    cases = {
+        "plc.bin": ((SAMPLES / "plc.bin").read_bytes()[:50],
+                    "binary DCF segment container, 50 bytes, damaged\n"
+                    "! error at 0x0: header says 434 bytes, the file has 50 (truncated) "
+                    "[CNT002]\n"),
+        "empty.bin": (b"",
+                      "binary DCF segment container, 0 bytes, damaged\n"
+                      "! error at 0x0: 0 bytes: too short for the 40-byte header [CNT001]\n"),
+        "text.bin": ((SAMPLES / "plc.dcf").read_bytes(),
+                     "! error: the file is DCF/EDS text, not a binary container or a concise "
+                     "DCF (CiA 302-3); use dcf2bin compile to make a container of it (dcf2bin "
+                     "validate checks it)\n"),
+    }
+    for name, (data, text) in cases.items():
+        (tmp_path / name).write_bytes(data)
+        assert textconv(tmp_path / name) == (0, text, ""), name
+    os.mkfifo(tmp_path / "fifo.bin")
+    code, out, err = textconv(tmp_path / "fifo.bin")
+    assert (code, out) == (3, "")
+    assert err == f"{tmp_path}/fifo.bin: error: cannot read: a FIFO, not a regular file\n"

@@ -60,8 +60,8 @@ def test_two_runs_write_the_same_bytes():
 def test_without_a_folder_it_is_a_usage_error_before_anything_is_read(tmp_path):
     r = cli("export", "-f", "canopennode", tmp_path / "missing.eds")
     assert r.exit_code == 2
-    assert r.stderr == ("dcf2bin: error: --format canopennode writes two files, OD.h and "
-                        "OD.c: give the folder with -o FOLDER\n")
+    assert r.stderr.splitlines()[-1] == ("Error: --format canopennode writes two files, OD.h "
+                                         "and OD.c: give the folder with -o FOLDER")
 
 
 def test_a_file_where_the_folder_should_be_is_exit_3(tmp_path):
@@ -477,7 +477,7 @@ def test_neither_file_is_written_when_one_would_be_the_input(tmp_path, name, oth
     src.write_text((FIX / "sample.eds").read_text())
     r = cli("export", "-q", "-f", "canopennode", src, "-o", tmp_path)
     assert r.exit_code == 2
-    assert r.stderr == (f"dcf2bin: error: output '{tmp_path / name}' is the input file; "
-                        "refusing to overwrite it\n")
+    assert r.stderr == (f"{tmp_path / name}: error: the output is the input file; refusing "
+                        "to overwrite it\n")
     assert src.read_text() == (FIX / "sample.eds").read_text()
     assert not (tmp_path / other).exists()

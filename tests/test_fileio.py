@@ -234,7 +234,11 @@ def test_the_input_file_message_starts_with_the_file(tmp_path):
     ("nan", "'nan' is not a time in seconds (a decimal number such as 0.5 or 2)"),
     ("0", "0 is not in the range 0.001<=x<=86400 seconds"),
     ("1e9", "1e9 is not in the range 0.001<=x<=86400 seconds"),
-    ("1" * 1000, f"'{'1' * 1000}' is not a time in seconds (a decimal number such as 0.5 or 2)"),
+    # the value as messages quote one: never unbounded (issue 26 item 3)
+    ("1" * 1000, f"'{'1' * 40}...{'1' * 12} (1000 characters)' is not a time in seconds (a "
+                 "decimal number such as 0.5 or 2)"),
+    ("9" * 5000, f"'{'9' * 40}...{'9' * 12} (5000 characters)' is not a time in seconds (a "
+                 "decimal number such as 0.5 or 2)"),
 ])
 @pytest.mark.parametrize("cmd", ["download", "network download", "network scan"])
 def test_a_bad_time_says_what_a_time_is(cmd, value, message):

@@ -164,3 +164,57 @@ def test_option_integer_of_thousands_of_digits(tmp_path):
     assert r.output.splitlines()[-1] == (
         f"Error: Invalid value for '-n' / '--node-id': '{shorten(HEX)}' is not an integer "
         f"({TOO_LONG.format(4000)}; decimal, 0x hex or 0 octal as in a DCF)")
+
+
+# -- a user's long text in the messages of validate, diff and export -------------------------
+
+LONG_KEY = "K" * 300
+CUT_KEY = "K" * 40 + "..." + "K" * 12 + " (300 characters)"
+COMMENT = "; " + "c" * 300
+CUT_COMMENT = "; " + "c" * 38 + "..." + "c" * 12 + " (302 characters)"
+
+
+def _long_device(tmp_path):
+    from conftest import SAMPLES
+    text = (SAMPLES / "device.dcf").read_text()
+    text = text.replace("ParameterValue=500", f"ParameterValue=500 {COMMENT}", 1)
+    text = text.replace("[DeviceInfo]", f"[DeviceInfo]\n{LONG_KEY}=1", 1)
+    path = tmp_path / "long.dcf"
+    path.write_text(text)
+    return path
+
+
+def test_validate_quotes_a_long_key_cut(tmp_path):
+    path = _long_device(tmp_path)
+    r = CliRunner().invoke(main, ["validate", str(path)])
+    assert f"{path}:13: warning: key '{CUT_KEY}' is not defined by CiA 306 for [DeviceInfo] " \
+           "[DCF050]" in r.stdout.splitlines()
+
+
+def test_export_quotes_a_long_comment_cut(tmp_path):
+    path = _long_device(tmp_path)
+    r = CliRunner().invoke(main, ["export", "-f", "canopennode", str(path), "-o",
+                                  str(tmp_path / "od")])
+    assert (r.exit_code, r.stderr) == (0, (
+        f"{path}:95: warning: 0x1017sub0: comment '{CUT_COMMENT}' after the number is "
+        "ignored [DCF203]\n"))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["validate", "--select", "Z" * 300, "{device}"], "Invalid value for '--select' / "
+     f"'--ignore': '{'Z' * 40}...{'Z' * 12} (300 characters)' matches no rule id, id prefix "
+     "or rule name (see --list-rules)"),
+    (["diff", "--ignore", "0x2000-" + "z" * 300, "{device}", "{device}"], "Invalid value for "
+     f"'--ignore': '0x2000-{'z' * 33}...{'z' * 12} (307 characters)' is not an entry or range "
+     "(an index such as 0x1017, an entry such as 0x1018sub4, or a range such as "
+     "0x2000-0x2FFF)"),
+    (["export", "-f", "port-c", "--prefix", "-" * 300, "{device}", "-o", "x.c"], "Invalid "
+     f"value for '--prefix': '{'-' * 40}...{'-' * 12} (300 characters)' is not a C "
+     "identifier"),
+])
+def test_option_texts_are_cut_in_usage_errors(tmp_path, monkeypatch, args, message):
+    from conftest import SAMPLES
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, [a.format(device=SAMPLES / "device.dcf") for a in args])
+    assert r.exit_code == 2
+    assert r.stderr.splitlines()[-1] == f"Error: {message}"

@@ -438,7 +438,7 @@ def annotate(data: bytes, path: str, notes: list[Note], keys: dict[str, str]) ->
     """``data`` (a DCF with [DeviceComissioning]) with a comment line for each note, in
     the section of its entry, and ``keys`` set in [DeviceComissioning]."""
     from dcf2bin import ini as ini_mod
-    from dcf2bin.plc.merge import _lines, _set_value, section_ends
+    from dcf2bin.plc.merge import _lines, _set_value, section_ends, splice
     parsed = ini_mod.parse_bytes(data, path)
     lines = _lines(data)
     ends = section_ends(parsed, lines)
@@ -465,22 +465,9 @@ def annotate(data: bytes, path: str, notes: list[Note], keys: dict[str, str]) ->
             replace[k] = _set_value(lines[k], value, enc)
         else:
             after.setdefault(ends[canon[id(sec)]] - 1, []).append(f"{key}={value}")
-    out: list[bytes] = []
-    starts = [0]
-    for line in lines:
-        starts.append(starts[-1] + len(line))
-    pos = 0
     nlb = nl.encode(enc)
-    for i in sorted(set(replace) | set(after)):
-        out.append(data[pos:starts[i]])
-        line = replace.get(i, lines[i])
-        if i in after and not line.endswith((b"\n", b"\r")):
-            line += nlb
-        out.append(line)
-        out += [_encode(t, enc, path) + nlb for t in after.get(i, ())]
-        pos = starts[i + 1]
-    out.append(data[pos:])
-    return b"".join(out)
+    return splice(data, lines, replace, after, nl=nlb, end=nlb,
+                  encode=lambda text: _encode(text, enc, path))
 
 
 def _note_place(parsed, index: int, sub: int):

@@ -19,7 +19,7 @@ import sys
 import click
 
 from dcf2bin import argspec
-from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, shorten
 
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
 
@@ -495,12 +495,12 @@ class Seconds(click.ParamType):
         else:
             text = str(value).strip()
             if len(text) > 40 or not _DECIMAL.fullmatch(text):
-                self.fail(f"'{value}' is not a time in seconds (a decimal number such as 0.5 "
-                          "or 2)", param, ctx)
+                self.fail(f"'{shorten(str(value))}' is not a time in seconds (a decimal "
+                          "number such as 0.5 or 2)", param, ctx)
             t = float(text)
         if not self.min <= t <= self.max:
-            self.fail(f"{value} is not in the range {self.min:g}<=x<={self.max:g} seconds",
-                      param, ctx)
+            self.fail(f"{shorten(str(value))} is not in the range "
+                      f"{self.min:g}<=x<={self.max:g} seconds", param, ctx)
         return t
 
     def __repr__(self) -> str:

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, Option, debug_option, emit, fail, guarded,
-                                input_kind, node_id_option, output_option, quiet_option,
-                                read_input, stop_on_errors, without_cyclic_gc, write_output)
-from dcf2bin.diagnostics import ExitCode
+from dcf2bin.cli.common import (CONTEXT, Option, debug_option, emit, guarded, input_kind,
+                                node_id_option, output_option, quiet_option, read_input,
+                                stop_on_errors, without_cyclic_gc, write_output)
+from dcf2bin.diagnostics import shorten
 
 # Kept literally here (module-level imports stay light); tests check it equals
 # dcf2bin.formats.TARGETS.
@@ -40,19 +40,26 @@ def convert_cmd(input, output, fmt, node_id, quiet, debug):
 
     Every object, sub-object, type, access, value, limit, PDO mapping flag and ObjFlags
     is kept; what the output format cannot say is a warning naming the object (CNV0xx).
-    An input with errors is not converted (dcf2bin validate shows them).
+
+    An input with reading errors is not converted (exit 1): a line that is no key=value,
+    a key given twice, an unknown DataType, AccessType or ObjectType, XML that is no CiA
+    311 description. What 'dcf2bin validate' checks beyond that (a value out of range for
+    its type, a PDO mapping whose sub 0 counts an entry that maps nothing) does not stop
+    it: the file is converted as written, values as their text.
     """
     from dcf2bin import formats
+    ctx = click.get_current_context()
     if output is None:
-        fail("convert needs -o OUTPUT (its suffix, or -f, names the format; -o - for "
-             "standard output)", code=ExitCode.USAGE)
+        raise click.MissingParameter("Its suffix, or -f, names the format (-o - for "
+                                     "standard output).", ctx, _param(ctx, "output"))
     target = fmt or formats.target_of(output)
     if target is None:
-        fail(f"cannot tell the format of '{output}' from its suffix; give -f "
-             f"{'|'.join(TARGETS)}", code=ExitCode.USAGE)
+        raise click.BadParameter(f"cannot tell the format of '{shorten(output)}' from its "
+                                 f"suffix; give -f {'|'.join(TARGETS)}", ctx,
+                                 _param(ctx, "output"))
     if node_id is not None and target not in ("dcf", "xdc"):
-        fail(f"-n applies to a DCF or an XDC only (the output is {target.upper()}: it holds "
-             "no configured values)", code=ExitCode.USAGE)
+        raise click.UsageError(f"-n applies to a DCF or an XDC only (the output is "
+                               f"{target.upper()}: it holds no configured values)", ctx)
     data = read_input(input)
     input_kind(input, data, ("dcf", "xdd"), quiet=quiet)
     name = "<stdin>" if input == "-" else input
@@ -61,3 +68,7 @@ def convert_cmd(input, output, fmt, node_id, quiet, debug):
     emit(res.diagnostics, quiet)
     stop_on_errors(res, name, "nothing written")
     write_output(res.data, output, [input], binary=False)
+
+
+def _param(ctx: click.Context, name: str) -> click.Parameter:
+    return next(p for p in ctx.command.params if p.name == name)

@@ -60,8 +60,9 @@ def diff_cmd(a, b, node_id, interface, channel, bitrate, timeout, retries, all_,
     file a node on the bus.
 
     Values are compared by type and meaning ($NODEID worked out, 0x10 equals 16); a
-    container or concise DCF by what the node holds after it. Exit 0 when equal, 1
-    when they differ, 2 for a usage error, 3 when an input cannot be read.
+    container or concise DCF by what the node holds after it. Exit 0 when equal and both
+    read without errors, 1 when they differ or an input has errors (compared as read, each
+    error printed), 2 for a usage error, 3 when an input cannot be read.
     """
     from dcf2bin import compare
     check_output(output)
@@ -71,6 +72,10 @@ def diff_cmd(a, b, node_id, interface, channel, bitrate, timeout, retries, all_,
         if node_id is None:
             _usage("give two inputs to compare, or one and -n N to compare it with that "
                    "node on the bus")
+        if os.path.isdir(a):
+            _usage(f"{a} is a folder: with -n, diff compares one file (a DCF, EDS, XDD/XDC, "
+                   "container or concise DCF) with that node on the bus; two folders are "
+                   "compared with each other")
         result = _with_node(a, node_id, scope, interface, channel, bitrate, timeout,
                             retries, quiet)
     elif bus:
@@ -134,9 +139,13 @@ def _folders(a: str, b: str, scope, quiet: bool):
     names = []
     for folder in (a, b):
         try:
-            names.append(folders.listing(folder))
+            found = folders.listing(folder)
         except OSError as exc:
             fail(f"cannot read: {exc.strerror or exc}", folder, ExitCode.UNREADABLE)
+        emit([Diagnostic(Severity.WARNING, f"{kind}, not a regular file: not compared",
+                         os.path.join(folder, name)) for name, kind in found.others.items()],
+             quiet)
+        names.append(found.files)
     p = folders.pair(*names)
     result = compare.Result(a, b, only_a=p.only_a, only_b=p.only_b,
                             not_compared=p.not_compared, folders=True)
@@ -163,6 +172,7 @@ def _with_node(path: str, node_id: int, scope, interface, channel, bitrate, time
         link.close_network(net)
     result = compare.Result(side.label, other.label)
     result.files.append(compare.compare(side, other, scope))
+    emit(result.files[0].diagnostics(), quiet)
     return result
 
 

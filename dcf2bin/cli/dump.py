@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import click
 
-from dcf2bin.cli.common import (CONTEXT, debug_option, eds_option, format_option, guarded,
-                                output_option, quiet_option, read_binary, read_eds,
-                                without_cyclic_gc, write_output)
+from dcf2bin.cli.common import (CONTEXT, debug_option, eds_option, emit, format_option,
+                                guarded, output_option, quiet_option, read_binary, read_eds,
+                                read_input, without_cyclic_gc, write_output)
 
 INPUT = click.argument("input", metavar="FILE.bin",
                        type=click.Path(allow_dash=True))
@@ -45,13 +45,12 @@ def dump_cmd(input, fmt, output, eds, full, textconv, quiet, debug):
     if textconv and fmt == "json":
         raise click.UsageError("--textconv is a text form of its own: give it without "
                                "-f json")
-    kind, what, name = read_binary(input, quiet)
     if textconv:
-        info, _ = read_eds(eds, quiet)
-        from dcf2bin.dump import textconv as tc
-        text = (tc.concise_dcf(what, eds=info, eds_name=eds or "") if kind == "concise"
-                else tc.container(what, eds=info))
-    elif fmt == "json":
+        write_output(_textconv(input, eds, quiet), output, [input] + ([eds] if eds else []),
+                     binary=False)
+        return
+    kind, what, name = read_binary(input, quiet)
+    if fmt == "json":
         text = dump.concise_json.to_json(what) if kind == "concise" else dump.to_json(what)
     else:
         info, _ = read_eds(eds, quiet)
@@ -60,3 +59,30 @@ def dump_cmd(input, fmt, output, eds, full, textconv, quiet, debug):
         else:
             text = dump.report(what, name, eds=info, full=full)
     write_output(text, output, [input] + ([eds] if eds else []), binary=False)
+
+
+def _textconv(path: str, eds, quiet: bool) -> str:
+    """git's textconv filter must not fail on a file it can read: git would abort the whole
+    diff. Bytes that are no whole container or concise DCF are text too, the error a line
+    of it (exit 0); only a file that cannot be read at all (missing, a FIFO) is exit 3."""
+    from dcf2bin import filekind
+    from dcf2bin.concise import read_concise
+    from dcf2bin.dump import read_bytes
+    from dcf2bin.dump import textconv as tc
+    data = read_input(path)
+    info, _ = read_eds(eds, quiet)
+    name = "<stdin>" if path == "-" else path
+    kind = filekind.detect(data, "" if path == "-" else path)
+    problem = filekind.mismatch("the file", kind, ("bin", "concise"))
+    if problem:
+        return tc.damaged(data, None, problem)
+    if kind == "concise":
+        entries, diags = read_concise(data, name)
+        if entries is None:
+            return tc.damaged(data, kind, diags[0], eds=info, eds_name=eds or "")
+        return tc.concise_dcf(entries, eds=info, eds_name=eds or "")
+    c, diags = read_bytes(data, name)
+    if c is None:
+        return tc.damaged(data, kind, diags[0])
+    emit(diags, quiet)
+    return tc.container(c, eds=info)

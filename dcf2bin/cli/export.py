@@ -13,8 +13,9 @@ import click
 
 from dcf2bin.cli.common import (CONTEXT, Integer, debug_option, emit, fail, format_option,
                                 guarded, input_kind, node_id_option, output_option, quiet_option,
-                                read_input, stop_on_errors, without_cyclic_gc, write_output)
-from dcf2bin.diagnostics import ExitCode
+                                read_input, registered_inputs, say, stop_on_errors,
+                                without_cyclic_gc, write_output)
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, shorten
 
 # Kept literally here (module-level imports stay light); tests check it equals
 # dcf2bin.export.FORMATS.
@@ -47,9 +48,9 @@ def _identifier(kind: str):
         for v in values:
             if kind == "header":
                 if not v or '"' in v or "\n" in v:
-                    raise click.BadParameter(f"'{v}' is not a header name")
+                    raise click.BadParameter(f"'{shorten(v)}' is not a header name")
             elif not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", v):
-                raise click.BadParameter(f"'{v}' is not {kind} identifier")
+                raise click.BadParameter(f"'{shorten(v)}' is not {kind} identifier")
         return value
     return check
 
@@ -105,11 +106,11 @@ def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with
     from click.core import ParameterSource
     for param, formats in _FORMAT_OPTIONS.items():
         if fmt not in formats and ctx.get_parameter_source(param) is ParameterSource.COMMANDLINE:
-            fail(f"{_OPTION_NAMES[param]} applies to --format {' / '.join(formats)} only",
-                 code=ExitCode.USAGE)
+            raise click.UsageError(f"{_OPTION_NAMES[param]} applies to --format "
+                                   f"{' / '.join(formats)} only", ctx)
     if fmt in FOLDER_FORMATS and output == "-":
-        fail(f"--format {fmt} writes two files, {od_name}.h and {od_name}.c: give the folder "
-             "with -o FOLDER", code=ExitCode.USAGE)
+        raise click.UsageError(f"--format {fmt} writes two files, {od_name}.h and "
+                               f"{od_name}.c: give the folder with -o FOLDER", ctx)
     from dcf2bin.export import run
     data = read_input(input)
     input_kind(input, data, ("dcf", "xdd"), quiet=quiet)
@@ -121,27 +122,31 @@ def export_cmd(input, fmt, output, node_id, allow_external_files, var_name, with
     emit(res.diagnostics, quiet)
     stop_on_errors(res, name, "nothing written")
     if isinstance(res.output, dict):
-        _write_files(res.output, output, input)
+        _write_files(res.output, output, quiet)
     else:
         write_output(res.output, output, [input], binary=(fmt == "lenze-bin"))
 
 
-def _write_files(files: dict, folder: str, input: str) -> None:
-    """Each file into ``folder`` (made when missing), through write_output: each one
-    atomically, and none before all of them are made. Not yet all or none as a set: a
-    disk that fills between the two renames leaves the first new beside the second old
-    (fileio.OutputSet of the branch that moves the writing out of cli/common does that)."""
-    import os
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        fail("cannot write: Not a directory", folder, ExitCode.UNREADABLE)
+def _write_files(files: dict, folder: str, quiet: bool) -> None:
+    """Each file into ``folder`` (made when missing) as one set (fileio.OutputSet): every
+    file written and synced before the first is renamed into place, so that after an
+    error or a signal both are new or both as they were -- never a new OD.h beside an old
+    OD.c. Without a record (``record=False``): the folder holds the files and nothing else
+    of the writer once the set is complete."""
+    from dcf2bin.fileio import OutputIsInput, OutputSet, signals
+
+    def waiting() -> None:
+        if not quiet:
+            say(f"export: waiting for another writer in {folder}")
+    outputs = [(name, text.encode("utf-8", "surrogateescape")) for name, text in files.items()]
     try:
-        os.makedirs(folder, exist_ok=True)
+        with signals.raising():
+            report = OutputSet(folder, outputs, inputs=registered_inputs(), on_wait=waiting,
+                               record=False).write()
+    except OutputIsInput as exc:
+        fail(exc.reason, exc.path, ExitCode.USAGE)
     except OSError as exc:
-        fail(f"cannot write: {exc.strerror or exc}", folder, ExitCode.UNREADABLE)
-    paths = [os.path.join(folder, name) for name in files]
-    for path in paths:                  # before the first file: none may be the input
-        if input != "-" and os.path.exists(path) and os.path.samefile(path, input):
-            fail(f"output '{path}' is the input file; refusing to overwrite it",
-                 code=ExitCode.USAGE)
-    for path, text in zip(paths, files.values()):
-        write_output(text, path, [input], binary=False)
+        fail(f"cannot write: {exc.strerror or exc}", exc.filename or folder,
+             ExitCode.UNREADABLE)
+    if report.recovered:           # a run stopped by SIGKILL in this folder, undone first
+        emit([Diagnostic(Severity.WARNING, report.recovered, folder)], quiet)

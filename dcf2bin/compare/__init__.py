@@ -29,13 +29,16 @@ __all__ = ["ADDED", "CHANGED", "KINDS", "REMOVED", "BadIgnore", "Change", "FileD
 
 def sides(a: Source, b: Source):
     """Both comparable forms: a description without a node-ID of its own takes the other
-    input's (-n gives both one). Returns (side a, side b, warnings)."""
-    sa, wa = side(a, b.node_id)
-    sb, wb = side(b, a.node_id)
-    return sa, sb, a.warnings + wa + b.warnings + wb
+    input's (-n gives both one). Returns (side a, side b, diagnostics: each input's
+    warnings and errors; ``Side.errors`` counts the errors)."""
+    sa, ea = side(a, b.node_id)
+    sb, eb = side(b, a.node_id)
+    return sa, sb, a.warnings + ea + b.warnings + eb
 
 
 def compare_sources(a: Source, b: Source, scope: Scope | None = None):
-    """Compare two inputs read by ``load``: (FileDiff, warnings)."""
-    sa, sb, warnings = sides(a, b)
-    return compare(sa, sb, scope), warnings
+    """Compare two inputs read by ``load``: (FileDiff, diagnostics: the inputs' and those
+    of values that cannot be encoded)."""
+    sa, sb, diags = sides(a, b)
+    diff = compare(sa, sb, scope)
+    return diff, diags + diff.diagnostics()

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.compare.scope import Scope, state_reason
 from dcf2bin.compare.side import WRITES, Item, Side
+from dcf2bin.diagnostics import Diagnostic, Severity
 
 CHANGED, REMOVED, ADDED = "changed", "removed", "added"     # removed: only in A; added: B
 FACETS = ("value", "datatype", "access", "pdo_mapping", "attribute")
@@ -49,10 +50,29 @@ class FileDiff:
     left_out: dict[str, int] = field(default_factory=dict)
     only_a: set[int] = field(default_factory=set)
     only_b: set[int] = field(default_factory=set)
+    # Side.problems as diagnostics: of entries compared (errors, per input "a", "b") and
+    # of entries not compared (warnings)
+    entry_errors: dict[str, list] = field(default_factory=lambda: {"a": [], "b": []})
+    entry_warnings: list = field(default_factory=list)
+
+    def errors_of(self, which: str) -> int:
+        """The errors of input ``which`` ("a" or "b"): its reader's of no object and
+        those of the entries compared."""
+        side = self.a if which == "a" else self.b
+        return side.errors + len(self.entry_errors[which])
+
+    @property
+    def errors(self) -> int:
+        return self.errors_of("a") + self.errors_of("b")
+
+    def diagnostics(self) -> list[Diagnostic]:
+        return self.entry_errors["a"] + self.entry_errors["b"] + self.entry_warnings
 
     @property
     def equal(self) -> bool:
-        return not self.changes
+        """No entry differs and both inputs were read without errors: a file with errors
+        compared as read is never equal to another (exit 0 means both are clean)."""
+        return not self.changes and not self.errors
 
 
 @dataclass
@@ -91,7 +111,7 @@ def compare(a: Side, b: Side, scope: Scope | None = None) -> FileDiff:
     for why in (*a.unread.values(), *b.unread.values()):   # left out before a node was read
         if why in ("state", "ignored"):
             out.left_out[why] = out.left_out.get(why, 0) + 1
-    shown_a, shown_b = set(), set()
+    shown_a, shown_b, compared = set(), set(), set()
     for key in sorted(ka | kb):
         ia, ib = (a.items[key] if key in ka else None), (b.items[key] if key in kb else None)
         if scope.ignored(key):
@@ -105,6 +125,7 @@ def compare(a: Side, b: Side, scope: Scope | None = None) -> FileDiff:
                 out.left_out["state"] = out.left_out.get("state", 0) + 1
                 continue
         out.compared += 1
+        compared.add(key)
         if ia is not None:
             shown_a.add(key[0])
         if ib is not None:
@@ -118,7 +139,27 @@ def compare(a: Side, b: Side, scope: Scope | None = None) -> FileDiff:
             if facets:
                 out.changes.append(Change(key, CHANGED, ia, ib, facets))
     out.only_a, out.only_b = shown_a - shown_b, shown_b - shown_a
+    _problems(out, compared)
     return out
+
+
+def _problems(out: FileDiff, compared: set) -> None:
+    """Each side's errors of an object or entry: an error where an entry they touch was
+    compared, else a warning ``(not compared)`` -- as compile words one of an entry it
+    does not write."""
+    objects = {index for index, _ in compared}
+    for which, side in (("a", out.a), ("b", out.b)):
+        for index, sub, d, as_written in side.problems:
+            hit = (index, sub) in compared if sub is not None else index in objects
+            if hit:
+                message = f"{d.message}; compared as written" if as_written else d.message
+                out.entry_errors[which].append(Diagnostic(
+                    Severity.ERROR, message, d.file, d.line, d.column, d.offset, d.rule,
+                    d.hint))
+            else:
+                out.entry_warnings.append(Diagnostic(
+                    Severity.WARNING, f"{d.message} (not compared)", d.file, d.line,
+                    d.column, d.offset, d.rule, d.hint))
 
 
 def differing(a: Item, b: Item, values_only: bool = False) -> tuple[str, ...]:

@@ -31,14 +31,14 @@ def render(result: Result, scope: Scope) -> str:
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
-def _side(s: Side) -> dict:
-    return {"file": s.label, "kind": s.kind, "node_id": s.node_id}
+def _side(s: Side, errors: int) -> dict:
+    return {"file": s.label, "kind": s.kind, "node_id": s.node_id, "errors": errors}
 
 
 def _file(f: FileDiff) -> dict:
     return {
-        "a": _side(f.a),
-        "b": _side(f.b),
+        "a": _side(f.a, f.errors_of("a")),
+        "b": _side(f.b, f.errors_of("b")),
         "equal": f.equal,
         "compared": f.compared,
         "left_out": {"state": f.left_out.get("state", 0),

@@ -15,7 +15,13 @@ What each kind holds:
 * a write list -- a container, its JSON form, a concise DCF -- the last write of each
   entry (what the target holds after it), with a container's attribute byte.
 
-A file that cannot be read as its kind raises ``Unreadable`` with its diagnostics.
+A file that cannot be read as its kind raises ``Unreadable`` with its diagnostics. A
+description read with errors is compared as read, its errors kept (``Source.errors``):
+those of no object (a line that is no key, conflict markers) count in ``Side.errors``;
+those of an object or entry (an unknown AccessType), and values that cannot be encoded
+(kept as written), go to ``Side.problems`` and are errors where the entry is compared
+(``engine``), as compile's are where it writes the entry. A comparison with errors is
+never "equal": ``diff`` exits 0 only for two inputs read cleanly that are equal.
 """
 from __future__ import annotations
 
@@ -54,6 +60,7 @@ class Source:
     attributes: bytes | None = None
     places: list[str] | None = None
     warnings: list[Diagnostic] = field(default_factory=list)
+    errors: list = field(default_factory=list)     # the reader's errors: model Problems
 
     @property
     def node_id(self) -> int | None:
@@ -107,24 +114,24 @@ def _description(data: bytes, path: str, label: str, kind: str,
                  node_id: int | None) -> Source:
     from dcf2bin import formats
     dev = formats.load(path, node_id=node_id, data=data)
-    errors = [p.diagnostic for p in dev.problems if p.diagnostic.severity is Severity.ERROR]
+    errors = [p for p in dev.problems if p.diagnostic.severity is Severity.ERROR]
     if errors and not any(i >= 0x1000 for i in dev.objects):
-        raise Unreadable(errors)
-    src = Source(label, kind, dev=dev)
-    if errors:
-        n = len(errors)
-        src.warnings.append(Diagnostic(
-            Severity.WARNING, f"{n} error{'s' if n != 1 else ''} in this file (dcf2bin "
-            "validate lists them); compared as read", label))
-    return src
+        raise Unreadable([p.diagnostic for p in errors])
+    return Source(label, kind, dev=dev, errors=errors)
 
 
 def side(src: Source, node_id: int | None) -> tuple[Side, list[Diagnostic]]:
     """The comparable form of ``src``; ``node_id`` is for a description whose own
-    node-ID is unknown (the other input's). Returns it and the warnings of values that
-    cannot be worked out (compared as written)."""
+    node-ID is unknown (the other input's). Returns it and the reader's errors of no
+    object (counted in ``Side.errors``); those of an object or entry, and values that
+    cannot be worked out (kept as written), are in ``Side.problems``."""
     if src.dev is not None:
-        return _description_side(src, node_id)
+        out = _description_side(src, node_id)
+        general = [p.diagnostic for p in src.errors if p.index is None]
+        out.errors = len(general)
+        out.problems[:0] = [(p.index, p.sub, p.diagnostic, False) for p in src.errors
+                            if p.index is not None]
+        return out, general
     items: dict[tuple[int, int], Item] = {}
     attrs = src.attributes
     for k, (index, sub, data) in enumerate(src.entries):
@@ -134,13 +141,12 @@ def side(src: Source, node_id: int | None) -> tuple[Side, list[Diagnostic]]:
     return Side(src.label, src.kind, WRITES, items, objects_of(items)), []
 
 
-def _description_side(src: Source, node_id: int | None) -> tuple[Side, list[Diagnostic]]:
+def _description_side(src: Source, node_id: int | None) -> Side:
     dev = src.dev
     if dev.node_id is None and node_id is not None:
         dev.node_id = node_id
         dev.encoded.clear()          # no encoding made before holds a $NODEID value
     out = Side(src.label, src.kind, DESCRIPTION, node_id=dev.node_id)
-    warnings: list[Diagnostic] = []
     for obj in dev.sorted_objects():
         if obj.index < 0x1000:       # data type definitions hold no entries (SPEC §1)
             continue
@@ -149,7 +155,7 @@ def _description_side(src: Source, node_id: int | None) -> tuple[Side, list[Diag
         for e in obj.sorted_entries():
             value, problem = _value(dev, e)
             if problem is not None:
-                warnings.append(problem)
+                out.problems.append((e.index, e.sub, problem, True))
             if e.sub == 0 and is_pdo_mapping(obj.index) and value.data is not None:
                 count = int.from_bytes(value.data, "little")
             # a mapping's subs above its count are unused: compile writes 1..n (SPEC §3.2)
@@ -157,7 +163,7 @@ def _description_side(src: Source, node_id: int | None) -> tuple[Side, list[Diag
             out.items[(e.index, e.sub)] = Item(
                 e.index, e.sub, value, e.dtype, e.access, e.pdo_mapping, name=e.name,
                 configured=not unused and _changes_default(dev, e, value), entry=e)
-    return out, warnings
+    return out
 
 
 def _changes_default(dev, e, value: Value) -> bool:
@@ -180,7 +186,7 @@ def _changes_default(dev, e, value: Value) -> bool:
 
 def _value(dev, e) -> tuple[Value, Diagnostic | None]:
     """An entry's effective value; a value that cannot be encoded is kept as written,
-    with the warning that says so."""
+    with the encoder's error."""
     if e.param is None and e.download_file is not None:
         text = e.download_file
     else:
@@ -201,9 +207,7 @@ def _value(dev, e) -> tuple[Value, Diagnostic | None]:
             if formula is not None:
                 return Value(text=text, formula=formula), None
         problem = d.message.removeprefix(f"{e.label}: ")
-        return Value(text=text, problem=problem), Diagnostic(
-            Severity.WARNING, f"{d.message}; compared as written", d.file, d.line,
-            rule=d.rule)
+        return Value(text=text, problem=problem), d
 
 
 def _formula(dtype: dt.DataType, text: str) -> tuple[bytes, bytes] | None:

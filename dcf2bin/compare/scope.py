@@ -21,6 +21,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from dcf2bin.diagnostics import shorten
+
 STATE_OBJECTS = {0x1001: "error register", 0x1002: "manufacturer status register",
                  0x1003: "pre-defined error field", 0x1010: "store parameters",
                  0x1011: "restore default parameters"}
@@ -68,10 +70,10 @@ def parse_ignore(text: str) -> list[Span]:
         a = _bound(first, part, low=True)
         b = _bound(last, part, low=False) if dash else _bound(first, part, low=False)
         if b < a:
-            raise BadIgnore(f"'{part.strip()}': the range ends before it starts")
+            raise BadIgnore(f"'{shorten(part.strip())}': the range ends before it starts")
         spans.append(Span(a, b, part.strip()))
     if not spans:
-        raise BadIgnore(f"'{text}' names no entry (an index such as 0x1017, an entry such "
+        raise BadIgnore(f"'{shorten(text)}' names no entry (an index such as 0x1017, an entry such "
                         "as 0x1018sub4, or a range such as 0x2000-0x2FFF)")
     return spans
 
@@ -80,20 +82,22 @@ def _bound(text: str, whole: str, *, low: bool) -> tuple[int, int]:
     from dcf2bin import values
     m = _ENTRY.fullmatch(text)
     if m is None:
-        raise BadIgnore(f"'{whole.strip()}' is not an entry or range (an index such as "
+        raise BadIgnore(f"'{shorten(whole.strip())}' is not an entry or range (an index such as "
                         "0x1017, an entry such as 0x1018sub4, or a range such as "
                         "0x2000-0x2FFF)")
     try:
         index = values.parse_int(m["index"])
     except values.ValueProblem as exc:
-        raise BadIgnore(f"'{whole.strip()}': {exc}") from None
+        raise BadIgnore(f"'{shorten(whole.strip())}': {exc}") from None
     if not 0 <= index <= 0xFFFF:
-        raise BadIgnore(f"'{whole.strip()}': index {m['index']} is not in 0x0000-0xFFFF")
+        raise BadIgnore(f"'{shorten(whole.strip())}': index {shorten(m['index'])} is not in "
+                        "0x0000-0xFFFF")
     if m["sub"] is None:
         return (index, 0 if low else 0xFF)
     sub = int(m["sub"], 16)
     if sub > 0xFF:
-        raise BadIgnore(f"'{whole.strip()}': sub-index {m['sub']} is not in 0x00-0xFF")
+        raise BadIgnore(f"'{shorten(whole.strip())}': sub-index {shorten(m['sub'])} is not in "
+                        "0x00-0xFF")
     return (index, sub)
 
 

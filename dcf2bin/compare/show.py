@@ -4,6 +4,10 @@ entry maps ("0x6041sub0 Statusword, 16 bits") and what a PDO's COB-ID says.
 
 The type is the entry's own, else the other side's (a container or a node knows none),
 else what a container's attribute byte and the size say; without any, the bytes in hex.
+
+Every value is shown bounded: long bytes as their first 32 and the count, a string or a
+value as written of more than 80 characters as its first 40 and last 12 and the count
+(``diagnostics.shorten``); the JSON form's ``data`` holds the whole bytes.
 """
 from __future__ import annotations
 
@@ -11,9 +15,11 @@ import json
 
 from dcf2bin import datatypes as dt
 from dcf2bin.compare.side import Item, Side
+from dcf2bin.diagnostics import shorten
 from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 
 LONG = 32        # bytes of a long OCTET_STRING/DOMAIN shown before "..."
+LONG_TEXT = 80   # characters of a string, or a value as written, shown whole (else shortened)
 
 
 # The data types CiA 301/302 give the communication objects, for a value whose side and
@@ -61,10 +67,12 @@ def value_text(item: Item, other: Item | None = None) -> str:
     """The value as the output shows it (without what it means)."""
     v = item.value
     if v.data is None:
+        # the text as written is the user's: shortened as every message quotes one
         if v.problem is not None:
-            return f"{v.text} (invalid: {v.problem})" if v.text else v.problem
+            problem = shorten(v.problem, LONG_TEXT)
+            return f"{shorten(v.text, LONG_TEXT)} (invalid: {problem})" if v.text else problem
         if v.text is not None:
-            return v.text                       # a $NODEID formula without a node-ID
+            return shorten(v.text, LONG_TEXT)   # a $NODEID formula without a node-ID
         return "(no value)"
     text = typed(v.data, type_of(item, other))
     return f"{text} (no value given)" if v.implied else text
@@ -91,7 +99,7 @@ def typed(data: bytes, t: dt.DataType | None) -> str:
             if t.kind == dt.USTRING:
                 return _hex(data)
             text = data.decode("latin-1")        # a DCF in Latin-1 writes its strings so
-        return json.dumps(text, ensure_ascii=False)
+        return shorten(json.dumps(text, ensure_ascii=False), LONG_TEXT)
     return _hex(data)
 
 

@@ -120,6 +120,13 @@ class Side:
     # entries a node was not asked for -> why: "state", "ignored" (counted as left out),
     # "write-only", "no value" (the file gives none)
     unread: dict = field(default_factory=dict)
+    # the errors its reader met of no object (a line that is no key, conflict markers):
+    # it is compared as read, and never counts as equal
+    errors: int = 0
+    # errors of an object or entry: (index, sub or None for the whole object, Diagnostic,
+    # True for a value that cannot be encoded and is compared as written); an error where
+    # the entry takes part in the comparison, a warning where it does not (engine)
+    problems: list = field(default_factory=list)
 
     def object_name(self, index: int) -> str:
         o = self.objects.get(index)

@@ -30,7 +30,7 @@ def render(result: Result, *, colour: bool = False) -> str:
     for name in result.only_b:
         lines.append(paint(_BOLD, f"Only in {escape(result.b)}: {escape(name)}"))
     for f in result.files:
-        if not f.equal:
+        if f.changes:
             lines += file_lines(f, paint)
     return "".join(line + "\n" for line in lines)
 
@@ -90,12 +90,15 @@ def summary(result: Result) -> str:
         notes.append(f"{left['ignored']} ignored")
     head = f"{escape(result.a)}, {escape(result.b)}: "
     if result.folders:
-        differ = sum(1 for f in result.files if not f.equal)
+        differ = sum(1 for f in result.files if f.changes)
+        bad = sum(1 for f in result.files if f.errors)
         n = len(result.files)
         words = [f"{differ} of {_count(n, 'file')} differ{'s' if n == 1 else ''}" if differ
-                 else f"{_count(n, 'file')} equal"]
+                 else "no file differs as read" if bad else f"{_count(n, 'file')} equal"]
         if entries:
             words.append(_count(entries, "entry", "entries"))
+        if bad:
+            words.append(f"{_count(bad, 'file')} with errors")
         only = len(result.only_a) + len(result.only_b)
         if only:
             words.append(f"{_count(only, 'file')} only in one folder")
@@ -103,10 +106,18 @@ def summary(result: Result) -> str:
             words.append(f"{_count(len(result.not_compared), 'file')} of the build not "
                          "compared")
         head += ", ".join(words)
-    elif entries:
-        head += f"{_count(entries, 'entry differs', 'entries differ')}"
     else:
-        head += "equal"
+        errors = [f"{escape(side.label)} has {_count(f.errors_of(which), 'error')}"
+                  for f in result.files for which, side in (("a", f.a), ("b", f.b))
+                  if f.errors_of(which)]
+        if entries:
+            head += f"{_count(entries, 'entry differs', 'entries differ')}"
+            if errors:
+                head += f", and {' and '.join(errors)}"
+        elif errors:
+            head += f"no entry differs as read, but {' and '.join(errors)}"
+        else:
+            head += "equal"
     return f"{head}; {', '.join(notes)}"
 
 

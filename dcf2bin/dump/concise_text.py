@@ -8,7 +8,7 @@ from __future__ import annotations
 from dcf2bin import concise
 from dcf2bin.dump.concise_types import EDS, GUESS, entry_type
 from dcf2bin.dump.eds import EdsInfo
-from dcf2bin.dump.text import _Num, _short_hex, _table_columns, typed_value
+from dcf2bin.dump.text import _Num, _short_hex, _table_columns, typed_value, write_marks
 
 _HEAD = ("#", "offset", "index", "sub", "size", "data", "type", "value", "write")
 
@@ -39,6 +39,18 @@ def report(entries, name: str, *, eds: EdsInfo | None = None, eds_name: str = ""
     return "\n".join(out) + "\n"
 
 
+def disagrees(eds: EdsInfo, eds_name: str, index: int, sub: int, size: int) -> str:
+    """The note where the EDS gives an entry another size, or has no such entry; ""
+    where it agrees (the report's and textconv's)."""
+    given = eds.dtype(index, sub)
+    if given is not None:
+        return (f"0x{index:04X}sub{sub:X}: {size} data bytes, {eds_name} gives {given.name} "
+                f"({given.size} bytes)")
+    if (index, sub) not in eds.entries:
+        return f"0x{index:04X}sub{sub:X}: {eds_name} has no such entry"
+    return ""
+
+
 def _columns(entries, eds: EdsInfo | None, eds_name: str, full: bool):
     """The table, column by column, and the notes where the EDS disagrees."""
     types, values, notes = [], [], []
@@ -46,29 +58,17 @@ def _columns(entries, eds: EdsInfo | None, eds_name: str, full: bool):
         t, source = entry_type(index, sub, len(data), eds)
         types.append("-" if t is None else t.name + ("?" if source == GUESS else ""))
         values.append(typed_value(t, index, sub, data, full))
-        label = f"0x{index:04X}sub{sub:X}"
         if eds is not None and source != EDS:
-            given = eds.dtype(index, sub)
-            if given is not None:
-                notes.append(f"{label}: {len(data)} data bytes, {eds_name} gives {given.name} "
-                             f"({given.size} bytes)")
-            elif (index, sub) not in eds.entries:
-                notes.append(f"{label}: {eds_name} has no such entry")
-    keys = [(i, s) for i, s, _ in entries]
-    counts: dict = {}
-    for key in keys:
-        counts[key] = counts.get(key, 0) + 1
-    seen: dict = {}
-    writes = []
-    for key in keys:
-        seen[key] = k = seen.get(key, 0) + 1
-        writes.append(f"{k}/{counts[key]}" if counts[key] > 1 else "")
+            note = disagrees(eds, eds_name, index, sub, len(data))
+            if note:
+                notes.append(note)
+    writes = write_marks((i, s) for i, s, _ in entries)
     indexes, subs, datas = zip(*entries)
     cols = [_Num(range(1, len(entries) + 1)), _Num(concise.offsets(entries), "0x"),
             _Num(indexes, "0x", 4), _Num(subs), _Num([len(d) for d in datas]),
             [_short_hex(d, full) for d in datas], types, values, writes]
     if eds is not None:
-        cols.append([eds.name(i, s) for i, s in keys])
+        cols.append([eds.name(i, s) for i, s, _ in entries])
     return cols, _unique(notes)
 
 

@@ -265,19 +265,7 @@ def _index_columns(c: BinContainer, offsets: list[int], eds: EdsInfo | None,
         else:
             append(value_text(index, sub, data, attr, eds, full))
 
-    # the write column: "k/n" for the k-th of n writes of one (index, sub), else empty
-    keys = list(zip(indexes, subs))
-    counts: dict[tuple[int, int], int] = {}
-    for key in keys:
-        counts[key] = counts.get(key, 0) + 1
-    writes = [""] * n
-    if len(counts) < n:
-        seen: dict[tuple[int, int], int] = {}
-        for i, key in enumerate(keys):
-            total = counts[key]
-            if total > 1:
-                seen[key] = k = seen.get(key, 0) + 1
-                writes[i] = f"{k}/{total}"
+    writes = write_marks(zip(indexes, subs))
     attr_text = [f"0x{a:02X}" for a in range(256)]
     return [_Num(range(1, n + 1)),
             _Num(offsets, "0x"),
@@ -372,6 +360,25 @@ class _Num(NamedTuple):
 
     def texts(self) -> list[str]:
         return list(map(f"{self.prefix}%{self.conversion()}".__mod__, self.values))
+
+
+def write_marks(keys) -> list[str]:
+    """The write column of a write list: ``k/n`` for the k-th of n writes of one (index,
+    sub), else ``""`` (the reports of a container and a concise DCF, textconv's ``write
+    k/n``)."""
+    keys = list(keys)
+    counts: dict[tuple[int, int], int] = {}
+    for key in keys:
+        counts[key] = counts.get(key, 0) + 1
+    marks = [""] * len(keys)
+    if len(counts) < len(keys):
+        seen: dict[tuple[int, int], int] = {}
+        for i, key in enumerate(keys):
+            total = counts[key]
+            if total > 1:
+                seen[key] = k = seen.get(key, 0) + 1
+                marks[i] = f"{k}/{total}"
+    return marks
 
 
 def _table_columns(head: tuple, cols: list, right: set[int]) -> list[str]:

@@ -14,15 +14,26 @@ show). One line per entry, so that one entry changed is one line changed:
 
 A container in the canonical layout shows no header fields: every one of them follows from
 the segments. A stored layout shows them, and where the bytes between segments lie.
+
+A filter that fails makes git abort the whole diff ("unable to read files to diff"), so
+bytes that are no whole container or concise DCF still turn into text (``damaged``): what
+can be read of them -- a concise DCF's whole entries before the damage -- and the error as
+a line of the text, ``! error at 0x2D: ... [CON002]``:
+
+    concise DCF (CiA 302-3), 50 bytes, damaged: 4 whole entries
+    0x1400sub1: UNSIGNED32  4 bytes 02020080 = 0x80000202 = COB-ID 0x202, invalid
+    ...
+    ! error at 0x2D: entry 5 of 22 (0x1600sub2) claims 4 data bytes, 1 remain [CON002]
 """
 from __future__ import annotations
 
 from dcf2bin import concise, schema
 from dcf2bin.container import BinContainer
+from dcf2bin.dump.concise_text import disagrees
 from dcf2bin.dump.concise_types import EDS, GUESS, entry_type
 from dcf2bin.dump.eds import EdsInfo
 from dcf2bin.dump.text import (_FLAGS, _SEGMENT_TITLES, _address_columns, _Num, _pi_notes,
-                               header_notes, nv_keys, typed_value, value_text)
+                               header_notes, nv_keys, typed_value, value_text, write_marks)
 from dcf2bin.dump.binary import header_of
 
 
@@ -70,21 +81,57 @@ def concise_dcf(entries, *, eds: EdsInfo | None = None, eds_name: str = "") -> s
             name = eds.name(index, sub)
             label += f" {name}" if name else ""
             if source != EDS:
-                notes.append(_disagrees(eds, eds_name, index, sub, len(data)))
+                note = disagrees(eds, eds_name, index, sub, len(data))
+                notes.append(f"! {note}" if note else "")
         line = f"{label}: {typed}{_data(data, typed_value(t, index, sub, data, True))}"
         out.append(line + writes[k])
     return "\n".join(out + list(dict.fromkeys(n for n in notes if n))) + "\n"
 
 
-def _disagrees(eds: EdsInfo, eds_name: str, index: int, sub: int, size: int) -> str:
-    """The note where the EDS gives an entry another size, or has no such entry."""
-    given = eds.dtype(index, sub)
-    if given is not None:
-        return (f"! {_label(index, sub)}: {size} data bytes, {eds_name} gives {given.name} "
-                f"({given.size} bytes)")
-    if (index, sub) not in eds.entries:
-        return f"! {_label(index, sub)}: {eds_name} has no such entry"
-    return ""
+def damaged(data: bytes, kind: str, error, *, eds: EdsInfo | None = None,
+            eds_name: str = "") -> str:
+    """The textconv form of bytes that are no whole container or concise DCF: ``kind`` is
+    what they were read as ("bin", "concise"; else None), ``error`` the reader's
+    Diagnostic (or the sentence saying what the file is instead). What can be read is
+    shown -- a concise DCF's whole entries from its start, the rest of the file's bytes
+    counted -- then the error."""
+    if kind == "concise":
+        entries = _whole_entries(data)
+        text = concise_dcf(entries, eds=eds, eds_name=eds_name).splitlines()
+        head = (f"concise DCF (CiA 302-3), {_count(len(data), 'byte', 'bytes')}, damaged: "
+                f"{_count(len(entries), 'whole entry', 'whole entries')}")
+        lines = [head, *text[1:]]
+        rest = len(data) - concise.size_of(entries) if len(data) >= concise.COUNT.size \
+            else 0
+        if rest:
+            lines.append(f"! {_count(rest, 'byte', 'bytes')} after them not read")
+    elif kind == "bin":
+        lines = [f"binary DCF segment container, {_count(len(data), 'byte', 'bytes')}, "
+                 "damaged"]
+    else:
+        lines = []
+    if isinstance(error, str):
+        lines.append(f"! error: {error}")
+    else:
+        at = f" at 0x{error.offset:X}" if error.offset is not None else ""
+        rule = f" [{error.rule}]" if error.rule else ""
+        lines.append(f"! error{at}: {error.message}{rule}")
+    return "\n".join(lines) + "\n"
+
+
+def _whole_entries(data: bytes) -> list:
+    """The entries of a concise DCF that lie whole in ``data``, from its start, until one
+    does not (whatever its count says)."""
+    n, at, out = len(data), concise.COUNT.size, []
+    unpack = concise.ENTRY_HEAD.unpack_from
+    while at + concise.HEAD <= n:
+        index, sub, size = unpack(data, at)
+        if at + concise.HEAD + size > n:
+            break
+        at += concise.HEAD
+        out.append((index, sub, data[at:at + size]))
+        at += size
+    return out
 
 
 def _label(index: int, sub: int) -> str:
@@ -100,15 +147,7 @@ def _data(data: bytes, value: str) -> str:
 
 def _writes(keys: list[tuple[int, int]]) -> list[str]:
     """``  write k/n`` for the k-th of n writes of one entry, else ``""``."""
-    counts: dict = {}
-    for key in keys:
-        counts[key] = counts.get(key, 0) + 1
-    seen: dict = {}
-    out = []
-    for key in keys:
-        seen[key] = k = seen.get(key, 0) + 1
-        out.append(f"  write {k}/{counts[key]}" if counts[key] > 1 else "")
-    return out
+    return [f"  write {m}" if m else "" for m in write_marks(keys)]
 
 
 def _header(h: dict[str, int], notes: dict[str, str]) -> list[str]:
@@ -166,4 +205,4 @@ def _count(n: int, one: str, many: str) -> str:
     return f"{n} {one if n == 1 else many}"
 
 
-__all__ = ["concise_dcf", "container"]
+__all__ = ["concise_dcf", "container", "damaged"]

@@ -37,7 +37,7 @@ import struct
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt, values
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.export.common import (ExportResult, ascii_text, canopennode_settings,
                                    entry_setting, error, exported_objects, model_diagnostics,
                                    object_settings, pdo_direction, warning, written_default)
@@ -207,7 +207,7 @@ class _Builder:
         if t.name in C_TYPES:
             init = _number(t, raw) if given else None
             if init is None and given:
-                self.diags.append(error(f"{entry.label}: {t.name} value '{entry.value_text}' "
+                self.diags.append(error(f"{entry.label}: {t.name} value '{shorten(entry.value_text)}' "
                                         "is not finite and has no C initializer",
                                         entry.value_where, "EXP314"))
                 return None
@@ -233,12 +233,12 @@ class _Builder:
         if t.is_numeric or t.kind == dt.BOOL:
             text, comment = values.split_numeric_comment(text)
             if comment is not None:
-                self.diags.append(warning(f"{entry.label}: comment '{comment}' after the "
+                self.diags.append(warning(f"{entry.label}: comment '{shorten(comment)}' after the "
                                           "number is ignored", entry.value_where, "DCF203"))
         if values.uses_nodeid(text) and t.is_numeric:
             if not any(a <= entry.index <= b for a, b in NODE_ID_ADDED):
                 self.diags.append(warning(
-                    f"{entry.label}: '{text}' is written without $NODEID; CANopenNode adds "
+                    f"{entry.label}: '{shorten(text)}' is written without $NODEID; CANopenNode adds "
                     "the node-ID only to the pre-defined COB-IDs of EMCY, SDO servers, "
                     "SRDOs and PDOs", entry.value_where, "EXP312",
                     "give the value for the node, or add the node-ID in the application"))
@@ -256,7 +256,7 @@ class _Builder:
         text, line = said
         if text.strip().isdigit() and int(text) <= 0xFFFF:
             return int(text)
-        self.diags.append(error(f"{entry.label}: CO_stringLengthMin '{text}' is not a "
+        self.diags.append(error(f"{entry.label}: CO_stringLengthMin '{shorten(text)}' is not a "
                                 "length from 0 to 65535", _where(entry, line), "EXP310"))
         return None
 
@@ -268,7 +268,7 @@ class _Builder:
         if said is not None:
             srdo = SRDO_ATTR.get(said[0].strip())
             if srdo is None:
-                self.diags.append(error(f"{entry.label}: CO_accessSRDO '{said[0]}' is none "
+                self.diags.append(error(f"{entry.label}: CO_accessSRDO '{shorten(said[0])}' is none "
                                         "of tx, rx, trx, no", _where(entry, said[1]),
                                         "EXP310"))
                 return None
@@ -385,8 +385,8 @@ class _Builder:
             first = taken[m]
             m2 = f"{m}_sub{entry.sub:X}"
             self.diags.append(warning(
-                f"{entry.label}: its C name '{m}' is taken by sub-index 0x{first:02X}; it is "
-                f"named '{m2}'", entry.where, "EXP315", "give the sub-entries different names"))
+                f"{entry.label}: its C name '{shorten(m)}' is taken by sub-index 0x{first:02X}; "
+                f"it is named '{shorten(m2)}'", entry.where, "EXP315", "give the sub-entries different names"))
             m = m2
         taken[m] = entry.sub
         return m

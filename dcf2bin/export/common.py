@@ -8,7 +8,7 @@ import re
 from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
-from dcf2bin.diagnostics import DcfError, Diagnostic, Severity, Where
+from dcf2bin.diagnostics import DcfError, Diagnostic, Severity, Where, shorten
 
 FORMATS = ("lenze-st", "lenze-bin", "port-c", "markdown", "html", "canopennode")
 FIRST_INDEX = 0x1000
@@ -215,7 +215,7 @@ def object_settings(dev, settings: dict, obj, diags: list | None = None) -> Obje
     label = label.strip()
     if standard and label != standard:
         if diags is not None:
-            what = f"states count label '{label}'" if label else "states no count label"
+            what = f"states count label '{shorten(label)}'" if label else "states no count label"
             # an EDS states no label (CANopenEditor writes none), nor does a CiA 311 file
             # from a tool that knows nothing of CANopenNode: the standard label goes
             # without a word; a CANopenNode project that left it out is told
@@ -231,7 +231,7 @@ def object_settings(dev, settings: dict, obj, diags: list | None = None) -> Obje
         for what, value, at in (("count label", label, line), ("storage group", group, gline)):
             if value and not _WORD_RE.fullmatch(value):
                 diags.append(error(
-                    f"0x{obj.index:04X}: {what} '{value}' cannot be part of a C name",
+                    f"0x{obj.index:04X}: {what} '{shorten(value)}' cannot be part of a C name",
                     Where(where.file, at if at is not None else where.line), "EXP310",
                     "use letters, digits and '_' only"))
     return ObjectSettings(label, group)

@@ -60,7 +60,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.export.common import (ExportResult, ascii_text, encode, error, exported_objects,
                             model_diagnostics, warning)
 
@@ -529,7 +529,7 @@ def to_c(objs: list[PortObject], *, includes: list[str] | None = None,
     from dcf2bin import __version__
     for ident in (symbol, prefix):
         if not _IDENT.fullmatch(ident):
-            raise ValueError(f"'{ident}' is not a C identifier")
+            raise ValueError(f"'{shorten(ident)}' is not a C identifier")
     includes = includes if includes is not None else [DEFAULT_INCLUDE]
     w = _Writer(objs, prefix)
     L = w.lines

@@ -3,7 +3,8 @@ SIGKILL (or a power loss) between two renames is undone by the next one.
 
 Two small files in the output folder, both named ``.dcf2bin-build.*``:
 
-* ``.dcf2bin-build.lock`` -- always there once a set was written into the folder. Its
+* ``.dcf2bin-build.lock`` -- always there once a recorded set was written into the folder
+  (a set written with ``OutputSet(record=False)`` removes it again when it records no set). Its
   ``flock`` is the lock every writer of the folder holds (:class:`FolderLock`); its text
   is the manifest: which files the last complete set wrote (name, and inode, size and
   modification time: an inode number alone is soon given to another file), so that the
@@ -256,6 +257,7 @@ class FolderLock:
         os.fsync(self.fd)
 
     def remove(self) -> None:
-        """Remove the lock file (a folder this run made and leaves empty): done while it is
-        still locked, so a waiter sees it gone and locks the next one."""
+        """Remove the lock file (a folder this run made and leaves empty; a set that records
+        nothing): done while it is still locked, so a waiter sees it gone and locks the
+        next one."""
         _unlink(self.path)

@@ -19,6 +19,12 @@
 A file the last complete set wrote that this set does not (a slave removed from the
 network) is left alone and named in :attr:`SetReport.stale`; a file dcf2bin did not write
 is never removed.
+
+``record=False`` (``export -f canopennode``: OD.h and OD.c into a firmware's source
+folder) writes the set the same way but records nothing: the lock file's manifest is left
+as it was (no stale files are named), and a lock file that records no set is removed once
+the set is complete (:meth:`OutputSet._let_go`), so that the folder holds the outputs and
+nothing else. A ``network build``'s lock file in that folder stays.
 """
 from __future__ import annotations
 
@@ -58,8 +64,9 @@ def _nearest_folder(folder: str) -> str:
 class OutputSet:
     """Files written into ``folder`` all together or not at all (see the module)."""
 
-    def __init__(self, folder: str, files, *, inputs=(), on_wait=None):
+    def __init__(self, folder: str, files, *, inputs=(), on_wait=None, record: bool = True):
         self.folder = folder
+        self.record = record
         self.files = [(name, bytes(data)) for name, data in files]
         self.inputs = [p for p in inputs if p and p != "-"]
         self.on_wait = on_wait
@@ -130,6 +137,8 @@ class OutputSet:
                     if made:
                         lock.remove()
                     raise
+                finally:
+                    self._let_go(lock)
         except BaseException:
             for folder in reversed(made):
                 try:
@@ -188,6 +197,7 @@ class OutputSet:
                 files = {name: e.temp_id for e, (name, _) in zip(entries, self.files)}
                 stale = self._stale(previous, files)
                 files.update({name: previous[name] for name in stale})
+                files = files if self.record else previous
                 signals.check()
                 journal.write(self.folder, "done", entries, files)   # the set is complete
             except BaseException:
@@ -252,9 +262,24 @@ class OutputSet:
         except OSError:
             pass
 
+    def _let_go(self, lock: journal.FolderLock) -> None:
+        """``record=False``, the set complete or rolled back: remove the lock file when it
+        records no set -- unlinked while its flock is held, so that a writer waiting for
+        it finds its path names another file and locks that one (FolderLock checks). A
+        lock file that cannot be removed stays: it holds nothing the next run needs."""
+        if self.record or lock.manifest():
+            return
+        try:
+            lock.remove()
+        except OSError:
+            pass
+
     def _stale(self, previous: dict, files: dict) -> list[str]:
         """The earlier set's files this one does not write that are still the files it
-        wrote (the same file_id): kept, and named."""
+        wrote (the same file_id): kept, and named (none without ``record``: the earlier
+        set is another command's)."""
+        if not self.record:
+            return []
         stale = []
         for name, ident in sorted(previous.items()):
             if name in files:

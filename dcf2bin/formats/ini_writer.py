@@ -147,7 +147,8 @@ class _Writer:
             value = w.section_value(obj, key)
             if value is not None:
                 keys.append((title, value))
-        inherited = _int(w.section_value(obj, "objflags"))
+        inherited = w.section_number(obj, "objflags")
+        inherited = inherited if isinstance(inherited, int) else 0   # its text is kept above
         compact = obj.entries.get(1) if obj.compact else None
         if compact is not None:     # the keys CompactSubObj's sub-objects share: sub 1's
             keys += [k for k in _typed(compact) if k[0] != "PDOMapping"
@@ -170,8 +171,9 @@ class _Writer:
         """An entry's keys; ObjFlags where ``flags``; its configured values in a DCF, and
         a loss in an EDS (``at``: how the loss names the sub-object)."""
         keys = _typed(e)
-        if flags:
-            keys.append(("ObjFlags", f"0x{e.obj_flags:X}"))
+        raw = w.own_text(e, "objflags")       # no number: written as it is, never as 0
+        if flags or raw is not None:
+            keys.append(("ObjFlags", raw if raw is not None else f"0x{e.obj_flags:X}"))
         for attr, key in CONFIGURED:
             value = getattr(e, attr)
             if value is None:
@@ -179,7 +181,7 @@ class _Writer:
             if self.dcf:
                 keys.append((key, value))
             else:
-                self.losses.add("CNV002", e.index, f"{at}{key}={_shown(value)}")
+                self.losses.add("CNV002", e.index, f"{at}{key}={w.shown(value)}")
         return keys
 
     def compact_sections(self, obj) -> None:
@@ -198,7 +200,7 @@ class _Writer:
             else:
                 for sub, value in got:
                     self.losses.add("CNV002", obj.index,
-                                    f"sub{int(sub):X} {key}={_shown(value)}")
+                                    f"sub{int(sub):X} {key}={w.shown(value)}")
 
     # -- what an EDS cannot say --------------------------------------------------------------
     def disabled_note(self) -> None:
@@ -259,22 +261,10 @@ def _typed(e) -> list[tuple[str, str]]:
     return keys
 
 
-def _int(text: str | None) -> int:
-    from dcf2bin import values
-    if text is None:
-        return 0
-    try:
-        return values.parse_int(values.split_numeric_comment(text)[0])
-    except values.ValueProblem:
-        return 0
-
-
 def _one_line(value: str) -> str:
     return " ".join(value.split()) if ("\n" in value or "\r" in value) else value
 
 
-def _shown(value: str, n: int = 40) -> str:
-    return value if len(value) <= n else value[:n - 3] + "..."
 
 
 def output_name(path: str | None) -> str | None:

@@ -166,6 +166,36 @@ def section_value(obj, key: str) -> str | None:
     return sec.get(key) if sec is not None else None
 
 
+def number(text: str | None) -> int | str | None:
+    """An integer key's text (ObjFlags, PDOMapping) as its number; None for no text; the
+    text as written where it is no integer (the reader reported it, DCF020), which a
+    writer writes as it is -- never a number made up in its place."""
+    if text is None:
+        return None
+    from dcf2bin import values
+    try:
+        return values.parse_int(values.split_numeric_comment(text)[0])
+    except values.ValueProblem:
+        return text
+
+
+def section_number(obj, key: str) -> int | str | None:
+    """``number`` of an object-level key (``section_value``)."""
+    return number(section_value(obj, key))
+
+
+def own_text(e, key: str) -> str | None:
+    """An entry's own text of an integer key where it is no integer: written as it is,
+    in place of the number the model could not take from it; None otherwise."""
+    n = number(e.section.get(key)) if e.section is not None else None
+    return n if isinstance(n, str) else None
+
+
+def shown(value: str, n: int = 40) -> str:
+    """A value named in a loss: whole up to ``n`` characters, else cut with "..."."""
+    return value if len(value) <= n else value[:n - 3] + "..."
+
+
 def disabled_indexes(dev) -> list[int]:
     kept = getattr(dev.ini, "disabled", None) or {}
     return sorted({int(c[:4], 16) for c in kept})

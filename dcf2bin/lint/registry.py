@@ -27,7 +27,7 @@ import functools
 from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator
 
-from dcf2bin.diagnostics import Severity
+from dcf2bin.diagnostics import Severity, shorten
 
 ERROR, WARNING, INFO = Severity.ERROR, Severity.WARNING, Severity.INFO
 
@@ -156,7 +156,7 @@ def resolve(select: Iterable[str] | None, ignore: Iterable[str] | None) -> set[s
             return set(RULES)
         hits = {r.id for r in RULES.values() if r.id.startswith(up) or r.name == low}
         if not hits:
-            raise SelectorError(f"'{s}' matches no rule id, id prefix or rule name "
+            raise SelectorError(f"'{shorten(s)}' matches no rule id, id prefix or rule name "
                                 "(see --list-rules)")
         return hits
 

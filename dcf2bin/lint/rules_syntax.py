@@ -4,6 +4,7 @@ from __future__ import annotations
 import re
 
 from dcf2bin import values
+from dcf2bin.diagnostics import shorten
 from dcf2bin.lint.registry import INFO, WARNING, Finding, rule
 from dcf2bin.lint.tables import group_get, longest_name, name_values
 from dcf2bin.lint.vocabulary import classify, unknown_keys
@@ -40,7 +41,7 @@ def unknown_key(ctx):
             for key in unknown:
                 k = sec.keys.get(key)
                 name = k.name if k else key
-                yield Finding(f"key '{name}' is not defined by CiA 306 for [{sec.name}]",
+                yield Finding(f"key '{shorten(name)}' is not defined by CiA 306 for [{sec.name}]",
                               sec.line_of(key), 1)
 
 
@@ -219,7 +220,8 @@ def numeric_key_comment(ctx):
             if comment is not None:
                 seen.add(line)
                 col = ctx.value_column(line)
-                return Finding(f"comment '{comment}' after the number '{number}' is ignored",
+                return Finding(f"comment '{shorten(comment)}' after the number '{shorten(number)}' "
+                               "is ignored",
                                line, col + len(number) if col else None)
         return None
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
-from dcf2bin.diagnostics import DcfError
+from dcf2bin.diagnostics import DcfError, shorten
 from dcf2bin.lint import tables
 from dcf2bin.lint.registry import ERROR, INFO, WARNING, Finding, rule
 from dcf2bin.model import is_network_variable_index
@@ -106,8 +106,8 @@ def numeric_comment(ctx):
                 continue
             seen.add(line)
             col = ctx.value_column(line)
-            yield Finding(f"{e.label}: comment '{comment}' after the number '{number}' is "
-                          "ignored", line, col + len(number) if col else None)
+            yield Finding(f"{e.label}: comment '{shorten(comment)}' after the number "
+                          f"'{shorten(number)}' is ignored", line, col + len(number) if col else None)
 
 
 @rule("DCF202", "download-file", ERROR,

@@ -91,7 +91,7 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
     reading of its lines; ``merge_plan``: the variables ``allocate --into`` adds to the
     same ``data`` (a ``dcf2bin.plc.merge.Plan``), made in the same pass."""
     from dcf2bin import ini as ini_mod
-    from dcf2bin.plc.merge import _lines, _set_value, section_ends
+    from dcf2bin.plc.merge import _lines, _set_value, section_ends, splice
     if ini is None:
         ini = ini_mod.parse_bytes(data, path)
     enc = ini.encoding
@@ -170,22 +170,6 @@ def edit(data: bytes, path: str, settings: dict[tuple[int, int], Write], node_id
             merge_plan.after.setdefault(k, []).extend(t + nl for t in texts)
         merge_plan.tail.extend(tail)
         return merge.apply(data, merge_plan)
-    out: list[bytes] = []
     nlb = nl.encode(enc)
-    pos = 0                      # the lines between changes are copied as one slice
-    for i in sorted(set(replace) | set(after)):
-        out.append(data[pos:offsets[i]])
-        line = replace.get(i, lines[i])
-        if i in after and not line.endswith((b"\n", b"\r")):
-            line += nlb
-        out.append(line)
-        for text in after.get(i, ()):
-            out.append(text.encode(enc) + nlb)
-        pos = offsets[i + 1]
-    out.append(data[pos:])
-    if tail:
-        if out and not out[-1].endswith((b"\n", b"\r")):
-            out.append(nlb)
-        for text in tail:
-            out.append(nlb + text.encode(enc))
-    return b"".join(out)
+    return splice(data, lines, replace, after, tail, nl=nlb, end=nlb, offsets=offsets,
+                  encode=lambda text: text.encode(enc))

@@ -53,6 +53,36 @@ def _set_value(line: bytes, value: str, encoding: str) -> bytes:
     return lead + spaces + value.encode(encoding) + end
 
 
+def splice(data: bytes, lines: list[bytes], replace: dict[int, bytes], after: dict,
+           tail=(), *, nl: bytes, encode, end: bytes = b"",
+           offsets: list[int] | None = None) -> bytes:
+    """``data`` (split into ``lines``, ``_lines``) with line i replaced by ``replace[i]``,
+    the texts ``after[i]`` inserted after it (each ``encode(text) + end``) and the texts
+    of ``tail`` at the end of the file (each after a line end); every other line copied
+    as it is, the lines between two changes as one slice. The one writer of an edited
+    DCF's bytes: ``allocate --into`` (``apply``), a network's configured DCFs
+    (``network.dcfedit``) and an uploaded DCF (``bus.upload.annotate``)."""
+    if offsets is None:
+        offsets = list(accumulate(map(len, lines), initial=0))
+    out: list[bytes] = []
+    pos = 0
+    for i in sorted(set(replace) | set(after)):
+        out.append(data[pos:offsets[i]])
+        line = replace.get(i, lines[i])
+        if i in after and not line.endswith((b"\n", b"\r")):
+            line += nl
+        out.append(line)
+        out += [encode(text) + end for text in after.get(i, ())]
+        pos = offsets[i + 1]
+    out.append(data[pos:])
+    body = b"".join(out)
+    if tail:
+        if body and not body.endswith((b"\n", b"\r")):
+            body += nl
+        body += b"".join(nl + encode(text) for text in tail)
+    return body
+
+
 def existing_variables(dev) -> dict[str, tuple[int, int, str, object]]:
     """casefolded name -> (index, sub, direction, dtype) of the DCF's network variables."""
     out = {}
@@ -228,27 +258,9 @@ def apply(base: bytes, edit: Plan) -> bytes:
     """The bytes of ``base`` with the plan's edits; the lines between edits are copied
     as they are."""
     enc = _encoder(edit.encoding, edit.vars_path)
-    lines, replace, after, placed = edit.lines, edit.replace, edit.after, edit.placed
-    nlb = edit.nl.encode(edit.encoding)
-    offsets = list(accumulate(map(len, lines), initial=0))
-    out: list[bytes] = []
-    pos = 0
-    for i in sorted(set(replace) | set(after)):
-        out.append(base[pos:offsets[i]])
-        line = replace.get(i, lines[i])
-        if i in after and not line.endswith((b"\n", b"\r")):
-            line += nlb
-        out.append(line)
-        for text in after.get(i, ()):
-            out.append(_encode_block(text, placed, enc))
-        pos = offsets[i + 1]
-    out.append(base[pos:])
-    data = b"".join(out)
-    if edit.tail:
-        if data and not data.endswith((b"\n", b"\r")):
-            data += nlb
-        data += b"".join(nlb + _encode_block(text, placed, enc) for text in edit.tail)
-    return data
+    return splice(base, edit.lines, edit.replace, edit.after, edit.tail,
+                  nl=edit.nl.encode(edit.encoding),
+                  encode=lambda text: _encode_block(text, edit.placed, enc))
 
 
 def _encode_block(text: str, placed: list[Placed], enc) -> bytes:

@@ -71,10 +71,12 @@ class _Objects:
             self.objects.append(f"\t\t\t\t\t<CANopenObject{_attrs(attrs, self, idx)}/>")
             return
         for key, name in (("pdomapping", "PDOmapping"), ("objflags", "objFlags")):
-            value = w.section_value(obj, key)
-            if value is not None:
-                attrs.append((name, self.pdo(obj.index, None, _flag(value)) if key ==
-                              "pdomapping" else _hex_flags(value)))
+            n = w.section_number(obj, key)
+            if isinstance(n, str):          # no number: written as it is, never as 0
+                attrs.append((name, n))
+            elif n is not None:
+                attrs.append((name, self.pdo(obj.index, None, n == 1) if key ==
+                              "pdomapping" else f"{n:04X}"))
         attrs += self.parameter(None, obj, var=False)
         if obj.sub_number is not None:
             attrs.append(("subNumber", str(obj.sub_number)))
@@ -118,12 +120,16 @@ class _Objects:
             if self.xdc:
                 out.append((name, value))
             else:
-                self.losses.add("CNV002", e.index, f"{at}{key}={_shown(value)}")
+                self.losses.add("CNV002", e.index, f"{at}{key}={w.shown(value)}")
         if e.download_file is not None:
-            self.losses.add("CNV005", e.index, f"{at}DownloadFile={_shown(e.download_file)}")
+            self.losses.add("CNV005", e.index, f"{at}DownloadFile={w.shown(e.download_file)}")
         out.append(("PDOmapping", self.pdo(e.index, None if own else e.sub, e.pdo_mapping)))
-        inherited = 0 if own else _int(w.section_value(obj, "objflags"))
-        if e.obj_flags or inherited:
+        inherited = 0 if own else w.section_number(obj, "objflags")
+        inherited = inherited if isinstance(inherited, int) else 0   # the object's text
+        raw = w.own_text(e, "objflags")       # no number: written as it is, never as 0
+        if raw is not None:
+            out.append(("objFlags", raw))
+        elif e.obj_flags or inherited:
             if e.obj_flags > 0xFFFF:
                 self.losses.add("CNV005", e.index, f"{at}ObjFlags=0x{e.obj_flags:X} (objFlags "
                                 "holds 2 bytes)")
@@ -181,25 +187,3 @@ def _attrs(pairs, objects: _Objects, index: int, sub: int | None = None) -> str:
             continue
         out.append(f' {name}="{escaped}"')
     return "".join(out)
-
-
-def _flag(text: str) -> bool:
-    return _int(text) == 1
-
-
-def _int(text: str | None) -> int:
-    from dcf2bin import values
-    if text is None:
-        return 0
-    try:
-        return values.parse_int(values.split_numeric_comment(text)[0])
-    except values.ValueProblem:
-        return 0
-
-
-def _hex_flags(text: str) -> str:
-    return f"{_int(text):04X}"
-
-
-def _shown(value: str, n: int = 40) -> str:
-    return value if len(value) <= n else value[:n - 3] + "..."
