@@ -63,6 +63,8 @@ CODES: list[tuple[str, str, str]] = [
     ("NET122", WARNING, "one object mapped twice in one PDO's mapping:"),
     ("NET123", WARNING, "a names: entry for an object that no linked PDO of that slave "
                         "maps: the name is not used"),
+    ("NET124", ERROR, "a mapping: of more than 64 bits: a PDO is one classic CAN frame of "
+                      "at most 8 bytes"),
 ]
 
 BY_CODE = {c: (sev, text) for c, sev, text in CODES}
