@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 import weakref
+from array import array
 from bisect import bisect_left
 from dataclasses import dataclass, field
 from typing import Callable
@@ -213,8 +214,8 @@ class _Source:
         # through their templates, and the file would outlive its last user in a cycle)
         self.file: Callable[[], IniFile | None] = lambda: None
         self.keys: dict[int, dict[str, Key]] = {}  # _SharedSection.keys, by line
-        self._lines: list[int] | None = None       # the sections' lines, ascending
-        self._offsets: list[int] | None = None     # where their header lines start
+        self._lines: array | None = None       # the sections' lines, ascending
+        self._offsets: array | None = None     # where their header lines start
 
     def name_at(self, line: int) -> str:
         if self._lines is None:
@@ -273,7 +274,9 @@ class _Source:
         # character); the header lines counted from the text itself (not taken from the
         # file's sections dict, whose order a caller may change). No copy of the text:
         # it can be 60 MB.
-        offsets, lines = ([0], [1]) if src[:1] == sep[-1:] else ([], [])
+        # arrays: 16 bytes a section, where lists of ints held 80 (a million sections)
+        offsets, lines = (array("q", [0]), array("q", [1])) if src[:1] == sep[-1:] else (
+            array("q"), array("q"))
         find, tally, n_nl = src.find, src.count, len(nl)
         line, prev, at = 1, 0, src.find(sep)
         stop = len(src) if self.stop is None else self.stop
