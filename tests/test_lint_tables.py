@@ -313,7 +313,7 @@ def test_the_text_scans_read_bytes_and_decoded_text_alike():
                             f"Description={accent}\n{long}{accent}\n  ; {accent}")
         for nl in ("\n", "\r\n"):
             data = text.replace("\n", nl).encode(encoding)
-            ctx_kind = type(_context(data)).__name__
+            ctx_kind = type(_text_of(data)).__name__
             outs.append([(d.rule, d.line, d.column, d.message)
                          for d in lint_bytes("t.dcf", data, Options()).diagnostics])
             assert ctx_kind == ("str" if encoding == "utf-8" else "bytes")
@@ -322,8 +322,8 @@ def test_the_text_scans_read_bytes_and_decoded_text_alike():
     assert any(rule == "DCF200" and column for rule, _, column, _ in outs[0])
 
 
-def _context(data: bytes):
-    """The type of a DcfContext's ``text`` for ``data``."""
+def _text_of(data: bytes):
+    """A DcfContext's ``text`` for ``data``."""
     from dcf2bin import ini, model
     from dcf2bin.lint.context import DcfContext, Options
     parsed = ini.parse_bytes(data, "t.dcf")
