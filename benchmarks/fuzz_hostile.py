@@ -36,7 +36,8 @@ seconds, its address space limited to 3 GiB. Printed: runs, tracebacks, exit-70s
 killed at the limit, runs over 2 s (wall and CPU), runs over the memory bound (4x the
 input plus 60 MiB), the peak memory (max RSS of one run), leftover files (a temporary in
 the output folder, or in the input's; a file in ``-o`` after a failed build; compile's
-output after a failure) -- per case, then each finding with its run number, case and
+output after a failure; not the lock and manifest ``.dcf2bin-build.lock`` that every
+build leaves in its folder by design) -- per case, then each finding with its run number, case and
 command, so that ``--only CASE --first N --runs 1`` runs it again.
 """
 from __future__ import annotations
@@ -419,14 +420,21 @@ def run(args: list[str], cwd: Path, timeout: float) -> dict:
             "out": text_out, "err": text_err}
 
 
+# network build's lock and manifest of the files it wrote: there after every build into
+# the folder, by design (dcf2bin.fileio.journal, man dcf2bin-network-build); after a failed
+# run it counts like any file the run made or changed
+BUILD_LOCK = ".dcf2bin-build.lock"
+
+
 def leftovers(folder: Path, out: Path, before: dict, code: int) -> list[str]:
-    """Temporaries in the input's and the output's folder; after a failure, the files
-    made or changed in the output folder."""
+    """Temporaries in the input's and the output's folder (a journal of a build, a
+    ``.dcf2bin-*.tmp``); after a failure, the files made or changed in the output folder."""
     found = []
     for where in {folder, folder / "check", out}:
         if where.is_dir():
             found += [str(p.relative_to(folder)) for p in where.iterdir()
-                      if p.name.startswith(".dcf2bin") or p.name.endswith(".tmp")]
+                      if p.name != BUILD_LOCK and (p.name.startswith(".dcf2bin")
+                                                   or p.name.endswith(".tmp"))]
     if code != 0 and out.is_dir():
         found += [f"{p.relative_to(folder)} (after exit {code})" for p in out.iterdir()
                   if p.name not in before or (p.is_file() and not p.is_symlink()

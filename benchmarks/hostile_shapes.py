@@ -17,8 +17,9 @@ time, and the memory bound below; ``--network-mib 60`` shows the memory of the l
 EDS files (``--eds-mib``, 60 MiB by default, under the 64 MiB input cap): a valid EDS with
 60,000 comment lines of 1 KiB (at its start, inside a section, at its end; after a repeated
 section, which the exact line-by-line reader reads), one huge DOMAIN value, many sections
-(arrays of 254 sub-objects), 5 million short unknown keys (``Key0000001=1``), long lines of
-unknown keys. Each goes through ``dcf2bin validate`` and
+(arrays of 254 sub-objects), 5 million short unknown keys (``Key0000001=1``; also after a
+repeated section, read by the exact reader), one key repeated 10 million times, 5.7 million
+11-byte sections, long lines of unknown keys. Each goes through ``dcf2bin validate`` and
 ``compile`` (verdict: peak resident memory within 4x the file's size plus 60 MiB, the bound
 of every input).
 
@@ -181,6 +182,13 @@ def eds_shapes(size: int) -> dict[str, bytes]:
         "comments-exact": base + b"\n[FileInfo]\nFileName=again.eds\n" + comments,
         "many-keys": base[:first] + b"".join(b"Key%07d=1\n" % k for k in range(size // 13))
         + base[first:],
+        # the same after a repeated section: the exact line-by-line reader's
+        "many-keys-exact": base + b"\n[FileInfo]\nFileName=again.eds\n[Keys]\n"
+        + b"".join(b"Key%07d=1\n" % k for k in range(size // 13)),
+        # one key repeated on every line (each a DCF010 finding, the first 1,000 kept)
+        "repeated-key": base[:first] + b"Key=1\n" * (size // 6) + base[first:],
+        # 5.7 million sections of 11 bytes: the first 1,048,576 read (DCF015)
+        "tiny-sections": base + b"".join(b"[K%07d]\n" % k for k in range(size // 11)),
         "long-lines": base[:first] + b"".join(line % k for k in range(size // len(line)))
         + base[first:],
     }

@@ -23,7 +23,7 @@ from dcf2bin import formats, model
 from dcf2bin import select as select_mod
 from dcf2bin import values
 from dcf2bin.container import BinContainer
-from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity
+from dcf2bin.diagnostics import DcfError, Diagnostic, DiagnosticWarning, Severity, summarise
 
 
 @dataclass
@@ -164,7 +164,7 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
         except ExtraWritesError as exc:
             diags.extend(exc.diagnostics)
     if any(d.severity is Severity.ERROR for d in diags):
-        return Result(None, diags, dev, None, lay)
+        return Result(None, summarise(diags), dev, None, lay)
     c = container_of(dev, sel, lay, opts, extra)
     if not c.entries:
         diags.append(_nothing_to_write(dev, opts))
@@ -175,8 +175,9 @@ def compile_device(dev: model.Device, opts: CompileOptions) -> Result:
     if found:
         diags.extend(found)
         if any(d.severity is Severity.ERROR for d in found):
-            return Result(None, diags, dev, None, lay)
-    return Result(data, diags, dev, c, lay, sel, extra)
+            return Result(None, summarise(diags), dev, None, lay)
+    # the first diagnostics.LIMIT findings of a rule, then one that counts the others
+    return Result(data, summarise(diags), dev, c, lay, sel, extra)
 
 
 # -- LowLimit/HighLimit and 0x-prefixed hex (validate's DCF210-212, DCF218) ------------------

@@ -42,6 +42,14 @@ class Diagnostic:
     offset: int | None = None     # byte offset, for binary inputs
     rule: str = ""
     hint: str = ""
+    # a summary (``summary_finding``): how many findings of its rule in its file it
+    # stands for, left out after the first ``LIMIT``; 0 for a finding of its own
+    more: int = 0
+
+    @property
+    def weight(self) -> int:
+        """How many findings this one counts for: 1, or a summary's ``more``."""
+        return self.more or 1
 
     @property
     def location(self) -> str:
@@ -252,6 +260,106 @@ class Summarised(Diagnostics):
                      column=d.column, offset=d.offset, hint=d.hint)
 
 
+# validate and compile keep this many findings of one rule and severity in one file (every
+# output format shows them: a CI job may want each); the others are counted in one summary
+# finding (issue 26: 5 million unknown keys made 5 million findings, and a MemoryError)
+LIMIT = 1000
+
+
+def summary_finding(first: Diagnostic, n: int) -> Diagnostic:
+    """The finding that stands for ``n`` findings of ``first``'s rule left out, at the line
+    of the first of them: ``... and 4,999,000 more DCF050 findings like this``. One left
+    out is ``first`` itself: a summary of one would say less in as much."""
+    if n == 1 and not first.more:
+        return first
+    return Diagnostic(first.severity, f"... and {n:,} more {first.rule} findings like this",
+                      first.file, first.line, first.column, first.offset, first.rule,
+                      first.hint, n)
+
+
+class Capped(Diagnostics):
+    """A collector that keeps the first ``limit`` findings of each rule and severity in
+    each file and counts the others (``summary_finding``, in the place of the first one
+    left out): a finding left out costs a dict lookup, no object. Unlike ``Summarised``
+    nothing is dropped as a repeat, and the summary counts in every total (``weight``)."""
+
+    def __init__(self, limit: int = LIMIT):
+        self.limit = limit
+        self._items: list[Diagnostic | None] = []
+        self._kept: dict = {}          # (file, rule, severity) -> findings kept
+        self._more: dict = {}          # (file, rule, severity) -> [index, count, first]
+
+    @property
+    def items(self) -> list[Diagnostic]:
+        for at, n, first in self._more.values():
+            self._items[at] = summary_finding(first, n)
+        return self._items
+
+    @items.setter
+    def items(self, value: list[Diagnostic]) -> None:
+        self._items = value
+        self._kept, self._more = {}, {}
+
+    def add(self, severity: Severity, message: str, where: Where | None = None, *,
+            rule: str = "", column: int | None = None, offset: int | None = None,
+            hint: str = "") -> None:
+        file, line = (where.file, where.line) if where else ("", None)
+        group = (file, rule, severity)
+        kept = self._kept.get(group, 0)
+        if rule and kept >= self.limit:
+            more = self._more.get(group)
+            if more is None:
+                first = Diagnostic(severity, message, file, line, column, offset, rule, hint)
+                self._more[group] = [len(self._items), 1, first]
+                self._items.append(None)   # the summary's place: filled by ``items``
+            else:
+                more[1] += 1
+            return
+        self._kept[group] = kept + 1
+        self._items.append(Diagnostic(severity, message, file, line, column, offset, rule,
+                                      hint))
+
+    def extend(self, other) -> None:
+        for d in other:
+            self.add(d.severity, d.message, Where(d.file, d.line), rule=d.rule,
+                     column=d.column, offset=d.offset, hint=d.hint)
+
+
+def summarise(diags, limit: int = LIMIT) -> list[Diagnostic]:
+    """``diags`` with the first ``limit`` findings of each rule and severity in each file,
+    in order, and the others counted in one summary finding at the place of the first one
+    left out (``summary_finding``; summaries among them add their counts). The list
+    itself when nothing is left out."""
+    diags = list(diags)
+    if len(diags) <= limit:
+        return diags
+    counts: dict = {}
+    for d in diags:
+        group = (d.file, d.rule, d.severity)
+        counts[group] = counts.get(group, 0) + 1
+    if max(counts.values()) <= limit:
+        return diags
+    kept: dict = {}
+    more: dict = {}                    # group -> [index in out, count, first]
+    out: list = []
+    for d in diags:
+        group = (d.file, d.rule, d.severity)
+        n = kept.get(group, 0)
+        if not d.rule or n < limit and not d.more:
+            kept[group] = n + 1
+            out.append(d)
+            continue
+        got = more.get(group)
+        if got is None:
+            more[group] = [len(out), d.weight, d]
+            out.append(None)
+        else:
+            got[1] += d.weight
+    for at, n, first in more.values():
+        out[at] = summary_finding(first, n)
+    return out
+
+
 class DiagnosticWarning(UserWarning):
     """A warning (or info) finding, delivered through ``warnings.warn`` by the Python API
     functions that return a single value (``compile_file``, ``read_container``, ...);
@@ -262,5 +370,5 @@ class DiagnosticWarning(UserWarning):
         self.diagnostic = diagnostic
 
 
-__all__ = ["Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode", "Severity",
-           "Summarised", "Where", "shorten"]
+__all__ = ["Capped", "Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode",
+           "LIMIT", "Severity", "Summarised", "Where", "shorten", "summarise", "summary_finding"]

@@ -8,11 +8,24 @@ from __future__ import annotations
 
 import re
 import weakref
+from array import array
 from bisect import bisect_left
 from dataclasses import dataclass, field
 from typing import Callable
 
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import LIMIT, Capped, Diagnostics, Where, shorten
+
+# What one file is read into at most (issue 26: a file under the 64 MiB input cap made of
+# millions of sections or keys took gigabytes); what lies beyond is one error and is not
+# read. A section has at most MAX_KEYS key lines: an object list ([OptionalObjects],
+# [ManufacturerObjects]) names each index at most once, and there are 65,536 indexes;
+# other sections have a few dozen keys ([xxxxValue]: 255).
+MAX_KEYS = 1 << 16
+# A file has at most MAX_SECTIONS sections: as many as the whole network-variable area
+# 0xA000-0xAFFF holds, 4,096 arrays of 256 sections each (the object, sub 0 and 254
+# variables); every variable of CiA 405's standard ranges (A000-A8FF, 36 ranges of 0x40
+# arrays) is 589,824 sections, and the largest PLC files seen have about 60,000.
+MAX_SECTIONS = 1 << 20
 
 # "[1018sub01]" and "[1018sub1]" are the same section (SPEC §1): canonical form
 # is lower case with the subindex in hex without leading zeros. More than 2 digits
@@ -193,14 +206,16 @@ class _Source:
     lines start is found on the first such question (a message), once per file: the
     text cut as ``_read_sections`` cuts it, one part per section, in file order."""
 
-    def __init__(self, src: str | bytes, nl: str):
+    def __init__(self, src: str | bytes, nl: str, stop: int | None = None):
         self.src, self.nl = src, nl
+        # where the sections read end (the '[' of the first not read, MAX_SECTIONS), or None
+        self.stop = stop
         # the file whose sections these are (a weak reference: they refer to this source
         # through their templates, and the file would outlive its last user in a cycle)
         self.file: Callable[[], IniFile | None] = lambda: None
         self.keys: dict[int, dict[str, Key]] = {}  # _SharedSection.keys, by line
-        self._lines: list[int] | None = None       # the sections' lines, ascending
-        self._offsets: list[int] | None = None     # where their header lines start
+        self._lines: array | None = None       # the sections' lines, ascending
+        self._offsets: array | None = None     # where their header lines start
 
     def name_at(self, line: int) -> str:
         if self._lines is None:
@@ -215,7 +230,8 @@ class _Source:
         """(name as written, line) of each key line of the section whose header is at
         ``line``, found in the file (``_Templates.big`` keeps no text of its own), as
         ``_SharedSection.keys`` reads a template's text; no value is copied. ``only``: the
-        first key of that lower-case name alone (a section can have millions)."""
+        first key of that lower-case name alone (a section can have millions). The first
+        MAX_KEYS key lines only: the others are not read (DCF014)."""
         if self._lines is None:
             self._index()
         src, k = self.src, bisect_left(self._lines, line)
@@ -223,9 +239,10 @@ class _Source:
         nl = self.nl.encode("latin-1") if binary else self.nl
         eq_sign = b"=" if binary else "="
         find, n_nl = src.find, len(nl)
-        end = self._offsets[k + 1] - n_nl if k + 1 < len(self._offsets) else len(src)
+        end = self._offsets[k + 1] - n_nl if k + 1 < len(self._offsets) else \
+            len(src) if self.stop is None else self.stop - n_nl
         pos = find(nl, self._offsets[k], end) + n_nl
-        out = []
+        out, seen = [], 0
         if pos < n_nl:
             return out                         # a header right before the next one
         while pos <= end:
@@ -236,10 +253,14 @@ class _Source:
             if eq > pos:
                 name = src[pos:eq]
                 name = (name.decode("latin-1") if binary else name).strip(" \t\r")
-                if name and name[0] not in ";#" and (only is None or name.lower() == only):
-                    out.append((name, line))
-                    if only is not None:
+                if name and name[0] not in ";#":
+                    seen += 1
+                    if seen > MAX_KEYS:
                         break
+                    if only is None or name.lower() == only:
+                        out.append((name, line))
+                        if only is not None:
+                            break
             if j < 0:
                 break
             pos = j + n_nl
@@ -253,10 +274,13 @@ class _Source:
         # character); the header lines counted from the text itself (not taken from the
         # file's sections dict, whose order a caller may change). No copy of the text:
         # it can be 60 MB.
-        offsets, lines = ([0], [1]) if src[:1] == sep[-1:] else ([], [])
+        # arrays: 16 bytes a section, where lists of ints held 80 (a million sections)
+        offsets, lines = (array("q", [0]), array("q", [1])) if src[:1] == sep[-1:] else (
+            array("q"), array("q"))
         find, tally, n_nl = src.find, src.count, len(nl)
         line, prev, at = 1, 0, src.find(sep)
-        while at >= 0:
+        stop = len(src) if self.stop is None else self.stop
+        while 0 <= at < stop - n_nl:           # (the sections read: MAX_SECTIONS)
             at += n_nl
             line += tally(nl, prev, at)
             offsets.append(at)
@@ -290,6 +314,10 @@ class IniFile:
     # the registry name of the format the sections were read from (dcf2bin.formats): "ini"
     # for CiA 306 text; another format's sections have no CiA 306 lines to look at
     format: str = "ini"
+    # repeats after the first diagnostics.LIMIT in ``duplicates``: how many, and the first
+    # (the model reports them as one DCF010 finding, issue 26)
+    more_duplicates: int = 0
+    first_left_out: Duplicate | None = None
 
     def section(self, name: str) -> Section | None:
         return self.sections.get(name)
@@ -437,7 +465,9 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     a Denotation= line among them, that text with its value cut out is the key). Other
     sections go through ``_Templates.other``.
     """
-    chunks = text.split(nl + "[")              # each a section, from just after its '['
+    # each a section, from just after its '['; the last of more than MAX_SECTIONS is the
+    # rest of the file, which is not read (one error, DCF015)
+    chunks = text.split(nl + "[", MAX_SECTIONS + (text[:1] != "["))
     skip = 0
     if text[:1] == "[":                        # no lines before the first header
         if len(chunks[0]) > _BIG:
@@ -452,15 +482,22 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         line = head.count(nl) + 2
         line_start = len(head) + len(nl) + 1   # where the first section's name starts
         head = None
+    unread = stop = None
+    if len(chunks) > MAX_SECTIONS:
+        rest = chunks.pop()
+        unread = rest.count(nl + "[") + 1      # the sections not read
+        stop = len(text) - len(rest) - 1       # where the first of them starts: its '['
+        rest = None
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    templates = _Templates(_Source(text if source is None else source, nl), nl)
+    templates = _Templates(_Source(text if source is None else source, nl, stop), nl)
     by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
     by_denoted: dict[str, _Template] = {}      # the same lines with Denotation= cut out
     close_name, name_key, den_key = "]" + nl + _NAME_KEY, _NAME_KEY, _DENOTATION_KEY
     shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
+    too_many: list[tuple] = []                 # sections of more than MAX_KEYS keys
     # str.partition, `in` and == only: find and startswith with a start index parse their
     # arguments at a cost that shows at 60,000 sections
     if max(map(len, chunks), default=0) > _BIG:
@@ -512,6 +549,9 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             if found is None:
                 return None
             canon, pname, denotation, template, step = found
+            if templates.over is not None:     # more than MAX_KEYS keys (_Templates.big)
+                over, templates.over = templates.over, None
+                too_many.append((canon, line, line + over[0], over[1]))
         if len(canon) > 8 and canon[7] == "0":     # "1018sub01", or a name like it
             spelled, canon = canon, canonical_section(canon)
             if not canon or "[" in canon or "]" in canon:
@@ -529,7 +569,12 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         line += step
     if len(sections) != len(chunks):
         return None                            # a repeated section
-    parsed = IniFile(path, encoding, sections, [], Diagnostics(), line - 1, respelled=respelled)
+    diags = Diagnostics()
+    for canon, header, at, n in too_many:
+        _too_many_keys(diags, path, sections[canon], at, n)
+    if unread is not None:
+        _too_many_sections(diags, path, line, MAX_SECTIONS + unread, unread)
+    parsed = IniFile(path, encoding, sections, [], diags, line - 1, respelled=respelled)
     templates.source.file = weakref.ref(parsed)
     return parsed
 
@@ -578,6 +623,9 @@ class _Templates:
         self.source, self.nl = source, nl
         self.by_text: dict[str, _Template] = {}
         self.lines: dict[str, tuple] = {}      # see _body_values
+        # (lines from its header to its first key not read, keys not read) of the section
+        # ``big`` just read, when it has more than MAX_KEYS keys (DCF014), else None
+        self.over: tuple[int, int] | None = None
 
     def other(self, chunk: str) -> tuple[str, str | None, str | None, _Template, int] | None:
         """(canonical name, ParameterName's value, Denotation's value, template, lines
@@ -632,6 +680,7 @@ class _Templates:
         if end == n - 1:                       # (no line: as _Templates.other counts it)
             values.text, values.source, values.step = None, self.source, 1
             return name.strip(" \t").lower(), None, None, values, 1
+        keys, over = 0, None                   # key lines; [at, count] beyond MAX_KEYS
         while True:
             j = find(nl, pos, n)
             stop = n if j < 0 else j
@@ -639,11 +688,17 @@ class _Templates:
             if first != ";" and first != "#":  # (a comment: nothing to copy)
                 eq = find("=", pos, stop)
                 if eq > pos and first not in " \t[":
-                    # as _line reads it, the value copied once (it can be 60 MB)
-                    low = text[pos:eq].rstrip(" \t").lower()
-                    if low in values:
-                        return None            # a repeated key
-                    values[low] = text[eq + 1:stop].strip(" \t")
+                    keys += 1
+                    if keys > MAX_KEYS:        # counted, not read (as the exact reader)
+                        if over is None:
+                            over = [step - 1, 0]
+                        over[1] += 1
+                    else:
+                        # as _line reads it, the value copied once (it can be 60 MB)
+                        low = text[pos:eq].rstrip(" \t").lower()
+                        if low in values:
+                            return None        # a repeated key
+                        values[low] = text[eq + 1:stop].strip(" \t")
                 else:
                     kv = _line(text[pos:stop])
                     if kv is None:
@@ -652,6 +707,7 @@ class _Templates:
                 break
             pos, step = j + n_nl, step + 1
         values.text, values.source, values.step = None, self.source, step
+        self.over = None if over is None else tuple(over)
         return name.strip(" \t").lower(), None, None, values, step
 
     def cut(self, body: str) -> tuple[str | None, str | None, _Template] | None:
@@ -741,13 +797,15 @@ def _line(raw: str) -> tuple | None:
 
 
 def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
-    diags = Diagnostics()
+    diags = Capped()       # 5 million bad lines: the first LIMIT of a rule, then a count
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    duplicates: list[Duplicate] = []
+    duplicates = _Duplicates()
     current: Section | None = None
     skipping = False  # inside a repeated section: its keys are not merged into the first
-    lines = text.split("\n")
+    headers = keys = 0     # the header lines so far; the key lines of the current section
+    over: list = []        # the current section's keys beyond MAX_KEYS: [first line, count]
+    lines = _split_lines(text)
     lineno = 0
     for raw in lines:
         lineno += 1
@@ -760,6 +818,18 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
         if c == ";" or c == "#":
             continue
         if c == "[":
+            if over:
+                _too_many_keys(diags, path, current, *over)
+                over = []
+            headers += 1
+            keys = 0
+            if headers > MAX_SECTIONS:
+                # the rest is not read: its sections counted as the fast path counts them,
+                # the lines that start with '['
+                n = 1 + sum(1 for r in lines if r[:1] == "[")
+                _too_many_sections(diags, path, lineno, MAX_SECTIONS + n, n)
+                lineno -= 1            # (the lines read)
+                break
             end = s.find("]")
             if end < 0:
                 diags.error(f"malformed section header '{_clip(s)}': missing ']'",
@@ -782,7 +852,7 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
             canon = canonical_section(name)
             first = sections.get(canon)
             if first is not None:
-                duplicates.append(Duplicate(canon, None, first.line, lineno))
+                duplicates.add(Duplicate(canon, None, first.line, lineno))
                 current, skipping = first, True
             else:
                 current = _WrittenSection(name, lineno)
@@ -801,17 +871,77 @@ def _parse_exact(text: str, path: str, encoding: str = "utf-8") -> IniFile:
                 diags.error(f"key outside any section: '{_clip(s)}'", Where(path, lineno),
                             rule="DCF001")
             continue
-        kname = s[:eq].rstrip(" \t")
-        value = s[eq + 1:].lstrip(" \t")
-        klow = kname.lower()
         if skipping:
             continue  # keys of a repeated section: the Duplicate record reports it
+        keys += 1
+        if keys > MAX_KEYS:          # counted, not read (repeats included: they are kept too)
+            if over:
+                over[1] += 1
+            else:
+                over = [lineno, 1]
+            continue
+        kname = s[:eq].rstrip(" \t")
+        klow = kname.lower()
         prev = current.keys.get(klow)
         if prev is not None:
-            duplicates.append(Duplicate(canonical_section(current.name), klow, prev.line, lineno))
+            duplicates.add(Duplicate(canonical_section(current.name), klow, prev.line, lineno))
             continue
-        current.add(Key(kname, value, lineno))
-    return IniFile(path, encoding, sections, duplicates, diags, lineno, respelled=respelled)
+        current.add(Key(kname, s[eq + 1:].lstrip(" \t"), lineno))
+    if over:
+        _too_many_keys(diags, path, current, *over)
+    return IniFile(path, encoding, sections, duplicates.kept, diags, lineno, respelled=respelled,
+                   more_duplicates=duplicates.more, first_left_out=duplicates.first)
+
+
+class _Duplicates:
+    """The exact reader's repeated sections and keys: the first ``LIMIT``, then a count
+    and the first left out (a file can repeat one key on millions of lines)."""
+    __slots__ = ("kept", "more", "first")
+
+    def __init__(self):
+        self.kept: list[Duplicate] = []
+        self.more = 0
+        self.first: Duplicate | None = None
+
+    def add(self, dup: Duplicate) -> None:
+        if len(self.kept) < LIMIT:
+            self.kept.append(dup)
+        else:
+            self.more += 1
+            if self.first is None:
+                self.first = dup
+
+
+def _split_lines(text: str, block: int = 1 << 20):
+    """``text.split("\n")``, one block of about ``block`` characters at a time: a list of
+    every line of a 60 MB file of short lines would hold 5 million strings at once."""
+    find, pos = text.find, 0
+    while True:
+        end = find("\n", pos + block)
+        if end < 0:
+            yield from text[pos:].split("\n")
+            return
+        yield from text[pos:end].split("\n")
+        pos = end + 1
+
+
+def _too_many_keys(diags: Diagnostics, path: str, sec: Section, line: int, n: int) -> None:
+    """DCF014 at the first key line not read, of the section ``sec``."""
+    diags.error(f"[{shorten(sec.name)}] (line {sec.line}) has {MAX_KEYS + n:,} keys, more "
+                f"than the {MAX_KEYS:,} a section may have: the {n:,} from this line on "
+                "are not read", Where(path, line), rule="DCF014",
+                hint="no CiA 306 section has that many: an object list names each of the "
+                     "65,536 indexes at most once")
+
+
+def _too_many_sections(diags: Diagnostics, path: str, line: int, total: int,
+                       n: int) -> None:
+    """DCF015 at the first section not read."""
+    diags.error(f"the file has {total:,} sections, more than the {MAX_SECTIONS:,} a file may "
+                f"have: the {n:,} from this line on are not read", Where(path, line),
+                rule="DCF015",
+                hint="every network variable of CiA 405 (A000-A8FF) is 589,824 sections: "
+                     "is this the file you meant?")
 
 
 def _clip(s: str, n: int = 60) -> str:

@@ -43,7 +43,9 @@ def _msg(text: str) -> str:
 # -- text ---------------------------------------------------------------------------------------
 
 # At most this many diagnostics of one rule in one file are printed in the text form; one
-# line then says how many more were left out (json and sarif keep every one).
+# line then says how many more were left out (json and sarif show every finding the command
+# kept: the first diagnostics.LIMIT of a rule in a file, then one summary that counts the
+# others, whose ``more`` every total here counts).
 CAP = 20
 
 
@@ -60,8 +62,8 @@ def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool
     first finding that has it."""
     diags = list(diags)
     total: dict = {}
-    for d in diags:
-        total[(d.file, d.rule)] = total.get((d.file, d.rule), 0) + 1
+    for d in diags:     # a summary (``more``) counts the findings it stands for
+        total[(d.file, d.rule)] = total.get((d.file, d.rule), 0) + d.weight
     seen: dict = {}
     hinted: set = set()
     out = []
@@ -92,7 +94,7 @@ def render_text(diags: Iterable[Diagnostic], stream: TextIO | None = None,
 def summary(diags: Iterable[Diagnostic]) -> str:
     counts = {s: 0 for s in Severity}
     for d in diags:
-        counts[d.severity] += 1
+        counts[d.severity] += d.weight
     parts = []
     for s in Severity:
         n = counts[s]
@@ -128,9 +130,9 @@ def json_report(diags: Sequence[Diagnostic], files: Sequence[tuple[str, str]],
     totals = {"errors": 0, "warnings": 0, "infos": 0}
     for d in diags:
         key = d.severity.value + "s"
-        totals[key] += 1
+        totals[key] += d.weight        # a summary counts the findings it stands for
         if d.file in per_file:
-            per_file[d.file][key] += 1
+            per_file[d.file][key] += d.weight
     doc = {
         "format": JSON_FORMAT,
         "version": JSON_VERSION,

@@ -158,7 +158,9 @@ def _check_tables(ctx: DcfContext) -> None:
     for kinds_ in (frozenset({"vstring", "ustring"}), frozenset({"ostring", "domain"})):
         assert tables.entries_of_kinds(ctx, kinds_) == [
             e for e in entries if e.dtype is not None and e.dtype.kind in kinds_]
-    assert ctx.blank_comment == (_BLANK_COMMENT.search(ctx.text) is not None)
+    text = ctx.text            # (the file's bytes when each is one character)
+    text = text.decode("latin-1") if isinstance(text, bytes) else text
+    assert ctx.blank_comment == (_BLANK_COMMENT.search(text) is not None)
 
 
 _ODD = {
@@ -249,6 +251,7 @@ def test_the_blank_comment_check_is_the_search_it_replaces():
               for _ in range(3000)]
     for text in texts:
         assert _blank_comment(text) == (_BLANK_COMMENT.search(text) is not None), repr(text)
+        assert _blank_comment(text.encode()) == _blank_comment(text), repr(text)
 
 
 def test_unknown_keys_is_known_key_for_each():
@@ -294,3 +297,34 @@ def test_values_encoded_by_the_model_give_the_same_verdicts(node_id):
     assert list(rules_values.bad_value(fresh)) == list(rules_values.bad_value(warm))
     # (fresh gets no encodings from these: it stays the plain path)
     assert not fresh.dev.encoded
+
+
+def test_the_text_scans_read_bytes_and_decoded_text_alike():
+    """The rules that scan the file's text (DCF052, DCF057/DCF203 and every column) read
+    its bytes when each is one character (ASCII, Latin-1) and the decoded text otherwise
+    (issue 26: no 60 MB copy): the same findings, columns counted in characters."""
+    from conftest import ROOT
+    from dcf2bin.lint import Options, lint_bytes
+    base = (ROOT / "tests" / "fixtures" / "lint" / "DCF200.fail.dcf").read_text()
+    long = "Description=" + "x" * 300
+    outs = []
+    for accent, encoding in (("e", "ascii"), ("\u00e9", "latin-1"), ("\u00e9", "utf-8")):
+        text = base.replace("Description=dcf2bin validate fixture",
+                            f"Description={accent}\n{long}{accent}\n  ; {accent}")
+        for nl in ("\n", "\r\n"):
+            data = text.replace("\n", nl).encode(encoding)
+            ctx_kind = type(_text_of(data)).__name__
+            outs.append([(d.rule, d.line, d.column, d.message)
+                         for d in lint_bytes("t.dcf", data, Options()).diagnostics])
+            assert ctx_kind == ("str" if encoding == "utf-8" else "bytes")
+    assert all(out == outs[0] for out in outs)
+    assert ("DCF052", 7, 256, "line has 313 characters, more than 255") in outs[0]
+    assert any(rule == "DCF200" and column for rule, _, column, _ in outs[0])
+
+
+def _text_of(data: bytes):
+    """A DcfContext's ``text`` for ``data``."""
+    from dcf2bin import ini, model
+    from dcf2bin.lint.context import DcfContext, Options
+    parsed = ini.parse_bytes(data, "t.dcf")
+    return DcfContext("t.dcf", data, Options(), parsed, model.build(parsed)).text

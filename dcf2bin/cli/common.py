@@ -176,7 +176,7 @@ def stop_on_errors(res, name: str, outcome: str) -> None:
     and says what the command does not do (``outcome``), and the command ends (exit 1)."""
     if res.ok:
         return
-    n = sum(1 for d in res.diagnostics if d.severity is Severity.ERROR)
+    n = sum(d.weight for d in res.diagnostics if d.severity is Severity.ERROR)
     click.echo(f"{name}: {n} error{'s' if n != 1 else ''}, {outcome}", err=True)
     raise Failure(ExitCode.FINDINGS)
 

@@ -9,8 +9,11 @@ for anything they cannot work out, and the check that owns that problem reports 
 from __future__ import annotations
 
 import os
+from array import array
 from dataclasses import dataclass, field
 from functools import cached_property
+from itertools import accumulate
+from operator import add
 
 from dcf2bin import datatypes as dt
 from dcf2bin import ini as ini_mod
@@ -18,25 +21,47 @@ from dcf2bin import schema, values
 from dcf2bin.lint import tables
 
 
-def _blank_comment(text: str) -> bool:
+def _blank_comment(text: str | bytes) -> bool:
     """``re.search(r"=[^=\n]*?[ \t][;#]", text) is not None``, from the few ';' and '#'
     of a file instead of from its every '=' (a 60,000-variable file has 400,000)."""
-    for mark in ";#":
+    b = isinstance(text, bytes)
+    nl, eq, blanks = (b"\n", b"=", (b" ", b"\t")) if b else ("\n", "=", (" ", "\t"))
+    for mark in ((b";", b"#") if b else (";", "#")):
         line_end = -1          # the line of the last candidate, and its first '='
         first_eq = -1
         at = text.find(mark, 1)
         while at >= 0:
-            if text[at - 1] in " \t":
+            if text[at - 1:at] in blanks:
                 if at > line_end:
-                    start = text.rfind("\n", 0, at) + 1
-                    line_end = text.find("\n", at)
+                    start = text.rfind(nl, 0, at) + 1
+                    line_end = text.find(nl, at)
                     if line_end < 0:
                         line_end = len(text)
-                    first_eq = text.find("=", start, line_end)
+                    first_eq = text.find(eq, start, line_end)
                 if 0 <= first_eq < at - 1:
                     return True
             at = text.find(mark, at + 1)
     return False
+
+
+def _line_starts(text: str | bytes, block: int = 1 << 20) -> array:
+    """The offset in ``text`` of the start of each of its lines (``text.split("\n")``'s
+    items), worked out one block of about ``block`` characters at a time."""
+    nl = b"\n" if isinstance(text, bytes) else "\n"
+    starts = array("q", [0])
+    pos, find = 0, text.find
+    while True:
+        end = find(nl, pos + block)
+        part = text[pos:] if end < 0 else text[pos:end]
+        # the start of each line after one of ``part``: the last one is ``end + 1``, the
+        # next block's first line, or past the text after the last block
+        after = accumulate(map((1).__add__, map(len, part.split(nl))), add, initial=pos)
+        next(after)
+        starts.extend(after)
+        if end < 0:
+            starts.pop()
+            return starts
+        pos = end + 1
 
 
 @dataclass
@@ -74,21 +99,40 @@ class DcfContext:
 
     # -- raw text ----------------------------------------------------------------------------
     @cached_property
-    def text(self) -> str:
+    def text(self) -> str | bytes:
+        """The file's text for the rules that scan it (DCF052, DCF057, DCF203, columns):
+        the bytes themselves when each is one character (ASCII, or a Latin-1 file
+        without a BOM), else the decoded text: a 60 MB file is not copied (issue 26)."""
         if self.ini.rejected or self.ini.format != "ini":
             return ""   # not text (DCF008), or not CiA 306 text: no rule looks at its "lines"
-        return ini_mod.decode_bytes(self.data)[0]
+        data = self.data
+        if data.isascii() or self.ini.encoding == "latin-1" and not data.startswith(
+                b"\xef\xbb\xbf"):
+            return data
+        return ini_mod.decode_bytes(data)[0]
 
     @cached_property
-    def lines(self) -> list[str]:
-        """The raw lines (a CRLF line keeps its CR: strip it where it matters)."""
-        return self.text.split("\n")
+    def line_starts(self) -> array:
+        """Where each line starts in ``text``: 8 bytes a line, where a list of the lines
+        held a string each (a 60 MB file of short lines: 200 MB)."""
+        return _line_starts(self.text)
+
+    def raw_line(self, line: int) -> str | None:
+        """Line ``line`` (1-based) as written, its CR kept, or None beyond the file."""
+        starts = self.line_starts
+        if not 1 <= line <= len(starts):
+            return None
+        text, start = self.text, starts[line - 1]
+        end = starts[line] - 1 if line < len(starts) else len(text)
+        raw = text[start:end]
+        return raw.decode("latin-1") if isinstance(raw, bytes) else raw
 
     def value_column(self, line: int | None) -> int | None:
         """1-based column of the value on a ``key=value`` line."""
-        if line is None or not 1 <= line <= len(self.lines):
+        raw = self.raw_line(line) if line is not None else None
+        if raw is None:
             return None
-        raw = self.lines[line - 1].rstrip("\r")
+        raw = raw.rstrip("\r")
         eq = raw.find("=")
         if eq < 0:
             return None

@@ -28,6 +28,16 @@ core("DCF008", "not-text", ERROR,
 core("DCF009", "nothing-configured", WARNING,
      "compile only: nothing in the file is configured, so the container holds no entries.",
      hint="--entries all also writes every DefaultValue (the device's defaults)")
+core("DCF014", "too-many-keys", ERROR,
+     "A section has more than 65,536 keys (an object list names each index at most once); "
+     "the keys after the 65,536th are not read.",
+     hint="no CiA 306 section has that many: an object list names each of the 65,536 "
+          "indexes at most once")
+core("DCF015", "too-many-sections", ERROR,
+     "The file has more than 1,048,576 sections (as many as the whole network-variable "
+     "area 0xA000-0xAFFF holds); the rest of the file is not read.",
+     hint="every network variable of CiA 405 (A000-A8FF) is 589,824 sections: is this the "
+          "file you meant?")
 core("DCF056", "no-sections", ERROR,
      "The file has no section at all (empty, or not an EDS/DCF); compile refuses it too.",
      hint="an EDS/DCF has [FileInfo], [DeviceInfo] and object sections")

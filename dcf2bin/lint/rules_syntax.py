@@ -58,19 +58,32 @@ def unknown_section(ctx):
       f"A line longer than {MAX_LINE} characters (the CiA 306 limit).",
       hint="shorten the value; other tools may cut the line")
 def line_too_long(ctx):
-    text = ctx.text
+    text = ctx.text                 # (the file's bytes when each is one character)
+    nl, cr, blanks = _symbols(text)
     line, pos = 1, 0
     for start, end in _lines_of_names(ctx):
-        raw = text[start:end].rstrip("\r")
-        if len(raw) <= MAX_LINE:
+        while end > start and text[end - 1:end] == cr:     # (no copy of a 60 MB line)
+            end -= 1
+        if end - start <= MAX_LINE:
             continue
-        line += text.count("\n", pos, start)
-        pos = start
-        low = raw.lstrip(" \t")[:14].lower()
+        line += text.count(nl, pos, start)
+        pos = at = start
+        while text[at:at + 1] in blanks:
+            at += 1
+        low = text[at:at + 14].lower()
+        if isinstance(low, bytes):
+            low = low.decode("latin-1")
         if low.startswith("parametername") or low.startswith("denotation"):
             continue  # DCF053 names it more precisely
-        yield Finding(f"line has {len(raw)} characters, more than {MAX_LINE}", line,
+        yield Finding(f"line has {end - start} characters, more than {MAX_LINE}", line,
                       MAX_LINE + 1)
+
+
+def _symbols(text: str | bytes) -> tuple:
+    """(line end, CR, the blanks) in the type of ``text``."""
+    if isinstance(text, bytes):
+        return b"\n", b"\r", (b" ", b"\t")
+    return "\n", "\r", (" ", "\t")
 
 
 # The shortest line that can hold a name of more than MAX_NAME characters: "Denotation="
@@ -87,19 +100,20 @@ def _lines_of_names(ctx) -> list[tuple[int, int]]:
     return got
 
 
-def _long_lines(text: str, width: int):
+def _long_lines(text: str | bytes, width: int):
     """(start, end) of every line of at least ``width`` characters (CRs counted), as
     ``re.finditer(r"^[^\n]{width,}", text, re.M)`` finds them: from a line's start, the
     last line end within ``width`` characters is where to look next (none: a long line),
     about one step per ``width`` characters instead of one per line."""
     n, at = len(text), 0
     rfind, find = text.rfind, text.find
+    lf = _symbols(text)[0]
     while at + width <= n:
-        nl = rfind("\n", at, at + width)
+        nl = rfind(lf, at, at + width)
         if nl >= 0:
             at = nl + 1
             continue
-        end = find("\n", at)
+        end = find(lf, at)
         if end < 0:
             end = n
         yield at, end

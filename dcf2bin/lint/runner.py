@@ -12,7 +12,7 @@ import os
 import traceback
 from dataclasses import dataclass, field
 
-from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
+from dcf2bin.diagnostics import LIMIT, Diagnostic, ExitCode, Severity, summarise, summary_finding
 from dcf2bin.lint import registry
 from dcf2bin.lint.context import BinContext, ConciseContext, DcfContext, Options
 from dcf2bin.lint.registry import BIN, CONCISE, DCF, RULES, Finding
@@ -32,7 +32,7 @@ class FileResult:
     tracebacks: list[str] = field(default_factory=list)
 
     def count(self, severity: Severity) -> int:
-        return sum(1 for d in self.diagnostics if d.severity is severity)
+        return sum(d.weight for d in self.diagnostics if d.severity is severity)
 
 
 @dataclass
@@ -252,6 +252,12 @@ class _Run:
         self.active = opts.active if opts.active is not None else set(RULES)
         self.diags: list[Diagnostic] = []     # from the checks here
         self.core: list[Diagnostic] = []      # from the reader, model, layout, selection
+        # a check's findings after the first LIMIT are counted, not kept (issue 26: 5
+        # million unknown keys): rule -> [count, the first of them]; and, for a rule the
+        # core reports too, the lines of those (a core finding there is one of them)
+        self.left: dict[str, list] = {}
+        self.left_lines: dict[str, set] = {}
+        self.core_rules: set[str] = set()
 
     # guarded execution: a bug becomes INT001, never a traceback
     def guard(self, what: str, fn, *args):
@@ -269,19 +275,34 @@ class _Run:
             self.res.path, rule="INT001", hint=RULES["INT001"].hint))
 
     def checks(self, kind: str, ctx) -> None:
-        active, diags, to_diag = self.active, self.diags, self.to_diag
+        active = self.active
         for r in registry.all_rules():
             if r.check is None or r.kind != kind or r.id not in active:
                 continue
+            n = len(self.diags)
             try:
-                findings = list(r.check(ctx))
+                self.collect(r, r.check(ctx))
             except Exception as exc:  # noqa: BLE001 - as in guard(): INT001, no traceback
                 # (not through guard: its label and closure for each of the ~60 rules
                 # were a fixed cost of every file)
+                del self.diags[n:]                 # as if the rule had not run
+                self.left.pop(r.id, None)
+                self.left_lines.pop(r.id, None)
                 self.internal_error(f"rule {r.id} ({r.name})", exc)
-                continue
-            for f in findings:
+
+    def collect(self, r, findings) -> None:
+        """The first LIMIT findings of rule ``r`` as diagnostics, the others counted."""
+        diags, to_diag = self.diags, self.to_diag
+        for n, f in enumerate(findings, 1):
+            if n <= LIMIT:
                 diags.append(to_diag(r, f))
+                continue
+            left = self.left.get(r.id)
+            if left is None:
+                left = self.left[r.id] = [0, to_diag(r, f)]
+            left[0] += 1
+            if r.id in self.core_rules:
+                self.left_lines.setdefault(r.id, set()).add(f.line)
 
     def to_diag(self, r, f: Finding) -> Diagnostic:
         return Diagnostic(r.severity, f.message, self.res.path, f.line, f.column, f.offset,
@@ -309,6 +330,11 @@ class _Run:
             static = static_od_indexes(opts.static_od)[0]
         ok, sel = self.guard("the compile selection", lambda: select_mod.select(
             dev, static_od=static, rules=get_profile(opts.profile).pdo_rules()))
+        # the rules the core reports too (see finish), known before the checks run: but
+        # DCF202's, whose check adds them as it reads each DownloadFile
+        self.core_rules = {p.diagnostic.rule for p in dev.problems} | {"DCF202"}
+        if ok:
+            self.core_rules.update(d.rule for d in sel.errors)
         self.checks(DCF, ctx)
         # after the checks: DCF202's DownloadFile reads may add core problems
         for p in dev.problems:
@@ -369,7 +395,7 @@ class _Run:
         r = RULES.get(rule)
         hint = d.hint or (r.hint if r else "")
         return Diagnostic(d.severity, d.message, d.file or self.res.path, d.line, d.column,
-                          d.offset, rule, hint)
+                          d.offset, rule, hint, d.more)
 
     def container(self, data: bytes) -> None:
         ok, ctx = self.guard("reading the container",
@@ -400,6 +426,10 @@ class _Run:
         # DCF203: the core only for what compile encodes). Then the core's words are
         # printed, so that compile and validate say the same thing about the same line;
         # the check adds the column it knows.
+        path, left_lines = self.res.path, self.left_lines
+        if left_lines:     # a core finding at the line of a check's finding only counted
+            self.core = [d for d in self.core if d.file != path or d.line not in
+                         left_lines.get(d.rule, ())]
         core = {}
         for d in self.core:
             core.setdefault((d.rule, d.file, d.line), d)
@@ -422,8 +452,11 @@ class _Run:
                 continue
             keys.add(key)
             out.append(d)
+        out.extend(summary_finding(first, n) for n, first in self.left.values())
         out.sort(key=_order)
-        self.res.diagnostics = out
+        # the first LIMIT of each rule, then one finding that counts the others: every
+        # output format shows those, the text form 20 of them (report.CAP)
+        self.res.diagnostics = summarise(out)
 
 
 def _order(d: Diagnostic):

@@ -16,6 +16,7 @@ over ``ctx.ini.sections`` / ``ctx.dev.objects`` would (the tests compare them).
 from __future__ import annotations
 
 import re
+from array import array
 from itertools import compress, groupby, repeat
 from operator import attrgetter, is_not, itemgetter
 
@@ -276,13 +277,19 @@ def entries_of_kinds(ctx, kinds_: frozenset) -> list:
     if got is None:
         every = entries(ctx)
         types = ctx.cache.get("entry types")
-        if types is None:       # the id of each entry's DataType object, and those objects
+        if types is None:
+            # each entry's DataType object as a small number (an array: one byte an entry,
+            # where a list of their ids held an int object each, 40 bytes), and those objects
             dtypes = list(map(attrgetter("dtype"), every))
-            ids = list(map(id, dtypes))
-            types = ctx.cache["entry types"] = (ids, {i: dtypes[ids.index(i)] for i in set(ids)})
-        ids, dtypes = types
-        wanted = {i for i, d in dtypes.items() if d is not None and d.kind in kinds_}
-        got = ctx.cache[key] = list(compress(every, map(wanted.__contains__, ids))) \
+            objects = dict(zip(map(id, dtypes), dtypes))        # (a few dozen)
+            number = {i: k for k, i in enumerate(objects)}
+            codes = array("B" if len(number) <= 256 else "I",
+                          map(number.__getitem__, map(id, dtypes)))
+            types = ctx.cache["entry types"] = (codes, {k: objects[i]
+                                                        for i, k in number.items()})
+        codes, dtypes = types
+        wanted = {k for k, d in dtypes.items() if d is not None and d.kind in kinds_}
+        got = ctx.cache[key] = list(compress(every, map(wanted.__contains__, codes))) \
             if wanted else []
     return got
 

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from dcf2bin import ini as ini_mod, layout, values
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Diagnostic, Severity, Where, summary_finding
 from dcf2bin.model.build_entry import _EntrySteps
 from dcf2bin.model.build_object import _ObjectStep
 from dcf2bin.model.compact_pdo import _CompactPdoStep
@@ -126,17 +126,27 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
 
     # -- file-level keys ---------------------------------------------------------------
     def _duplicates(self) -> None:
+        hint = "remove one of them; dcf2bin does not guess which is meant"
         for d in self.ini.duplicates:
             idx, sub = _section_target(d.section)
-            sec = self.ini.sections.get(d.section)
-            shown = sec.name if sec else d.section
-            if d.key is None:
-                msg = f"section [{shown}] repeated (first at line {d.first_line})"
-            else:
-                key = sec.keys[d.key].name if sec and d.key in sec.keys else d.key
-                msg = f"key '{key}' repeated in [{shown}] (first at line {d.first_line})"
-            self.dev.error(msg, self.w(d.line), idx, sub, rule="DCF010",
-                           hint="remove one of them; dcf2bin does not guess which is meant")
+            self.dev.error(self._repeated(d), self.w(d.line), idx, sub, rule="DCF010",
+                           hint=hint)
+        n, d = self.ini.more_duplicates, self.ini.first_left_out
+        if n:
+            # the repeats the reader only counted (after diagnostics.LIMIT): one finding
+            # that touches no one object, so that compile stops on it (it cannot tell
+            # whether they touch an entry it writes)
+            self.dev.problems.append(Problem(summary_finding(Diagnostic(
+                Severity.ERROR, self._repeated(d), self.path, d.line, rule="DCF010",
+                hint=hint), n)))
+
+    def _repeated(self, d) -> str:
+        sec = self.ini.sections.get(d.section)
+        shown = sec.name if sec else d.section
+        if d.key is None:
+            return f"section [{shown}] repeated (first at line {d.first_line})"
+        key = sec.keys[d.key].name if sec and d.key in sec.keys else d.key
+        return f"key '{key}' repeated in [{shown}] (first at line {d.first_line})"
 
     def _node_id(self, cli_node_id: int | None) -> None:
         sec1 = self.ini.section("devicecomissioning")

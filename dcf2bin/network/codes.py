@@ -67,6 +67,8 @@ CODES: list[tuple[str, str, str]] = [
     ("NET124", WARNING, "a key of lely's dcfgen that a PLC master does not use (its own "
                         "identity, dcf_path, configuration_file, software_file): what dcfgen "
                         "would do for a lely master is not done"),
+    ("NET125", ERROR, "a mapping: of more than 64 bits: a PDO is one classic CAN frame of "
+                      "at most 8 bytes"),
     # -- build's output folder ------------------------------------------------------------
     ("NET130", WARNING, "a file an earlier build wrote in the output folder that this "
                         "network does not make (a slave that left it): kept, never deleted"),

@@ -148,6 +148,7 @@ def apply_yaml(node: Node, diags: Diagnostics) -> None:
                     m.name = mc.name
                     pdo.mapping.append(m)
                     _once(node, pdo, m, first, diags)
+            _fits(node, pdo, pc.wheres.get("mapping", pc.where), diags)
         if pc.empty_mapping and pc.enabled is not False:
             diags.warning(f"{node.name} {pdo.label}: mapping: is empty, so the PDO is "
                           "enabled with no object: it exists on the device but not in the "
@@ -158,6 +159,21 @@ def apply_yaml(node: Node, diags: Diagnostics) -> None:
             pdo.cob_id = (pdo.file_cob_id or 0) | COB_INVALID
         elif isinstance(pc.cob_id, int):
             pdo.cob_id = pc.cob_id
+
+
+# SPEC §5: a PDO is one classic CAN frame, at most 8 bytes
+MAX_PDO_BITS = 64
+
+
+def _fits(node: Node, pdo: Pdo, where: Where, diags: Diagnostics) -> None:
+    """NET125: a YAML mapping longer than a CAN frame (validate's DCF408 says it of a
+    file's own mapping). Such a PDO is broken: nothing links it or is reported about it
+    besides (one cause, one finding)."""
+    total = sum(m.bits for m in pdo.mapping)
+    if total > MAX_PDO_BITS:
+        diags.error(f"{node.name} {pdo.label} maps {total} bits, more than {MAX_PDO_BITS}: "
+                    "a PDO is one CAN frame of at most 8 bytes", where, rule="NET125")
+        pdo.broken = True
 
 
 def _once(node: Node, pdo: Pdo, m: Mapped, first: dict, diags: Diagnostics) -> None:
