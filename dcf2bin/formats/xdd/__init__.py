@@ -41,6 +41,7 @@ def read(data: bytes, path: str):
     -- not well-formed, a DOCTYPE, another XML, Ethernet POWERLINK -- is one finding and no
     section (``rejected``)."""
     from dcf2bin.formats.xdd import header
+    from dcf2bin.formats.xdd.direct import Straight
     from dcf2bin.formats.xdd.document import XddFile
     from dcf2bin.formats.xdd.markup import MarkupError, local, parse
     from dcf2bin.formats.xdd.objects import Objects
@@ -74,8 +75,10 @@ def read(data: bytes, path: str):
         if sec is not None:
             doc.sections[canon] = sec
     reader = Objects(doc, params, types)
+    straight = Straight(reader).read
     for el in found.get("CANopenObject", ()):
-        reader.read(el)
+        if not straight(el):
+            reader.read(el)
     doc.sections.update(header.object_lists(doc.sections,
                                             found["CANopenObjectList"][0].sourceline))
     _disabled_note(doc)
@@ -90,11 +93,28 @@ _WANTED = frozenset({
     "ProfileTechnology"})
 
 
+_WILD = tuple("{*}" + name for name in _WANTED)
+
+
 def _collect(root, local) -> dict:
-    """name -> the elements of that name, in document order (lxml's iter picks them, in C)."""
+    """name -> the elements of that name, in document order (lxml's iter picks them, in C;
+    one list per tag first, one per name after: a look-up per element, not a call)."""
+    by_tag: dict = {}
+    for el in root.iter(*_WILD):
+        tag = el.tag
+        got = by_tag.get(tag)
+        if got is None:
+            got = by_tag[tag] = []
+        got.append(el)
     found: dict[str, list] = {}
-    for el in root.iter(*("{*}" + name for name in _WANTED)):
-        found.setdefault(local(el.tag), []).append(el)
+    for tag, els in by_tag.items():
+        name = local(tag)
+        if name in found:       # one name in two namespaces: both in document order
+            found = {}
+            for el in root.iter(*_WILD):
+                found.setdefault(local(el.tag), []).append(el)
+            return found
+        found[name] = els
     return found
 
 

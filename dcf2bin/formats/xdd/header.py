@@ -124,7 +124,7 @@ def object_lists(sections: dict, line: int) -> dict:
     groups: dict[str, list] = {"MandatoryObjects": [], "OptionalObjects": [],
                                "ManufacturerObjects": []}
     for canon, sec in sections.items():
-        if len(canon) != 4 or not all(c in "0123456789abcdef" for c in canon):
+        if len(canon) != 4 or canon.strip("0123456789abcdef"):
             continue
         idx = int(canon, 16)
         kind = ("MandatoryObjects" if idx in (0x1000, 0x1001, 0x1018) else

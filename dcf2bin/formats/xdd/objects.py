@@ -20,8 +20,7 @@ import re
 from dcf2bin import values
 from dcf2bin.diagnostics import Severity
 from dcf2bin.formats.xdd import vocabulary as voc
-from dcf2bin.formats.xdd.direct import (_CHECKED, _CHILD_KINDS, _EDITOR, _ORDER, _SAID, _VALUES,
-                                        _Direct)
+from dcf2bin.formats.xdd.direct import _CHECKED, _EDITOR, _ORDER, _SAID, _VALUES, _Direct, _Param
 from dcf2bin.formats.xdd.document import XddFile, XmlSection
 from dcf2bin.formats.xdd.markup import _LOCAL, local
 
@@ -277,61 +276,6 @@ class Objects(_Direct):
         self.untyped(label, f"the type {uid} (line {target.sourceline}) has no IEC 61131 "
                      "base type", ref.sourceline, idx, sub)
         return None
-
-
-class _Param:
-    """What one ``parameter`` says, from one walk over its children: ``spec`` (its
-    description and properties), ``said`` (CiA 306 key -> (value, line, how to show it)
-    for its values, limits and denotation, in the order they stand), its type element or
-    ``dataTypeIDRef`` and its first label."""
-    __slots__ = ("el", "spec", "said", "type_el", "ref", "first_label")
-
-    def __init__(self, el):
-        self.el, self.type_el, self.ref, self.first_label = el, None, None, None
-        spec: dict = {}
-        said: dict = {}
-        kinds = _CHILD_KINDS
-        for child in el:
-            tag = child.tag
-            name = _LOCAL.get(tag) or local(tag)
-            kind = kinds.get(name)
-            if kind is None:            # not one of a parameter's own elements: its type
-                if name and self.type_el is None:
-                    self.type_el = child
-            elif kind == 0:             # label, description
-                if name == "label" and self.first_label is None:
-                    self.first_label = child
-                text = (child.text or "").strip()
-                if text and (name == "description" or "description" not in spec):
-                    spec["description"] = text
-            elif kind == 1:             # defaultValue, actualValue
-                v = child.get("value")
-                if v is not None:
-                    key = "DefaultValue" if name == "defaultValue" else "ParameterValue"
-                    said[key] = (v, child.sourceline, (1, name, v))
-            elif kind == 2:             # property
-                if child.get("name"):
-                    spec[child.get("name")] = child.get("value", "")
-            elif kind == 3:             # allowedValues
-                for r in child.iter():
-                    rname = local(r.tag)
-                    if rname in ("minValue", "maxValue") and r.get("value") is not None:
-                        key = "LowLimit" if rname == "minValue" else "HighLimit"
-                        said.setdefault(key, (r.get("value"), r.sourceline,
-                                              (1, rname, r.get("value"))))
-            elif kind == 4:             # denotation
-                text = " ".join("".join(child.itertext()).split())
-                if text:
-                    said["Denotation"] = (text, child.sourceline, (1, "denotation", text))
-            elif kind == 5:             # dataTypeIDRef
-                self.ref = child
-        self.spec, self.said = spec, said
-
-    def label(self) -> str | None:
-        """The name its first label gives (a CANopenEditor object has no name of its own)."""
-        if self.first_label is None:
-            return None
-        return " ".join("".join(self.first_label.itertext()).split()) or None
 
 
 def _same(key: str, a: str, b: str) -> bool:
