@@ -295,13 +295,13 @@ def test_a_signal_while_writing_leaves_no_temporary_file(tmp_path, sig):
                              str(BILD8), "-o", str(out_dir / "x.bin")],
                             env=ENV, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + 20
+        deadline = time.monotonic() + 120
         while not marker.exists() and time.monotonic() < deadline and proc.poll() is None:
             time.sleep(0.02)
         assert marker.exists(), "the write never started"
         assert len(temps(out_dir)) == 1          # the temporary file exists now
         proc.send_signal(sig)
-        _, err = proc.communicate(timeout=20)
+        _, err = proc.communicate(timeout=120)
     finally:
         if proc.poll() is None:
             proc.kill()
