@@ -20,15 +20,17 @@ def _variable(od_mod, dev, entry, name: str):
         for attr, text in (("min", entry.low), ("max", entry.high)):
             if text is not None:
                 try:
-                    setattr(var, attr, values.to_python(entry.dtype, dev.encode(entry, text)))
+                    setattr(var, attr, values.to_python(entry.dtype, dev.encode(entry, text),
+                                                        dev.encoding))
                 except DcfError:
                     pass
     if entry.dtype is not None:
         try:
             if entry.default is not None:
-                var.default = values.to_python(entry.dtype, dev.encode(entry, entry.default))
+                var.default = values.to_python(entry.dtype, dev.encode(entry, entry.default),
+                                                dev.encoding)
             if entry.configured:
-                var.value = values.to_python(entry.dtype, dev.encode(entry))
+                var.value = values.to_python(entry.dtype, dev.encode(entry), dev.encoding)
         except DcfError:
             pass
     return var

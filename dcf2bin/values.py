@@ -454,11 +454,13 @@ def decode(dtype: DataType, data: bytes, *, encoding: str = "utf-8") -> str | No
         return None
 
 
-def to_python(dtype: DataType, data: bytes) -> int | float | str | bytes | bool:
+def to_python(dtype: DataType, data: bytes,
+              encoding: str = "utf-8") -> int | float | str | bytes | bool:
     """The value as a Python object, for display and for a canopen ObjectDictionary.
 
     BOOLEAN -> bool (any non-zero byte is True), INTEGERn/UNSIGNEDn/TIME_* -> int,
-    REAL -> float, VISIBLE_STRING -> str (UTF-8, errors replaced), UNICODE_STRING -> str
+    REAL -> float, VISIBLE_STRING -> str (in ``encoding``, the one its bytes were written
+    in: the file's own for a DCF value; errors replaced), UNICODE_STRING -> str
     (UTF-16LE, errors replaced), OCTET_STRING/DOMAIN -> bytes. A fixed type with the wrong
     number of bytes raises ValueProblem.
     """
@@ -474,7 +476,7 @@ def to_python(dtype: DataType, data: bytes) -> int | float | str | bytes | bool:
     if kind == REAL:
         return struct.unpack(_REAL_INFO[dtype.code][1], data)[0]
     if kind == VSTRING:
-        return bytes(data).decode("utf-8", errors="replace")
+        return bytes(data).decode(encoding, errors="replace")
     if kind == USTRING:
         return bytes(data).decode("utf-16-le", errors="replace")
     return bytes(data)

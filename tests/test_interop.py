@@ -26,3 +26,15 @@ def test_device_sample_types():
     assert od[0x2000].value == "Hall 3; rack #2"
     assert od[0x2003].value == b"\xde\xad\xbe\xef"
     assert od[0x1016][2].value == 0x000200C8      # CompactSubObj + [1016Value]
+
+
+def test_a_latin1_file_gives_its_strings_to_canopen_as_written(tmp_path):
+    # a DCF in Latin-1 (not valid UTF-8): the container holds the Latin-1 bytes, and
+    # python-canopen gets the text those bytes are, not U+FFFD for each non-ASCII byte
+    text = ("[1008]\nParameterName=Device name\nObjectType=0x7\nDataType=0x0009\n"
+            "AccessType=const\nDefaultValue=Gr\xfc\xdfe\nParameterValue=Stra\xdfe\n")
+    (tmp_path / "x.dcf").write_bytes(text.encode("latin-1"))
+    dev = model.load(str(tmp_path / "x.dcf"))
+    assert dev.encoding == "latin-1"
+    od = dev.to_canopen()
+    assert (od[0x1008].default, od[0x1008].value) == ("Gr\xfc\xdfe", "Stra\xdfe")
