@@ -115,6 +115,32 @@ def test_event_driven_tpdo_and_rpdo(bench, tmp_path):
     assert tpdo.wait(1) == [(0x183, bytes.fromhex("010203"))]
 
 
+def test_a_tpdo_and_an_rpdo_carry_a_field_that_starts_inside_a_byte(bench):
+    """A BOOLEAN dummy (1 bit) first puts 0x2001 (INTEGER24) at bit 1: its 24 bits span
+    four bytes. python-canopen's PdoVariable reads and writes such a field in the bytes of
+    its type only (three here) and loses its top bit, or raises; the node packs the bits
+    itself (CiA 301: bit 0 of byte 0 first, little-endian)."""
+    node = bench.device()
+    net = bench.network()
+    tpdo = Frames(net, 0x183)
+    sdo = bench.sdo(3)
+    for index in (0x1A00, 0x1600):
+        sdo.download(index, 0, b"\x00")
+        sdo.download(index, 1, (0x00010001).to_bytes(4, "little"))
+        sdo.download(index, 2, (0x20010018).to_bytes(4, "little"))
+        sdo.download(index, 0, b"\x02")
+    sdo.download(0x1800, 2, b"\x01")                  # every SYNC
+    sdo.download(0x1800, 1, (0x183).to_bytes(4, "little"))
+    sdo.download(0x1400, 1, (0x203).to_bytes(4, "little"))
+    sdo.download(0x2001, 0, bytes.fromhex("5634D2"))   # 0xD23456: negative, top bit set
+    node.go_operational()
+    net.sync.transmit()
+    # 0xD23456 << 1 = 0x1A468AC: bytes AC 68 A4 01
+    assert tpdo.wait(1) == [(0x183, bytes.fromhex("AC68A401"))]
+    net.send_message(0x203, bytes.fromhex("FDFFFF01"))   # bits 1-24: 0xFFFFFE
+    assert eventually(lambda: sdo.upload(0x2001, 0) == bytes.fromhex("FEFFFF"))
+
+
 # -- NMT ------------------------------------------------------------------------------------
 
 def test_nmt_reset_node_restores_the_files_values(bench):

@@ -369,8 +369,11 @@ class Pdos:
                     raw = self.node.get_data(var.index, var.subindex)
                 except SdoAbortedError:
                     continue
-                if var.offset % 8 == 0 and var.length % 8 == 0:
-                    raw = raw[:var.length // 8].ljust(var.length // 8, b"\0")
+                if var.offset % 8 or var.length % 8:
+                    _put_bits(pdo_map.data, var.offset, var.length, raw)
+                    pdo_map.update()
+                    continue
+                raw = raw[:var.length // 8].ljust(var.length // 8, b"\0")
                 try:
                     var.set_data(raw)
                 except (struct.error, ValueError, KeyError):
@@ -445,12 +448,43 @@ class Pdos:
             if (var.offset + var.length + 7) // 8 > len(pdo_map.data):
                 continue     # a frame shorter than its mapping: nothing to take
             try:
-                node.set_data(var.index, var.subindex, var.get_data())
+                if var.offset % 8 or var.length % 8:
+                    data = _take_bits(pdo_map.data, var.offset, var.length, var.od)
+                else:
+                    data = var.get_data()
+                node.set_data(var.index, var.subindex, data)
             except (SdoAbortedError, struct.error, ValueError, KeyError):
                 continue
         if before is not None and bytes(node.image.data) != before \
                 and node.on_image_change is not None:
             node.on_image_change(node.image)
+
+
+# A field that does not start and end on byte bounds (a bit-sized object, or one after a
+# BOOLEAN dummy): python-canopen's PdoVariable packs it in the bytes of its type only, so a
+# field that spans one byte more loses its top bits (and a negative value sets bits past
+# the field). CiA 301 packs a PDO's bits from bit 0 of byte 0, little-endian.
+
+def _put_bits(frame: bytearray, offset: int, length: int, raw: bytes) -> None:
+    """The low ``length`` bits of ``raw`` (the object's bytes) at bit ``offset`` of the
+    frame; the frame's other bits stay."""
+    if offset + length > 8 * len(frame):
+        return                      # a mapping longer than the frame: nothing to place
+    mask = ((1 << length) - 1) << offset
+    bits = (int.from_bytes(raw, "little") << offset) & mask
+    whole = (int.from_bytes(frame, "little") & ~mask) | bits
+    frame[:] = whole.to_bytes(len(frame), "little")
+
+
+def _take_bits(frame: bytes, offset: int, length: int, od_var) -> bytes:
+    """The ``length`` bits at bit ``offset`` of the frame as the object's bytes (its type's
+    size; a signed type's value sign-extended from the field's top bit)."""
+    value = (int.from_bytes(frame, "little") >> offset) & ((1 << length) - 1)
+    size = max(1, (len(od_var) + 7) // 8)
+    signed = od_var.data_type in od_mod.SIGNED_TYPES
+    if signed and value >> (length - 1):
+        value -= 1 << length
+    return value.to_bytes(size, "little", signed=signed)
 
 
 def _join(task, longest: float = 1.0) -> None:
