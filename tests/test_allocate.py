@@ -6,7 +6,7 @@ import json
 
 import pytest
 from click.testing import CliRunner
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, assume, example, given, settings, strategies as st
 
 from conftest import ROOT, SAMPLES
 from dcf2bin.cli import main
@@ -266,6 +266,21 @@ def expected_d15(variables):
     return out
 
 
+def first_past_the_range(variables, want):
+    """[(name, type, area, element)]: the first variable of each type and area that D-15
+    puts past its type's 0x40 indices (254 elements each), inputs first, in list order."""
+    first = {}                              # a type's first variable: the order of its error
+    for k, (_, t, d) in enumerate(variables):
+        first.setdefault((t, d), k)
+    seen, full = set(), []
+    for n, t, d in variables:
+        index, sub, _ = want[n]
+        if (t, d) not in seen and index - RANGE[(t, d)] >= 0x40:
+            seen.add((t, d))
+            full.append((n, t, d, (index - RANGE[(t, d)]) * 254 + sub - 1))
+    return sorted(full, key=lambda f: (f[2] != "input", first[(f[1], f[2])]))
+
+
 variable_lists = st.lists(
     st.tuples(st.sampled_from(KINDS), st.sampled_from(["input", "output"]),
               st.integers(1, 600)),
@@ -284,18 +299,34 @@ def _interleave(variables, seed):
 @settings(max_examples=25, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(variables=variable_lists, seed=st.integers(0, 1000))
+@example(variables=[(f"v{i}_{j}", t, "input") for i, (t, n) in enumerate(
+    [("INTEGER64", 158), ("INTEGER64", 600), ("BOOLEAN", 593), ("INTEGER64", 600),
+     ("INTEGER64", 600)]) for j in range(n)], seed=0)
 def test_property_allocate_compile_map(tmp_path, variables, seed):
     variables = _interleave(variables, seed)
     csv = tmp_path / "v.csv"
     csv.write_text(HEADER + "".join(f"{n},{t},{d}\n" for n, t, d in variables))
     dcf = tmp_path / "v.dcf"
     r = run("allocate", csv, "-o", dcf)
+    want = expected_d15(variables)
+    full = first_past_the_range(variables, want)
+    if full:
+        # the types' process-image bytes are shared: a type placed after larger ones can run
+        # past its 0x40 indices even with few variables of its own (16,256 elements)
+        line = {n: i + 2 for i, (n, _, _) in enumerate(variables)}
+        assert r.exit_code == 1
+        assert r.stderr.splitlines() == [
+            f"{csv}:{line[n]}: error: '{n}': the {t} {area}s do not fit their 0x40 indices "
+            f"0x{RANGE[(t, area)]:04X}-0x{RANGE[(t, area)] + 0x3F:04X} (this is element {x}; "
+            f"there are 16256) [ALC002]" for n, t, area, x in full] + [
+            f"{csv}: {len(full)} error{'s' if len(full) > 1 else ''}, nothing written"]
+        assert not dcf.exists()
+        return
     assert r.exit_code == 0, r.stderr
     bin_ = tmp_path / "v.bin"
     r = run("compile", dcf, "-o", bin_)
     assert r.exit_code == 0, r.stderr
     rows = map_rows(bin_.with_suffix(".dcf"))
-    want = expected_d15(variables)
     assert {n: (v["index"], v["subindex"], v["offset"]) for n, v in rows.items()} == want
     # no two variables of one area share a byte
     for area in ("input", "output"):
@@ -320,6 +351,7 @@ def test_property_target_builds_the_od(tmp_path, variables):
     csv = tmp_path / "v.csv"
     csv.write_text(HEADER + "".join(f"{n},{t},{d}\n" for n, t, d in variables))
     dcf = tmp_path / "v.dcf"
+    assume(not first_past_the_range(variables, expected_d15(variables)))   # the test above
     assert run("allocate", csv, "-o", dcf).exit_code == 0
     from dcf2bin.compiler import CompileOptions, compile_path
     res = compile_path(str(dcf), CompileOptions())
