@@ -121,13 +121,15 @@ def list_count(ctx):
         n = sum(1 for e in lists.entries if e[0] == canon)
         text = sec.get("supportedobjects")
         if text is None:
-            yield Finding(f"[{shorten(sec.name)}] has no SupportedObjects (it has {_n(n, 'entry')})",
+            yield Finding(f"[{shorten(sec.name)}] has no SupportedObjects (it has "
+                          f"{_n(n, 'entry')})",
                           sec.line)
             continue
         count = _int(text)
         if count is not None and count != n:
             line = sec.line_of("supportedobjects")
-            yield Finding(f"[{shorten(sec.name)}] SupportedObjects={count} but it has {_n(n, 'entry')}",
+            yield Finding(f"[{shorten(sec.name)}] SupportedObjects={count} but it has "
+                          f"{_n(n, 'entry')}",
                           line, ctx.value_column(line))
 
 
@@ -210,12 +212,14 @@ def subnumber_mismatch(ctx):
         text = sec.get("subnumber")
         if text is None:
             if n:
-                yield Finding(f"[{shorten(sec.name)}] has {n} sub-sections but no SubNumber", sec.line)
+                yield Finding(f"[{shorten(sec.name)}] has {n} sub-sections but no "
+                              "SubNumber", sec.line)
             continue
         count = _int(text)
         if count is not None and count != n:
             line = sec.line_of("subnumber")
-            yield Finding(f"[{shorten(sec.name)}] SubNumber={count} but {n} sub-sections are present",
+            yield Finding(f"[{shorten(sec.name)}] SubNumber={count} but {n} sub-sections are "
+                          "present",
                           line, ctx.value_column(line))
 
 
@@ -230,7 +234,8 @@ def compact_with_subnumber(ctx):
         n = _int(sec.get("subnumber"))
         if n:
             line = sec.line_of("subnumber")
-            yield Finding(f"[{shorten(sec.name)}] has CompactSubObj={obj.compact} and SubNumber={n}",
+            yield Finding(f"[{shorten(sec.name)}] has CompactSubObj={obj.compact} and "
+                          f"SubNumber={n}",
                           line, ctx.value_column(line))
 
 

@@ -82,7 +82,8 @@ class _EntrySteps:
         try:
             code = values.parse_int(values.split_numeric_comment(text)[0])
         except values.ValueProblem as exc:
-            self.dev.error(f"[{shorten(sec.name)}] DataType: {exc}", self.w(sec.line_of("datatype")),
+            self.dev.error(f"[{shorten(sec.name)}] DataType: "
+                           f"{exc}", self.w(sec.line_of("datatype")),
                            idx, sub, rule="DCF030")
             return None
         dtype = dt.BY_CODE.get(code)

@@ -21,7 +21,8 @@ class _ObjectStep:
         obj_map = _pdo_flag(sec.get("pdomapping"))
         if not obj.complex:
             if is_network_variable_index(idx):
-                self.dev.error(f"[{shorten(sec.name)}] is a VAR; objects in 0xA000-0xAFFF must be ARRAYs",
+                self.dev.error(f"[{shorten(sec.name)}] is a VAR; objects in 0xA000-0xAFFF must "
+                               "be ARRAYs",
                                self.w(sec.line), idx, rule="DCF300")
             e = self._entry(idx, 0, sec, obj_flags=obj_flags, obj_map=obj_map)
             obj.entries[0] = e
@@ -31,7 +32,8 @@ class _ObjectStep:
         else:
             vsec = aux.get((idx, "value"))
             if vsec is not None:
-                self.dev.warning(f"[{shorten(vsec.name)}] without CompactSubObj in [{shorten(sec.name)}] is "
+                self.dev.warning(f"[{shorten(vsec.name)}] without CompactSubObj in "
+                                 f"[{shorten(sec.name)}] is "
                                  "ignored", self.w(vsec.line), idx, rule="DCF027")
         self._sub_entries(obj, subsecs, obj_flags, obj_map)
         self._sub0(obj)
@@ -51,7 +53,8 @@ class _ObjectStep:
             obj.compact = 0
         has_subs = bool(subsecs) or bool(obj.sub_number) or obj.compact > 0
         if ot is not None and ot not in dt.OBJECT_TYPES:
-            dev.error(f"[{shorten(sec.name)}] unknown ObjectType 0x{ot:X}", self.w(sec.line_of("objecttype")),
+            dev.error(f"[{shorten(sec.name)}] unknown ObjectType "
+                      f"0x{ot:X}", self.w(sec.line_of("objecttype")),
                       idx, rule="DCF022")
             ot = None
         if ot in (dt.OT_ARRAY, dt.OT_RECORD):
@@ -76,7 +79,8 @@ class _ObjectStep:
         dev, idx = self.dev, obj.index
         for s in sorted(subsecs):
             if s != 0:
-                dev.warning(f"[{shorten(subsecs[s].name)}] given although [{shorten(sec.name)}] has "
+                dev.warning(f"[{shorten(subsecs[s].name)}] given although [{shorten(sec.name)}] "
+                            "has "
                             "CompactSubObj; the sub-section wins", self.w(subsecs[s].line),
                             idx, s, rule="DCF024")
         if sec.get("parametervalue") is not None:

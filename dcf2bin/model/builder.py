@@ -84,7 +84,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                     continue
                 sub = int(sub_hex, 16)
                 if sub > 0xFF:
-                    self.dev.error(f"subindex {shorten(f'0x{sub:X}')} of [{shorten(sec.name)}] is above 0xFF",
+                    self.dev.error(f"subindex {shorten(f'0x{sub:X}')} of [{shorten(sec.name)}] "
+                                   "is above 0xFF",
                                    self.w(sec.line), idx, rule="DCF005")
                     continue
                 subs.setdefault(idx, {})[sub] = sec
@@ -104,7 +105,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                                rule="DCF020")
         for (idx, kind), sec in aux.items():
             if idx not in mains and kind in ("name", "value", "denotation"):
-                self.dev.warning(f"[{shorten(sec.name)}] has no object section [{idx:04X}]; ignored",
+                self.dev.warning(f"[{shorten(sec.name)}] has no object section [{idx:04X}]; "
+                                 "ignored",
                                  self.w(sec.line), rule="DCF007")
         self._compact_pdo()
         layout.attach_channels(self.dev)
@@ -118,7 +120,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         sub = int(digits, 16)
         if sub > 0xFF:
             return   # DCF005
-        self.dev.warning(f"[{shorten(sec.name)}] has a subindex of {len(digits)} digits; it is read "
+        self.dev.warning(f"[{shorten(sec.name)}] has a subindex of {len(digits)} digits; it is "
+                         "read "
                          f"as [{obj_hex.upper()}sub{sub:X}], the canonical spelling",
                          self.w(sec.line), int(obj_hex, 16), sub, rule="DCF061",
                          hint="a subindex has 1 or 2 hex digits: write the canonical "
@@ -190,7 +193,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                     if k.value and values.parse_int(values.split_numeric_comment(k.value)[0]) == 1:
                         self.dev.dummy_usage.add(code)
                 except (ValueError, values.ValueProblem):
-                    self.dev.warning(f"bad [DummyUsage] entry '{shorten(k.name)}={shorten(k.value)}'",
+                    self.dev.warning(f"bad [DummyUsage] entry "
+                                     f"'{shorten(k.name)}={shorten(k.value)}'",
                                      self.w(k.line), rule="DCF013")
 
     # -- objects -----------------------------------------------------------------------
