@@ -163,3 +163,13 @@ def test_every_format_bounds_a_message_that_quotes_a_value_whole():
     assert sarif["runs"][0]["results"][0]["message"]["text"] == cut
     assert format_github(HUGE).endswith(f"::{cut}")
     assert max(len(line) for line in lines) < LINE_LIMIT
+
+
+def test_long_option_value_is_cut_in_the_usage_error(tmp_path):
+    path = tmp_path / "a.eds"
+    path.write_text("[1000]\nParameterName=x\nObjectType=7\nDataType=7\nAccessType=ro\n")
+    r = CliRunner().invoke(main, ["compile", "--entries", "x" * LONG, str(path)])
+    assert r.exit_code == 2
+    assert r.stderr.splitlines()[-1] == (
+        f"Error: Invalid value for '--entries': '{shorten('x' * LONG)}' is not one of "
+        "'auto', 'all'.")
