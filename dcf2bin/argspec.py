@@ -127,7 +127,9 @@ class Bytes:
 
 
 def _show(value) -> str:
-    return repr(value) if isinstance(value, str) else str(value)
+    """A value as a sentence quotes it: a user's long text cut in the middle (``shorten``)."""
+    from dcf2bin.diagnostics import shorten
+    return repr(shorten(value)) if isinstance(value, str) else str(value)
 
 
 # -- the table: one spec per meaning, used by every command and the API ------------------------

@@ -109,7 +109,7 @@ def format_text(d: Diagnostic, colour: bool = False) -> str:
     sev = d.severity.value
     if colour:
         sev = f"{_COLOURS[d.severity]}{sev}\x1b[0m"
-    text = f"{location(d)}: {sev}: {escape(d.message)}"
+    text = f"{location(d)}: {sev}: {escape(bounded(d.message))}"
     if d.rule:
         text += f" [{d.rule}]"
     return text
@@ -126,6 +126,21 @@ def shorten(text: str, n: int = 60) -> str:
         text = f"{'-' if text < 0 else ''}0x{abs(text):X}"
     text = str(text)
     return text if len(text) <= n else f"{text[:40]}...{text[-12:]} ({len(text)} characters)"
+
+
+# The longest message any output format shows whole (issue 26): a message that quotes a
+# user's text without ``shorten`` (a site that missed it) is still one bounded line.
+MESSAGE_LIMIT = 2000
+
+
+def bounded(message: str, n: int = MESSAGE_LIMIT) -> str:
+    """A whole message as every output format renders it: whole when it has at most ``n``
+    characters, else its first half and last quarter with the count between them, in the
+    convention of ``shorten`` (``... (100071 characters)``). The safety net under
+    ``shorten``: one length check for every message that needs none."""
+    if len(message) <= n:
+        return message
+    return f"{message[:n // 2]}...{message[-(n // 4):]} ({len(message)} characters)"
 
 
 @dataclass(slots=True)
@@ -371,4 +386,5 @@ class DiagnosticWarning(UserWarning):
 
 
 __all__ = ["Capped", "Diagnostic", "DiagnosticWarning", "Diagnostics", "DcfError", "ExitCode",
-           "LIMIT", "Severity", "Summarised", "Where", "shorten", "summarise", "summary_finding"]
+           "LIMIT", "MESSAGE_LIMIT", "Severity", "Summarised", "Where", "bounded", "shorten",
+           "summarise", "summary_finding"]

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.indexes import NV_FIRST, NV_LAST
 
 INPUT, OUTPUT = "input", "output"
@@ -153,7 +153,7 @@ def parse_channels(dev) -> list[Channel]:
 
     for key in ("pioffset", "maxcnt", "range"):
         if key in sec.keys:
-            dev.warning(f"[DynamicChannels] unnumbered '{sec.keys[key].name}' is ignored "
+            dev.warning(f"[DynamicChannels] unnumbered '{shorten(sec.keys[key].name)}' is ignored "
                         "(use the numbered form, e.g. PIOffset1)", w(key), rule="DCF311")
     n = num("nrofseg") or 0
     channels: list[Channel] = []
@@ -187,7 +187,7 @@ def parse_channels(dev) -> list[Channel]:
         dtext = (sec.get(dk) or "").strip().lower()
         direction = _DIRS.get(dtext)
         if direction is None:
-            dev.error(f"[DynamicChannels] Dir{k}='{dtext}' must be ro, rw, rwr or rww",
+            dev.error(f"[DynamicChannels] Dir{k}='{shorten(dtext)}' must be ro, rw, rwr or rww",
                       w(dk), rule="DCF313")
             continue
         m = _split_range(sec.get(rk) or "")

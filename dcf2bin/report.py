@@ -20,7 +20,8 @@ from urllib.parse import quote
 
 # The one text form of one diagnostic lives with the data type (diagnostics.py), so that
 # Diagnostic.format() needs no import from here; re-exported for the callers of report.*.
-from dcf2bin.diagnostics import Diagnostic, Severity, escape, format_text, location  # noqa: F401
+from dcf2bin.diagnostics import (Diagnostic, Severity, bounded, escape, format_text,  # noqa: F401
+                                 location)
 
 JSON_FORMAT = "dcf2bin-validate"
 JSON_VERSION = 1
@@ -37,7 +38,8 @@ def use_colour(stream: TextIO) -> bool:
 # -- names ------------------------------------------------------------------------------------
 
 def _msg(text: str) -> str:
-    return escape(text, controls=False)
+    """A message or hint as json, sarif and github show it: bounded as the text form's."""
+    return escape(bounded(text), controls=False)
 
 
 # -- text ---------------------------------------------------------------------------------------
@@ -75,7 +77,7 @@ def text_lines(diags: Iterable[Diagnostic], *, colour: bool = False, hints: bool
         out.append(format_text(d, colour))
         if hints and d.hint and (key, d.hint) not in hinted:
             hinted.add((key, d.hint))
-            out.append(f"    hint: {escape(d.hint)}")
+            out.append(f"    hint: {escape(bounded(d.hint))}")
         if cap is not None and n == cap and total[key] > cap:
             out.append(left_out(d.file, d.rule, total[key] - cap, cap))
     return out

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
-from dcf2bin.diagnostics import DcfError, Diagnostic, Where
+from dcf2bin.diagnostics import DcfError, Diagnostic, Where, shorten
 from dcf2bin.ini import decode_bytes
 
 __all__ = ["ExtraWrite", "ExtraWritesError", "read_extra_writes", "load_extra_writes",
@@ -150,7 +150,8 @@ def parse_extra_writes(text: str, path: str, *, node_id: int | None = None,
         (idx_t, idx_q), (sub_t, _), (type_t, _), (val_t, val_q) = tokens[:4]
         # INDEX
         if idx_q or idx_t[:2] not in ("0x", "0X"):
-            err(line_no, f"index '{idx_t}' must be hexadecimal with 0x (e.g. 0x2200)", _R_INDEX)
+            err(line_no, f"index '{shorten(idx_t)}' must be hexadecimal with 0x (e.g. "
+                         "0x2200)", _R_INDEX)
             continue
         try:
             index = values.parse_int(idx_t)
@@ -172,7 +173,7 @@ def parse_extra_writes(text: str, path: str, *, node_id: int | None = None,
         # TYPE
         dtype = _dtype(type_t)
         if dtype is None:
-            err(line_no, f"unknown data type '{type_t}'", _R_TYPE,
+            err(line_no, f"unknown data type '{shorten(type_t)}'", _R_TYPE,
                 hint="use a CiA 306 name such as UNSIGNED32, or its code such as 0x0007")
             continue
         # ACCESS / map
@@ -185,7 +186,8 @@ def parse_extra_writes(text: str, path: str, *, node_id: int | None = None,
             elif not quoted and low == "map" and not mappable:
                 mappable = True
             else:
-                err(line_no, f"unexpected field '{tok}' after the value (expected an access "
+                err(line_no, f"unexpected field '{shorten(tok)}' after the value (expected an "
+                             "access "
                     "type ro/wo/rw/rwr/rww/const and/or 'map')", _R_ACCESS,
                     hint="quote a value that holds blanks: \"a b\"")
                 bad = True
@@ -203,7 +205,8 @@ def parse_extra_writes(text: str, path: str, *, node_id: int | None = None,
             data = values.encode(dtype, text_for_encode, node_id=node_id, encoding=encoding)
         except values.NeedsNodeId:
             errors.append(DcfError(
-                f"value '{val_t}' uses $NODEID but no node-ID is known", where, rule="DCF201",
+                f"value '{shorten(val_t)}' uses $NODEID but no node-ID is "
+                "known", where, rule="DCF201",
                 hint="give --node-id N").diagnostic)
             continue
         except values.ValueProblem as exc:

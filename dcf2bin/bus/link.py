@@ -9,6 +9,8 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass
 
+from dcf2bin.diagnostics import shorten
+
 # The notifier thread wakes this often to see whether it should stop; python-can's
 # default (1 s) would make every disconnect wait up to a second.
 NOTIFIER_CYCLE = 0.05
@@ -65,7 +67,7 @@ def open_network(config: BusConfig):
         if config.interface is None:
             raise BusError("no CAN interface given: use --interface and --channel, or a "
                            "python-can configuration file") from None
-        raise BusError(f"CAN interface {config.interface!r}: {exc}") from None
+        raise BusError(f"CAN interface {shorten(config.interface)!r}: {exc}") from None
     except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
         raise BusError(f"cannot open the CAN interface ({config.describe()}): "
                        f"{exc}") from None

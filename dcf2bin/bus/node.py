@@ -39,6 +39,7 @@ from canopen.sdo import SdoAbortedError
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
+from dcf2bin.diagnostics import shorten
 from dcf2bin.indexes import is_pdo_comm, is_pdo_mapping
 
 SYNC_COB_ID = 0x080
@@ -216,7 +217,8 @@ class BenchNode(canopen.LocalNode):
                     continue
                 setattr(var, attr, f.at(text, node_id))
                 if getattr(var, attr) is None:
-                    self.event(f"0x{index:04X} sub {sub}: '{text}' is no {f.dtype.name} at "
+                    self.event(f"0x{index:04X} sub {sub}: '{shorten(text)}' is no "
+                               f"{f.dtype.name} at "
                                f"node-ID {node_id}: no value")
         od.node_id = node_id
 

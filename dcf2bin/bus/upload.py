@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 from dcf2bin import datatypes as dt
 from dcf2bin.bus import sdo
 from dcf2bin.bus.link import abort_text
-from dcf2bin.diagnostics import Diagnostic, Severity, Where
+from dcf2bin.diagnostics import Diagnostic, Severity, Where, shorten
 
 STORED_EDS, STORAGE_FORMAT = 0x1021, 0x1022
 NO_SUCH_ENTRY = (0x06020000, 0x06090011)   # SDO aborts: object / sub-index does not exist
@@ -490,7 +490,7 @@ def _encode(text: str, encoding: str, path: str, key: str | None = None) -> byte
     try:
         return text.encode(encoding)
     except UnicodeEncodeError as exc:
-        what = f"{key} '{text}'" if key else f"'{text[exc.start:exc.end]}'"
+        what = f"{key} '{shorten(text)}'" if key else f"'{text[exc.start:exc.end]}'"
         raise UploadError(f"{what} cannot be written in the {encoding} encoding of "
                           f"{path}") from None
 

@@ -19,7 +19,7 @@ import sys
 import click
 
 from dcf2bin import argspec
-from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, shorten
+from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity, bounded, shorten
 
 CONTEXT = dict(help_option_names=["-h", "--help"], max_content_width=100)
 
@@ -139,8 +139,9 @@ def _write_stderr(text: str) -> None:
 
 
 def say(message: str) -> None:
-    """One line to standard error (status lines such as 'nothing written')."""
-    _write_stderr(message + "\n")
+    """One line to standard error (status lines such as 'nothing written'), bounded as
+    every diagnostic is (an exception's text may quote an input)."""
+    _write_stderr(bounded(message) + "\n")
 
 
 def emit(diags, quiet: bool = False) -> None:

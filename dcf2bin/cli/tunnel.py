@@ -10,13 +10,15 @@ import click
 
 from dcf2bin.cli.common import (CONTEXT, debug_option, guarded, output_option, quiet_option,
                                 write_output)
+from dcf2bin.diagnostics import shorten
+
 
 def _int(text: str, what: str, hint: str) -> int:
     from dcf2bin import values
     try:
         return values.parse_int(text)
     except values.ValueProblem as exc:
-        raise click.BadParameter(f"{what} '{text}': {exc}", param_hint=hint) from None
+        raise click.BadParameter(f"{what} '{shorten(text)}': {exc}", param_hint=hint) from None
 
 
 @click.command("tunnel", context_settings=CONTEXT)
@@ -46,7 +48,7 @@ def tunnel_cmd(assignments, reads, read_mode, output, quiet, debug):
     for a in assignments:
         ko_text, sep, value_text = a.partition("=")
         if not sep or not ko_text.strip() or not value_text.strip():
-            raise click.BadParameter(f"'{a}' is not KO=VALUE", param_hint="KO=VALUE")
+            raise click.BadParameter(f"'{shorten(a)}' is not KO=VALUE", param_hint="KO=VALUE")
         ko = _int(ko_text, "KO number", "KO=VALUE")
         value = _int(value_text, "value", "KO=VALUE")
         if not 0 <= ko <= 0xFFFF:

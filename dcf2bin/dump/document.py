@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from dcf2bin import schema
 from dcf2bin.container import BinContainer
+from dcf2bin.diagnostics import shorten
 from dcf2bin.dump.jsonform import (_DWORD, _HEADER_MAX, _WORD, CANONICAL, FORMAT, HEADER_FIELDS,
                                    JsonProblem, PIPARAM_FIELDS, SCHEMA_VERSION, STORED)
 
@@ -49,7 +50,7 @@ def _obj(value, path: tuple, allowed: list[str], required: list[str]) -> dict:
         raise JsonProblem(path, f"expected an object, got {_kind(value)}")
     for key in value:
         if key not in allowed:
-            raise JsonProblem(path + (key,), f"unknown key '{key}' (expected one of "
+            raise JsonProblem(path + (key,), f"unknown key '{shorten(key)}' (expected one of "
                                               f"{', '.join(allowed)})")
     for key in required:
         if key not in value:

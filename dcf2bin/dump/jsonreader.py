@@ -9,7 +9,7 @@ import json
 import re
 
 from dcf2bin import concise
-from dcf2bin.diagnostics import Diagnostic, Severity
+from dcf2bin.diagnostics import Diagnostic, Severity, shorten
 from dcf2bin.dump import concise_json
 from dcf2bin.dump.document import from_dict
 from dcf2bin.dump.jsonform import (JsonProblem, path_text, RULE_JSON, RULE_JSON_HEADER,
@@ -32,7 +32,7 @@ def from_json_bytes(data: bytes, name: str) -> tuple[bytes | None, list[Diagnost
         return None, [Diagnostic(Severity.ERROR, f"invalid JSON: {exc.msg}", name, exc.lineno,
                                  exc.colno, rule=RULE_JSON_SYNTAX)]
     except _DuplicateKey as exc:
-        return None, [Diagnostic(Severity.ERROR, f"key '{exc.key}' repeated in one object",
+        return None, [Diagnostic(Severity.ERROR, f"key '{shorten(exc.key)}' repeated in one object",
                                  name, _line_of_key(text, exc.key), rule=RULE_JSON_SYNTAX)]
     except ValueError as exc:       # NaN/Infinity, or an integer literal too long
         return None, [Diagnostic(Severity.ERROR, f"invalid JSON: {exc}", name,

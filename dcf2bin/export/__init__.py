@@ -12,6 +12,8 @@ Model errors that touch an exported object stop the export; values that cannot b
 are one-line ``file:line`` errors.
 """
 from __future__ import annotations
+
+from dcf2bin.diagnostics import shorten
 # re-exported: the names every format module and test used from here before common.py
 from dcf2bin.export.common import (FIRST_INDEX, FORMATS, ExportResult, ascii_text,  # noqa: F401
                                    encode, error, exported_objects, model_diagnostics,
@@ -48,4 +50,4 @@ def export_device(fmt: str, dev, *, source: bytes | None = None, **options) -> E
     if fmt == "canopennode":
         from dcf2bin.export import canopennode
         return canopennode.export(dev, source=source, **options)
-    raise ValueError(f"unknown export format '{fmt}' (known: {', '.join(FORMATS)})")
+    raise ValueError(f"unknown export format '{shorten(fmt)}' (known: {', '.join(FORMATS)})")

@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import re
 
+from dcf2bin.diagnostics import shorten
 from dcf2bin.formats import written as w
 from dcf2bin.formats.written import Losses, Written
 
@@ -228,7 +229,7 @@ class _Writer:
                     self.losses.add("CNV003", index, f"{at}description")
                 elif key == "PDOmapping":
                     if value != "optional":     # "optional" is CiA 306's PDOMapping=1
-                        self.losses.add("CNV003", index, f'{at}PDOmapping="{value}"')
+                        self.losses.add("CNV003", index, f'{at}PDOmapping="{shorten(value)}"')
                 else:
                     self.losses.add("CNV003", index, f"{at}{key}={value}")
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
+from dcf2bin.diagnostics import shorten
 from dcf2bin.lint import tables
 from dcf2bin.lint.registry import ERROR, WARNING, Finding, rule
 from dcf2bin.model import is_pdo_mapping
@@ -120,13 +121,15 @@ def list_count(ctx):
         n = sum(1 for e in lists.entries if e[0] == canon)
         text = sec.get("supportedobjects")
         if text is None:
-            yield Finding(f"[{sec.name}] has no SupportedObjects (it has {_n(n, 'entry')})",
+            yield Finding(f"[{shorten(sec.name)}] has no SupportedObjects (it has "
+                          f"{_n(n, 'entry')})",
                           sec.line)
             continue
         count = _int(text)
         if count is not None and count != n:
             line = sec.line_of("supportedobjects")
-            yield Finding(f"[{sec.name}] SupportedObjects={count} but it has {_n(n, 'entry')}",
+            yield Finding(f"[{shorten(sec.name)}] SupportedObjects={count} but it has "
+                          f"{_n(n, 'entry')}",
                           line, ctx.value_column(line))
 
 
@@ -141,7 +144,7 @@ def list_gap(ctx):
             expected = set(range(1, len(numbers) + 1))
             missing = sorted(expected - set(numbers))
             shown = ", ".join(str(m) for m in missing[:5]) + (", ..." if len(missing) > 5 else "")
-            yield Finding(f"[{sec.name}] entries are not numbered 1..{len(numbers)} "
+            yield Finding(f"[{shorten(sec.name)}] entries are not numbered 1..{len(numbers)} "
                           f"(missing {shown})", sec.line)
 
 
@@ -209,12 +212,14 @@ def subnumber_mismatch(ctx):
         text = sec.get("subnumber")
         if text is None:
             if n:
-                yield Finding(f"[{sec.name}] has {n} sub-sections but no SubNumber", sec.line)
+                yield Finding(f"[{shorten(sec.name)}] has {n} sub-sections but no "
+                              "SubNumber", sec.line)
             continue
         count = _int(text)
         if count is not None and count != n:
             line = sec.line_of("subnumber")
-            yield Finding(f"[{sec.name}] SubNumber={count} but {n} sub-sections are present",
+            yield Finding(f"[{shorten(sec.name)}] SubNumber={count} but {n} sub-sections are "
+                          "present",
                           line, ctx.value_column(line))
 
 
@@ -229,7 +234,8 @@ def compact_with_subnumber(ctx):
         n = _int(sec.get("subnumber"))
         if n:
             line = sec.line_of("subnumber")
-            yield Finding(f"[{sec.name}] has CompactSubObj={obj.compact} and SubNumber={n}",
+            yield Finding(f"[{shorten(sec.name)}] has CompactSubObj={obj.compact} and "
+                          f"SubNumber={n}",
                           line, ctx.value_column(line))
 
 
@@ -277,10 +283,10 @@ def missing_name(ctx):
     subs = nameless.get("sub")          # usually none: then the sub-sections are not walked
     for idx, obj in ctx.dev.objects.items():
         if obj.section is not None and id(obj.section) in every:
-            yield Finding(f"[{obj.section.name}] has no ParameterName", obj.section.line)
+            yield Finding(f"[{shorten(obj.section.name)}] has no ParameterName", obj.section.line)
         for sub, sec in sorted(ctx.sub_sections.get(idx, {}).items()) if subs else ():
             if id(sec) in subs:
-                yield Finding(f"[{sec.name}] has no ParameterName", sec.line)
+                yield Finding(f"[{shorten(sec.name)}] has no ParameterName", sec.line)
 
 
 _IDENTITY = (("vendornumber", 1, "VendorNumber"), ("productnumber", 2, "ProductNumber"),

@@ -41,7 +41,8 @@ def unknown_key(ctx):
             for key in unknown:
                 k = sec.keys.get(key)
                 name = k.name if k else key
-                yield Finding(f"key '{shorten(name)}' is not defined by CiA 306 for [{sec.name}]",
+                yield Finding(f"key '{shorten(name)}' is not defined by CiA 306 for "
+                              f"[{shorten(sec.name)}]",
                               sec.line_of(key), 1)
 
 
@@ -51,7 +52,7 @@ def unknown_key(ctx):
 def unknown_section(ctx):
     for canon, sec in ctx.of_kind(None):
         if not _almost_object(canon):
-            yield Finding(f"section [{sec.name}] is not defined by CiA 306", sec.line)
+            yield Finding(f"section [{shorten(sec.name)}] is not defined by CiA 306", sec.line)
 
 
 @rule("DCF052", "line-too-long", WARNING,
@@ -134,7 +135,8 @@ def name_too_long(ctx):
             for sec, v in zip(secs, names):
                 if v is not None and len(v) > MAX_NAME:
                     line = sec.line_of(key)
-                    yield Finding(f"{sec.keys[key].name} of [{sec.name}] has {len(v)} "
+                    yield Finding(f"{shorten(sec.keys[key].name)} of [{shorten(sec.name)}] has "
+                                  f"{len(v)} "
                                   f"characters, more than {MAX_NAME}", line,
                                   ctx.value_column(line))
 
@@ -146,7 +148,8 @@ def name_too_long(ctx):
 def malformed_object_section(ctx):
     for canon, sec in ctx.of_kind(None):
         if _almost_object(canon):
-            yield Finding(f"section [{sec.name}] is not a valid object section name; ignored",
+            yield Finding(f"section [{shorten(sec.name)}] is not a valid object section name; "
+                          "ignored",
                           sec.line)
 
 
@@ -204,7 +207,8 @@ def bad_number(ctx):
                 problem = _bad_int(v)
                 if problem:
                     line = sec.line_of(key)
-                    yield Finding(f"[{sec.name}] {sec.keys[key].name}: {problem}", line,
+                    yield Finding(f"[{shorten(sec.name)}] {shorten(sec.keys[key].name)}: "
+                                  f"{problem}", line,
                                   ctx.value_column(line))
 
 
@@ -287,7 +291,7 @@ def flag_not_boolean(ctx):
         if v is not None and v not in ("0", "1") and kind in ("object", "sub") and bad(v):
             for sec in secs:
                 line = sec.line_of("pdomapping")
-                yield Finding(f"[{sec.name}] PDOMapping={v} is not 0 or 1 (read as not "
+                yield Finding(f"[{shorten(sec.name)}] PDOMapping={v} is not 0 or 1 (read as not "
                               "mappable)", line, ctx.value_column(line))
 
 
@@ -306,11 +310,11 @@ def comments_count(ctx):
             continue  # DCF055
         if n is None:
             if numbers:
-                yield Finding(f"[{sec.name}] has Line<k> keys but no Lines=", sec.line)
+                yield Finding(f"[{shorten(sec.name)}] has Line<k> keys but no Lines=", sec.line)
             continue
         # compared by length first: the count must not build a list of its own size
         if n != len(numbers) or numbers != list(range(1, n + 1)):
-            yield Finding(f"[{sec.name}] Lines={n} but the Line<k> keys are "
+            yield Finding(f"[{shorten(sec.name)}] Lines={n} but the Line<k> keys are "
                           f"{_ranges(numbers) or 'none'}", sec.line_of("lines"),
                           ctx.value_column(sec.line_of("lines")))
 
@@ -362,5 +366,6 @@ def subindex_spelling(ctx):
         if sub > 0xFF:
             continue   # DCF005
         shown = f"[{canon[:4].upper()}sub{sub:X}]"
-        yield Finding(f"[{sec.name}] has a subindex of {len(digits)} digits; it is read as "
+        yield Finding(f"[{shorten(sec.name)}] has a subindex of {len(digits)} digits; it is "
+                      "read as "
                       f"{shown}, the canonical spelling", sec.line)

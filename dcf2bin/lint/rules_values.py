@@ -272,7 +272,8 @@ def objflags_reserved(ctx):
         if v & ~3 or v < 0:
             for sec in secs:
                 line = sec.line_of("objflags")
-                yield Finding(f"[{sec.name}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets reserved bits",
+                yield Finding(f"[{shorten(sec.name)}] ObjFlags=0x{v & 0xFFFFFFFF:X} sets "
+                              "reserved bits",
                               line, ctx.value_column(line))
 
 

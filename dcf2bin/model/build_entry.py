@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dcf2bin import datatypes as dt, ini as ini_mod, values
-from dcf2bin.diagnostics import Where
+from dcf2bin.diagnostics import Where, shorten
 from dcf2bin.indexes import NV_FIRST, NV_LAST
 from dcf2bin.model.objects import Entry
 from dcf2bin.model.sections import _ACCESS, _DTYPES, _pdo_flag, _proto
@@ -61,7 +61,7 @@ class _EntrySteps:
         elif sub0:
             e.dtype = dt.UNSIGNED8
         elif not (sub >= 1 and NV_FIRST <= idx <= NV_LAST):
-            self.dev.error(f"[{sec.name}] has no DataType", self.w(sec.line), idx, sub,
+            self.dev.error(f"[{shorten(sec.name)}] has no DataType", self.w(sec.line), idx, sub,
                            rule="DCF031")
         text = get("accesstype")
         if text:
@@ -69,12 +69,12 @@ class _EntrySteps:
             if acc in dt.ACCESS_ATTR:
                 e.access = acc
             else:
-                self.dev.error(f"[{sec.name}] unknown AccessType '{text}'",
+                self.dev.error(f"[{shorten(sec.name)}] unknown AccessType '{shorten(text)}'",
                                self.w(sec.line_of("accesstype")), idx, sub, rule="DCF032")
         elif sub0:
             e.access = "ro"
         elif not (sub >= 1 and NV_FIRST <= idx <= NV_LAST):
-            self.dev.error(f"[{sec.name}] has no AccessType", self.w(sec.line), idx, sub,
+            self.dev.error(f"[{shorten(sec.name)}] has no AccessType", self.w(sec.line), idx, sub,
                            rule="DCF033")
         return e
 
@@ -82,12 +82,13 @@ class _EntrySteps:
         try:
             code = values.parse_int(values.split_numeric_comment(text)[0])
         except values.ValueProblem as exc:
-            self.dev.error(f"[{sec.name}] DataType: {exc}", self.w(sec.line_of("datatype")),
+            self.dev.error(f"[{shorten(sec.name)}] DataType: "
+                           f"{exc}", self.w(sec.line_of("datatype")),
                            idx, sub, rule="DCF030")
             return None
         dtype = dt.BY_CODE.get(code)
         if dtype is None:
-            self.dev.error(f"[{sec.name}] unknown or unsupported DataType 0x{code:04X}",
+            self.dev.error(f"[{shorten(sec.name)}] unknown or unsupported DataType 0x{code:04X}",
                            self.w(sec.line_of("datatype")), idx, sub, rule="DCF030")
         elif len(_DTYPES) < 256:
             _DTYPES[text] = dtype

@@ -21,7 +21,8 @@ class _ObjectStep:
         obj_map = _pdo_flag(sec.get("pdomapping"))
         if not obj.complex:
             if is_network_variable_index(idx):
-                self.dev.error(f"[{sec.name}] is a VAR; objects in 0xA000-0xAFFF must be ARRAYs",
+                self.dev.error(f"[{shorten(sec.name)}] is a VAR; objects in 0xA000-0xAFFF must "
+                               "be ARRAYs",
                                self.w(sec.line), idx, rule="DCF300")
             e = self._entry(idx, 0, sec, obj_flags=obj_flags, obj_map=obj_map)
             obj.entries[0] = e
@@ -31,7 +32,8 @@ class _ObjectStep:
         else:
             vsec = aux.get((idx, "value"))
             if vsec is not None:
-                self.dev.warning(f"[{vsec.name}] without CompactSubObj in [{sec.name}] is "
+                self.dev.warning(f"[{shorten(vsec.name)}] without CompactSubObj in "
+                                 f"[{shorten(sec.name)}] is "
                                  "ignored", self.w(vsec.line), idx, rule="DCF027")
         self._sub_entries(obj, subsecs, obj_flags, obj_map)
         self._sub0(obj)
@@ -51,7 +53,8 @@ class _ObjectStep:
             obj.compact = 0
         has_subs = bool(subsecs) or bool(obj.sub_number) or obj.compact > 0
         if ot is not None and ot not in dt.OBJECT_TYPES:
-            dev.error(f"[{sec.name}] unknown ObjectType 0x{ot:X}", self.w(sec.line_of("objecttype")),
+            dev.error(f"[{shorten(sec.name)}] unknown ObjectType "
+                      f"0x{ot:X}", self.w(sec.line_of("objecttype")),
                       idx, rule="DCF022")
             ot = None
         if ot in (dt.OT_ARRAY, dt.OT_RECORD):
@@ -59,7 +62,7 @@ class _ObjectStep:
         elif has_subs:
             obj.complex = True
             if ot is not None:
-                dev.warning(f"[{sec.name}] has ObjectType 0x{ot:X} but sub-objects; "
+                dev.warning(f"[{shorten(sec.name)}] has ObjectType 0x{ot:X} but sub-objects; "
                             "treated as ARRAY/RECORD", self.w(sec.line_of("objecttype")), idx,
                             rule="DCF023")
             ot = dt.OT_RECORD if not is_network_variable_index(idx) else dt.OT_ARRAY
@@ -76,11 +79,12 @@ class _ObjectStep:
         dev, idx = self.dev, obj.index
         for s in sorted(subsecs):
             if s != 0:
-                dev.warning(f"[{subsecs[s].name}] given although [{sec.name}] has "
+                dev.warning(f"[{shorten(subsecs[s].name)}] given although [{shorten(sec.name)}] "
+                            "has "
                             "CompactSubObj; the sub-section wins", self.w(subsecs[s].line),
                             idx, s, rule="DCF024")
         if sec.get("parametervalue") is not None:
-            dev.warning(f"ParameterValue in [{sec.name}] of a CompactSubObj object is "
+            dev.warning(f"ParameterValue in [{shorten(sec.name)}] of a CompactSubObj object is "
                         "ignored (use [%04XValue])" % idx,
                         self.w(sec.line_of("parametervalue")), idx, rule="DCF025")
         names = aux.get((idx, "name"))
@@ -117,12 +121,12 @@ class _ObjectStep:
                         raise ValueError(key)
                     s = int(key, 10)  # SPEC §1: decimal subindexes
                 except ValueError:
-                    dev.warning(f"[{asec.name}] key '{shorten(k.name)}' is not a decimal "
+                    dev.warning(f"[{shorten(asec.name)}] key '{shorten(k.name)}' is not a decimal "
                                 "subindex", self.w(k.line), idx, rule="DCF026")
                     continue
                 e = obj.entries.get(s)
                 if e is None or s == 0:
-                    dev.warning(f"[{asec.name}] subindex {s} is outside CompactSubObj="
+                    dev.warning(f"[{shorten(asec.name)}] subindex {s} is outside CompactSubObj="
                                 f"{obj.compact}; ignored", self.w(k.line), idx, rule="DCF026")
                     continue
                 if kind == "name":

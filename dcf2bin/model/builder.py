@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from dcf2bin import ini as ini_mod, layout, values
-from dcf2bin.diagnostics import Diagnostic, Severity, Where, summary_finding
+from dcf2bin.diagnostics import Diagnostic, Severity, Where, shorten, summary_finding
 from dcf2bin.model.build_entry import _EntrySteps
 from dcf2bin.model.build_object import _ObjectStep
 from dcf2bin.model.compact_pdo import _CompactPdoStep
@@ -84,7 +84,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                     continue
                 sub = int(sub_hex, 16)
                 if sub > 0xFF:
-                    self.dev.error(f"subindex 0x{sub:X} of [{sec.name}] is above 0xFF",
+                    self.dev.error(f"subindex {shorten(f'0x{sub:X}')} of [{shorten(sec.name)}] "
+                                   "is above 0xFF",
                                    self.w(sec.line), idx, rule="DCF005")
                     continue
                 subs.setdefault(idx, {})[sub] = sec
@@ -94,17 +95,18 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                 aux[(int(m.group(1), 16), m.group(2))] = sec
         for idx in sorted(set(subs) - set(mains)):
             first = min(subs[idx].values(), key=lambda s: s.line)
-            self.dev.error(f"[{first.name}] has no object section [{idx:04X}]",
+            self.dev.error(f"[{shorten(first.name)}] has no object section [{idx:04X}]",
                            self.w(first.line), idx, rule="DCF006")
         for idx in sorted(mains):
             try:
                 self._object(idx, mains[idx], subs.get(idx, {}), aux)
             except values.ValueProblem as exc:  # defensive: a bad structural number
-                self.dev.error(f"[{mains[idx].name}]: {exc}", self.w(mains[idx].line), idx,
+                self.dev.error(f"[{shorten(mains[idx].name)}]: {exc}", self.w(mains[idx].line), idx,
                                rule="DCF020")
         for (idx, kind), sec in aux.items():
             if idx not in mains and kind in ("name", "value", "denotation"):
-                self.dev.warning(f"[{sec.name}] has no object section [{idx:04X}]; ignored",
+                self.dev.warning(f"[{shorten(sec.name)}] has no object section [{idx:04X}]; "
+                                 "ignored",
                                  self.w(sec.line), rule="DCF007")
         self._compact_pdo()
         layout.attach_channels(self.dev)
@@ -118,7 +120,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         sub = int(digits, 16)
         if sub > 0xFF:
             return   # DCF005
-        self.dev.warning(f"[{sec.name}] has a subindex of {len(digits)} digits; it is read "
+        self.dev.warning(f"[{shorten(sec.name)}] has a subindex of {len(digits)} digits; it is "
+                         "read "
                          f"as [{obj_hex.upper()}sub{sub:X}], the canonical spelling",
                          self.w(sec.line), int(obj_hex, 16), sub, rule="DCF061",
                          hint="a subindex has 1 or 2 hex digits: write the canonical "
@@ -144,9 +147,9 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         sec = self.ini.sections.get(d.section)
         shown = sec.name if sec else d.section
         if d.key is None:
-            return f"section [{shown}] repeated (first at line {d.first_line})"
+            return f"section [{shorten(shown)}] repeated (first at line {d.first_line})"
         key = sec.keys[d.key].name if sec and d.key in sec.keys else d.key
-        return f"key '{key}' repeated in [{shown}] (first at line {d.first_line})"
+        return f"key '{shorten(key)}' repeated in [{shorten(shown)}] (first at line {d.first_line})"
 
     def _node_id(self, cli_node_id: int | None) -> None:
         sec1 = self.ini.section("devicecomissioning")
@@ -190,7 +193,8 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
                     if k.value and values.parse_int(values.split_numeric_comment(k.value)[0]) == 1:
                         self.dev.dummy_usage.add(code)
                 except (ValueError, values.ValueProblem):
-                    self.dev.warning(f"bad [DummyUsage] entry '{k.name}={k.value}'",
+                    self.dev.warning(f"bad [DummyUsage] entry "
+                                     f"'{shorten(k.name)}={shorten(k.value)}'",
                                      self.w(k.line), rule="DCF013")
 
     # -- objects -----------------------------------------------------------------------
@@ -202,6 +206,6 @@ class _Builder(_ObjectStep, _EntrySteps, _CompactPdoStep):
         try:
             return values.parse_int(values.split_numeric_comment(text)[0])
         except values.ValueProblem as exc:
-            self.dev.error(f"[{sec.name}] {sec.keys[key].name}: {exc}",
+            self.dev.error(f"[{shorten(sec.name)}] {shorten(sec.keys[key].name)}: {exc}",
                            self.w(sec.line_of(key)), idx, sub, rule="DCF020")
             return default

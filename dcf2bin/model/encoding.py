@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 
 from dcf2bin import datatypes as dt, values
-from dcf2bin.diagnostics import DcfError
+from dcf2bin.diagnostics import DcfError, shorten
 from dcf2bin.model.objects import Entry
 from dcf2bin.model.sections import _clip
 
@@ -50,7 +50,7 @@ class _Encoding:
                 text = number
                 if (entry.index, entry.sub) not in self._warned:
                     self._warned.add((entry.index, entry.sub))
-                    self.warning(f"{entry.label}: comment '{comment}' after the number is "
+                    self.warning(f"{entry.label}: comment '{shorten(comment)}' after the number is "
                                  "ignored", where or entry.value_where, entry.index, entry.sub,
                                  rule="DCF203")
         try:
@@ -58,7 +58,7 @@ class _Encoding:
         except values.NeedsNodeId:
             where = where or entry.value_where
             raise DcfError(
-                f"value '{text}' of {entry.label} uses $NODEID but no node-ID is known",
+                f"value '{shorten(text)}' of {entry.label} uses $NODEID but no node-ID is known",
                 where, rule="DCF201",
                 hint="give --node-id N or set NodeID in [DeviceComissioning]") from None
         except values.ValueProblem as exc:
@@ -124,7 +124,7 @@ class _Encoding:
             data = values.encode(dtype, number, node_id=self.node_id, encoding=self.encoding)
         except values.NeedsNodeId:
             raise DcfError(
-                f"value '{text}' of {entry.label} uses $NODEID but no node-ID is known",
+                f"value '{shorten(text)}' of {entry.label} uses $NODEID but no node-ID is known",
                 where, rule="DCF201",
                 hint="give --node-id N or set NodeID in [DeviceComissioning]") from None
         except values.ValueProblem as exc:

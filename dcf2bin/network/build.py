@@ -13,7 +13,7 @@ import gc
 import re
 from dataclasses import dataclass, field
 
-from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where
+from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where, shorten
 from dcf2bin.network.model import Network
 
 from dcf2bin.network.configuration import LELY, PLC, master_kind  # noqa: F401 (re-exported)
@@ -110,13 +110,14 @@ def output_names(net: Network, diags: Diagnostics) -> dict[str, str] | None:
     for node in net.nodes:
         n = node.name
         if not n or n in (".", "..") or _BAD_NAME.search(n) or len(n) > 200:
-            diags.error(f"node name '{n}' cannot be an output file name", node.where,
+            diags.error(f"node name '{shorten(n)}' cannot be an output file name", node.where,
                         rule="NET120")
             ok = False
             continue
         fold = n.casefold()
         if fold in seen:
-            diags.error(f"nodes '{seen[fold]}' and '{n}' would write the same output files",
+            diags.error(f"nodes '{shorten(seen[fold])}' and '{shorten(n)}' would write the same "
+                        "output files",
                         node.where, rule="NET120")
             ok = False
             continue

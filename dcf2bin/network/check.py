@@ -13,7 +13,7 @@ import gc
 import re
 from dataclasses import dataclass, field
 
-from dcf2bin.diagnostics import Diagnostic, Diagnostics, ExitCode, Severity
+from dcf2bin.diagnostics import Diagnostic, Diagnostics, ExitCode, Severity, shorten
 from dcf2bin.network.model import MASTER, Network, Node
 from dcf2bin.network import rules_bus, rules_pdo
 from dcf2bin.network.rules import RULES as NET_RULES
@@ -111,7 +111,7 @@ def resolve(select=None, ignore=None, table: dict | None = None) -> set[str]:
             return set(table)
         hits = {k for k, r in table.items() if k.startswith(s.upper()) or r.name == s.lower()}
         if not hits:
-            raise SelectorError(f"'{s}' matches no rule code, code prefix or rule name "
+            raise SelectorError(f"'{shorten(s)}' matches no rule code, code prefix or rule name "
                                 "(see --list-rules)")
         return hits
 

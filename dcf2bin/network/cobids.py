@@ -9,7 +9,7 @@ node-ID, TPDOs before RPDOs, by number. An assigned COB-ID is the bare 11-bit CA
 """
 from __future__ import annotations
 
-from dcf2bin.diagnostics import Diagnostics
+from dcf2bin.diagnostics import Diagnostics, shorten
 from dcf2bin.network.model import COB_INVALID, TPDO, Network
 from dcf2bin.network.pdos import keep_file_id, needs_id
 
@@ -53,7 +53,8 @@ def assign(net: Network, diags: Diagnostics) -> None:
         while pos < len(free) and free[pos] in used:
             pos += 1
         if pos == len(free):
-            diags.error(f"no free COB-ID left for {node.name} {pdo.label} (0x181-0x57F and "
+            diags.error(f"no free COB-ID left for {shorten(node.name)} {pdo.label} (0x181-0x57F "
+                        "and "
                         "0x680-0x6DF are taken)", pdo.where, rule="NET109")
             pdo.cob_id = (pdo.file_cob_id or 0) | COB_INVALID
             continue

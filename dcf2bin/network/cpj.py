@@ -110,7 +110,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         shown = name.replace("topology", "Topology")
         have = sorted(s for s in parsed.sections if s.startswith("topology"))
         _add(diags, "NET051", f"the project has no [{shown}] section" + (
-            f" (it has {', '.join('[' + s.replace('topology', 'Topology') + ']' for s in have)})"
+            f" (it has "
+            f"{', '.join('[' + shorten(s.replace('topology', 'Topology')) + ']' for s in have)})"
             if have else ""), Where(path, 1 if data else None))
         return network
     network.master_where = Where(path, sec.line)
@@ -120,22 +121,25 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         m = _NODE_KEY.fullmatch(low)
         if m is None:
             if low not in _NET_KEYS:
-                _add(diags, "NET058", f"[{sec.name}] {shorten(k.name)}: not a key of a CiA "
+                _add(diags, "NET058", f"[{shorten(sec.name)}] {shorten(k.name)}: not a key of a "
+                                      "CiA "
                      "306-3 network", Where(path, k.line))
             continue
         digits = m.group(1)
         if len(digits) > values.MAX_DIGITS:
-            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID "
+            _add(diags, "NET053", f"[{shorten(sec.name)}] {shorten(k.name)}: node-ID "
                  f"{values.too_long(len(digits))}", Where(path, k.line))
             continue
         x = int(digits)
         if not 1 <= x <= 127:
-            _add(diags, "NET053", f"[{sec.name}] {shorten(k.name)}: node-ID {x} is outside "
+            _add(diags, "NET053", f"[{shorten(sec.name)}] {shorten(k.name)}: node-ID {x} is "
+                                  "outside "
                  "1…127", Where(path, k.line))
             continue
         keys = nodes.setdefault(x, {})
         if m.group(2) in keys:               # Node1Present and Node01Present
-            _add(diags, "NET050", f"[{sec.name}] {k.name} repeats {keys[m.group(2)][2]} "
+            _add(diags, "NET050", f"[{shorten(sec.name)}] {shorten(k.name)} repeats "
+                                  f"{keys[m.group(2)][2]} "
                  f"(line {keys[m.group(2)][1]}; the first is used)", Where(path, k.line))
             continue
         keys[m.group(2)] = (k.value, k.line, k.name)
@@ -182,11 +186,11 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
     if count is not None:
         n = _int(diags, path, sec, "nodes")
         if n is not None and n != present:
-            _add(diags, "NET056", f"[{sec.name}] Nodes={shorten(count)} but {present} node"
+            _add(diags, "NET056", f"[{shorten(sec.name)}] Nodes={shorten(count)} but {present} node"
                  f"{'' if present == 1 else 's'} {'is' if present == 1 else 'are'} present",
                  Where(path, sec.line_of("nodes")))
     if not present:
-        _add(diags, "NET057", f"[{sec.name}] marks no node present", Where(path, sec.line))
+        _add(diags, "NET057", f"[{shorten(sec.name)}] marks no node present", Where(path, sec.line))
     return network
 
 
@@ -220,7 +224,7 @@ def _int(diags: Diagnostics, path: str, sec, low: str) -> int | None:
     try:
         return values.parse_int(values.split_numeric_comment(sec.get(low) or "")[0])
     except values.ValueProblem as exc:
-        _add(diags, "NET052", f"[{sec.name}] {sec.keys[low].name}: {exc}",
+        _add(diags, "NET052", f"[{shorten(sec.name)}] {shorten(sec.keys[low].name)}: {exc}",
              Where(path, sec.line_of(low)))
         return None
 
@@ -237,6 +241,7 @@ def _flag(diags: Diagnostics, path: str, sec, keys, x: int, what: str) -> bool:
     else:
         why = f"'{shorten(text)}' is neither 0 nor 1"
     if v not in (0, 1):
-        _add(diags, "NET052", f"[{sec.name}] {keys[what][2]}: {why}", Where(path, line))
+        _add(diags, "NET052", f"[{shorten(sec.name)}] {shorten(keys[what][2])}: "
+                              f"{why}", Where(path, line))
         return False
     return v == 1

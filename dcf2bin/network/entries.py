@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dcf2bin import datatypes as dt
 from dcf2bin import values
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 from dcf2bin.network.model import Write
 
 # CiA 301/302 data types of the entries configure writes, for a master without a file
@@ -114,7 +114,8 @@ def sdo_write(dev, index: int, sub: int, value, where: Where, who: str,
     elif isinstance(value, str):
         text = value
         if dtype.is_numeric and values.uses_nodeid(text):
-            diags.error(f"value '{text}' for {label}: $NODEID is not allowed in the network "
+            diags.error(f"value '{shorten(text)}' for {label}: $NODEID is not allowed in the "
+                        "network "
                         "file", where, rule="NET117")
             return None
     else:

@@ -8,7 +8,7 @@ that PDO exist), in order slave node-ID, then PDO number.
 """
 from __future__ import annotations
 
-from dcf2bin.diagnostics import Diagnostics
+from dcf2bin.diagnostics import Diagnostics, shorten
 from dcf2bin.network.model import COB_EXTENDED, RPDO, TPDO, Network, Node, Pdo
 from dcf2bin.network.pdos import comm_index, map_index
 
@@ -81,7 +81,7 @@ def _no_free(master: Node, kind: str, links: list[tuple[Node, Pdo]],
     """One cause, one finding (issue 27): every link of one kind that finds no free PLC PDO,
     named at the first of them."""
     have = _capacity(master, kind)
-    shown = [f"{node.name} {pdo.label}" for node, pdo in links[:6]]
+    shown = [f"{shorten(node.name)} {pdo.label}" for node, pdo in links[:6]]
     more = len(links) - len(shown)
     what = ", ".join(shown) + (f" and {more} more" if more else "")
     k = kind.upper()

@@ -11,7 +11,7 @@ subs is an error. A key of dcfgen's that a PLC master does not use is a warning.
 """
 from __future__ import annotations
 
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 from dcf2bin.network.entries import write_to
 from dcf2bin.network.model import Heartbeat, Network, Node
 from dcf2bin.network.pdos import entry_int
@@ -69,7 +69,8 @@ def identity(slave: Node, diags: Diagnostics) -> dict[int, int]:
         if value is not None and e is not None and e.default is not None:
             own = entry_int(dev, 0x1018, sub)
             if own is not None and own != value:
-                diags.warning(f"{slave.name}: [DeviceInfo] {info.keys[info_key].name} is "
+                diags.warning(f"{shorten(slave.name)}: [DeviceInfo] "
+                              f"{shorten(info.keys[info_key].name)} is "
                               f"0x{value:X} but its 0x1018sub{sub} is 0x{own:X}; the master "
                               f"will expect 0x{value:X}",
                               Where(dev.path, info.line_of(info_key)), rule="NET113")
@@ -211,7 +212,7 @@ def _consumers(net: Network, plc: PlcWriter, diags: Diagnostics) -> None:
     names = {s.name: s for s in net.slaves}
     for name, (_, w) in explicit.items():
         if name not in names:
-            diags.error(f"heartbeat_consumer: '{name}' is not a slave of the network", w,
+            diags.error(f"heartbeat_consumer: '{shorten(name)}' is not a slave of the network", w,
                         rule="NET004")
     k = 0
     for s in net.slaves:
@@ -223,7 +224,7 @@ def _consumers(net: Network, plc: PlcWriter, diags: Diagnostics) -> None:
         else:
             t, w = times(s.heartbeat_producer, multiplier(net, s)), where
             if t > 0xFFFF:
-                diags.error(f"{s.name}'s heartbeat time {s.heartbeat_producer} ms x "
+                diags.error(f"{shorten(s.name)}'s heartbeat time {s.heartbeat_producer} ms x "
                             f"{multiplier(net, s):g} = {t} ms is over 65535 ms",
                             s.config_where.get("heartbeat_producer", s.where), rule="NET112")
                 continue

@@ -8,7 +8,7 @@ rules (the object is in the file; TPDO: readable and not ``rww``; RPDO: writable
 from __future__ import annotations
 
 from dcf2bin import datatypes as dt
-from dcf2bin.diagnostics import DcfError, Diagnostics, Where
+from dcf2bin.diagnostics import DcfError, Diagnostics, Where, shorten
 from dcf2bin.indexes import RPDO_COMM, TPDO_COMM
 from dcf2bin.network.model import COB_INVALID, RPDO, TPDO, Mapped, Node, Pdo
 
@@ -127,7 +127,7 @@ def apply_yaml(node: Node, diags: Diagnostics) -> None:
                                      key=lambda kv: (kv[0][0] != RPDO, kv[0][1])):
         pdo = node.pdo(kind, number)
         if pdo is None:
-            diags.error(f"{node.name} has no {kind.upper()}{number} (its file lacks "
+            diags.error(f"{shorten(node.name)} has no {kind.upper()}{number} (its file lacks "
                         f"0x{comm_index(kind, number):04X})", pc.where, rule="NET101")
             continue
         pdo.listed, pdo.config, pdo.where = True, pc, pc.where
@@ -150,7 +150,7 @@ def apply_yaml(node: Node, diags: Diagnostics) -> None:
                     _once(node, pdo, m, first, diags)
             _fits(node, pdo, pc.wheres.get("mapping", pc.where), diags)
         if pc.empty_mapping and pc.enabled is not False:
-            diags.warning(f"{node.name} {pdo.label}: mapping: is empty, so the PDO is "
+            diags.warning(f"{shorten(node.name)} {pdo.label}: mapping: is empty, so the PDO is "
                           "enabled with no object: it exists on the device but not in the "
                           "network, and nothing links it (map an object, or write "
                           "enabled: false)", pc.wheres.get("mapping", pc.where),
@@ -171,7 +171,8 @@ def _fits(node: Node, pdo: Pdo, where: Where, diags: Diagnostics) -> None:
     besides (one cause, one finding)."""
     total = sum(m.bits for m in pdo.mapping)
     if total > MAX_PDO_BITS:
-        diags.error(f"{node.name} {pdo.label} maps {total} bits, more than {MAX_PDO_BITS}: "
+        diags.error(f"{shorten(node.name)} {pdo.label} maps {total} bits, more than "
+                    f"{MAX_PDO_BITS}: "
                     "a PDO is one CAN frame of at most 8 bytes", where, rule="NET125")
         pdo.broken = True
 
@@ -187,7 +188,7 @@ def _once(node: Node, pdo: Pdo, m: Mapped, first: dict, diags: Diagnostics) -> N
         return
     what = ("sends it twice in every frame" if pdo.kind == TPDO
             else "writes it twice from every frame, the later value last")
-    diags.warning(f"{node.name} {pdo.label} maps 0x{m.index:04X}sub{m.sub:X} twice (also "
+    diags.warning(f"{shorten(node.name)} {pdo.label} maps 0x{m.index:04X}sub{m.sub:X} twice (also "
                   f"at line {first[key].line}): it {what}", m.where, rule="NET122")
 
 
@@ -221,12 +222,12 @@ def yaml_mapped(node: Node, kind: str, index: int, sub: int, where: Where,
         return Mapped(index, sub, mapped_bits(dtype) or 0, index, None, where)
     e = dev.entry(index, sub)
     if e is None:
-        diags.error(f"{node.name}'s file has no 0x{index:04X}sub{sub:X} to map",
+        diags.error(f"{shorten(node.name)}'s file has no 0x{index:04X}sub{sub:X} to map",
                     where, rule="NET102")
         return None
     bits = mapped_bits(e.dtype)
     if bits is None:
-        diags.error(f"0x{index:04X}sub{sub:X} of {node.name} has no fixed size "
+        diags.error(f"0x{index:04X}sub{sub:X} of {shorten(node.name)} has no fixed size "
                     f"({e.dtype.name if e.dtype else 'no DataType'}): it cannot be mapped",
                     where, rule="NET103")
         return None
@@ -246,7 +247,7 @@ def _direction_message(node: Node, kind: str, index: int, sub: int, access) -> s
         need = "a TPDO maps readable objects that are not rww"
     else:
         need = "an RPDO maps writable objects that are not rwr"
-    return (f"0x{index:04X}sub{sub:X} of {node.name} is {access or 'without AccessType'}: "
+    return (f"0x{index:04X}sub{sub:X} of {shorten(node.name)} is {access or 'without AccessType'}: "
             f"{need}")
 
 
@@ -262,12 +263,13 @@ def check_kept(node: Node, diags: Diagnostics) -> None:
         for m in pdo.mapping:
             if m.index == 0 and m.sub == 0 and m.bits == 0:
                 if pdo.config is not None:
-                    diags.error(f"{node.name} {pdo.label} maps a zero entry (sub 0 counts "
+                    diags.error(f"{shorten(node.name)} {pdo.label} maps a zero entry (sub 0 counts "
                                 f"{len(pdo.mapping)} objects); the network file lists this "
                                 "PDO: give its mapping, or disable it", m.where,
                                 rule="NET105")
                 else:
-                    diags.warning(f"{node.name} {pdo.label} maps a zero entry (sub 0 counts "
+                    diags.warning(f"{shorten(node.name)} {pdo.label} maps a zero entry (sub 0 "
+                                  "counts "
                                   f"{len(pdo.mapping)} objects): the PDO is kept as the "
                                   "file has it, and nothing links it", m.where,
                                   rule="NET105")
@@ -277,7 +279,7 @@ def check_kept(node: Node, diags: Diagnostics) -> None:
                 continue
             e = dev.entry(m.index, m.sub)
             if e is None:
-                diags.error(f"{node.name} {pdo.label} maps 0x{m.index:04X}sub{m.sub:X}, "
+                diags.error(f"{shorten(node.name)} {pdo.label} maps 0x{m.index:04X}sub{m.sub:X}, "
                             "which its file lacks", m.where, rule="NET102")
                 pdo.broken = True
             elif not _direction_ok(pdo.kind, e.access):

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from dcf2bin.diagnostics import Diagnostics, Severity, Where
+from dcf2bin.diagnostics import Diagnostics, Severity, Where, shorten
 from dcf2bin.lint.registry import Rule
 from dcf2bin.network.model import COB_EXTENDED, TPDO, Network, Node, Pdo
 
@@ -136,7 +136,7 @@ def network_where(network: Network) -> Where:
 
 def name(node: Node, pdo: Pdo | None = None) -> str:
     """``drive (node 2) TPDO1``: how findings name a node and its PDO."""
-    text = f"{node.name} (node {node.node_id})"
+    text = f"{shorten(node.name)} (node {node.node_id})"
     return f"{text} {pdo.label}" if pdo is not None else text
 
 
@@ -193,11 +193,13 @@ def node_ids(network: Network, out: Diagnostics) -> None:
     for node in network.nodes:
         where = where_of(network, node)
         if not 1 <= node.node_id <= 127:
-            add(out, "NET201", f"{node.name}: node-ID {node.node_id} is outside 1…127", where)
+            add(out, "NET201", f"{shorten(node.name)}: node-ID {node.node_id} is outside "
+                               "1…127", where)
             continue
         other = first.setdefault(node.node_id, node)
         if other is not node:
-            add(out, "NET200", f"{node.name} has node-ID {node.node_id}, as {other.name} at "
+            add(out, "NET200", f"{shorten(node.name)} has node-ID {node.node_id}, as "
+                               f"{shorten(other.name)} at "
                 f"{where_of(network, other)} has", where)
 
 

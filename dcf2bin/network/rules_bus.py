@@ -3,7 +3,7 @@
 :mod:`dcf2bin.network.rules` for the table and the naming."""
 from __future__ import annotations
 
-from dcf2bin.diagnostics import Diagnostics, DcfError, Where
+from dcf2bin.diagnostics import Diagnostics, DcfError, Where, shorten
 from dcf2bin.network.model import COB_EXTENDED, MASTER, SLAVE, TPDO, Network, Node
 from dcf2bin.network.rules import (RESTRICTED, add, cob, existing, key, name, network_where,
                                    where_of)
@@ -41,7 +41,7 @@ def _service_ids(network: Network) -> dict[tuple[int, bool], str]:
             ids.setdefault((value & (0x1FFFFFFF if ext else 0x7FF), ext), what)
 
     for node in network.nodes:
-        n = f"{node.name} (node {node.node_id})"
+        n = f"{shorten(node.name)} (node {node.node_id})"
         put(node.sync_cob_id, f"the SYNC of {n}")
         put(node.time_cob_id, f"the TIME of {n}")
         put(node.emcy_cob_id if node.emcy_cob_id is not None else 0x80 + node.node_id,

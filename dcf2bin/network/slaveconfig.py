@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from dcf2bin.diagnostics import Diagnostics
+from dcf2bin.diagnostics import Diagnostics, shorten
 from dcf2bin.network.entries import sdo_write, write_to
 from dcf2bin.network.model import COB_INVALID, RPDO, TPDO, Network, Node
 from dcf2bin.network.pdos import comm_index, entry_int, map_index
@@ -100,10 +100,12 @@ def _restore_entry(node: Node, diags: Diagnostics) -> None:
     e = node.device.entry(0x1011, n)
     where = node.config_where.get("restore_configuration")
     if e is None:
-        diags.error(f"{node.name}'s file has no 0x1011sub{n:X}, where the master is to restore "
+        diags.error(f"{shorten(node.name)}'s file has no 0x1011sub{n:X}, where the master is to "
+                    "restore "
                     "its defaults (restore_configuration)", where, rule="NET114")
     elif e.access in ("ro", "const"):
-        diags.error(f"0x1011sub{n:X} of {node.name} is {e.access}: the master cannot restore "
+        diags.error(f"0x1011sub{n:X} of {shorten(node.name)} is {e.access}: the master cannot "
+                    "restore "
                     "its defaults there (restore_configuration)", where, rule="NET114")
 
 
@@ -139,7 +141,7 @@ def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> bool:
         return True
     if not master.heartbeat_producer or not times(master.heartbeat_producer,
                                                  multiplier(net, master)):
-        diags.warning(f"{node.name} is to monitor the master, but the master produces no "
+        diags.warning(f"{shorten(node.name)} is to monitor the master, but the master produces no "
                       "heartbeat (heartbeat_producer 0): nothing written", where,
                       rule="NET116")
         return False
@@ -154,9 +156,9 @@ def _consumer(net: Network, node: Node, put, diags: Diagnostics) -> bool:
     if chosen is None:
         chosen = next((s for s in subs if entry_int(dev, 0x1016, s, 0) == 0), None)
     if chosen is None:
-        diags.error(f"{node.name} has no free 0x1016 sub for monitoring the master "
+        diags.error(f"{shorten(node.name)} has no free 0x1016 sub for monitoring the master "
                     f"({len(subs)} subs, all in use)" if obj else
-                    f"{node.name}'s file has no 0x1016 (consumer heartbeat time)", where,
+                    f"{shorten(node.name)}'s file has no 0x1016 (consumer heartbeat time)", where,
                     rule="NET115")
         return True
     t = times(master.heartbeat_producer, multiplier(net, master))

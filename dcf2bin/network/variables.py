@@ -14,7 +14,7 @@ from __future__ import annotations
 import re
 
 from dcf2bin import datatypes as dt
-from dcf2bin.diagnostics import Diagnostics, Where
+from dcf2bin.diagnostics import Diagnostics, Where, shorten
 from dcf2bin.network.model import RPDO, Mapped, Network, Node, Pdo, Variable
 
 _NOT_IEC = re.compile(r"[^A-Za-z0-9_]")
@@ -84,8 +84,10 @@ def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None
                 first = name_where.get(key)
                 if first is not None:
                     if with_dcf:
-                        diags.error(f"0x{m.index:04X}sub{m.sub:X} of {slave.name} is named "
-                                    f"'{m.name}' here and '{var.name}' at line {first.line}",
+                        diags.error(f"0x{m.index:04X}sub{m.sub:X} of {shorten(slave.name)} is "
+                                    "named "
+                                    f"'{shorten(m.name)}' here and '{shorten(var.name)}' at "
+                                    f"line {first.line}",
                                     where, rule="NET107")
                 else:     # the first mapping had no name: this one names it
                     by_name.pop(var.name.casefold(), None)
@@ -119,7 +121,8 @@ def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
                     if k in by_object]
             if not keys:
                 if with_dcf:
-                    diags.warning(f"names: 0x{index:04X}sub{sub:X} of {slave.name} is mapped "
+                    diags.warning(f"names: 0x{index:04X}sub{sub:X} of {shorten(slave.name)} is "
+                                  "mapped "
                                   "by no PDO linked with the PLC: the name is not used",
                                   where, rule="NET123")
                 continue
@@ -128,8 +131,9 @@ def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
                 first = name_where.get(key)
                 if first is not None:
                     if var.name != want and with_dcf:
-                        diags.error(f"0x{index:04X}sub{sub:X} of {slave.name} is named "
-                                    f"'{want}' here and '{var.name}' at line {first.line}",
+                        diags.error(f"0x{index:04X}sub{sub:X} of {shorten(slave.name)} is named "
+                                    f"'{shorten(want)}' here and '{shorten(var.name)}' at line "
+                                    f"{first.line}",
                                     where, rule="NET107")
                     continue
                 by_name.pop(var.name.casefold(), None)
@@ -148,7 +152,7 @@ def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
         from dcf2bin.plc.allocate import RANGE_START
         if (var.datatype, direction) not in RANGE_START:
             dtype = dt.BY_CODE.get(var.datatype)
-            diags.error(f"0x{m.index:04X}sub{m.sub:X} of {slave.name} is "
+            diags.error(f"0x{m.index:04X}sub{m.sub:X} of {shorten(slave.name)} is "
                         f"{dtype.name if dtype else 'of no known type'}: the PLC has no "
                         "network-variable range (CiA 405) for that type", where,
                         rule="NET104")
@@ -157,7 +161,7 @@ def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
 
 def _check_name(name: str, where: Where, with_dcf: bool, diags: Diagnostics) -> None:
     if with_dcf and not is_iec_identifier(name):
-        diags.error(f"name '{name}' is not an IEC 61131-3 identifier (letters, digits and "
+        diags.error(f"name '{shorten(name)}' is not an IEC 61131-3 identifier (letters, digits and "
                     "single '_', not a keyword)", where, rule="NET106")
 
 
@@ -169,7 +173,7 @@ def _claim(name: str, key: tuple, where: Where, by_name: dict, with_dcf: bool,
         by_name[fold] = (key, where)
         return
     if other[0] != key and with_dcf:
-        diags.error(f"name '{name}' is given to two objects (also at {other[1]})", where,
+        diags.error(f"name '{shorten(name)}' is given to two objects (also at {other[1]})", where,
                     rule="NET107")
 
 

@@ -146,7 +146,7 @@ class _Reader(Items):
             kline = value.lines[key]
             obj = object_key(key)
             if obj is None:
-                self.err(f"names: '{key}' is not an object (an index such as 0x6040, or "
+                self.err(f"names: '{shorten(key)}' is not an object (an index such as 0x6040, or "
                          "\"0x6041sub0\" with the sub-index in hex)", kline)
                 continue
             index, sub = obj

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 
+from dcf2bin.diagnostics import shorten
 from dcf2bin.plc.idents import identifiers
 from dcf2bin.plc.varmap import VarMap
 
@@ -18,7 +19,8 @@ _C_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 def prefix_problem(prefix: str) -> str | None:
     """Why ``prefix`` cannot start the header's macro names (None: it can)."""
     if not _C_IDENT.match(prefix) or "__" in prefix:
-        return (f"prefix '{prefix}' must start with a letter, hold only letters, digits and "
+        return (f"prefix '{shorten(prefix)}' must start with a letter, hold only letters, "
+                "digits and "
                 "'_', and have no '__' (C reserves such names)")
     return None
 

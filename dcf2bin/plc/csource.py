@@ -12,6 +12,7 @@ import os
 import re
 
 from dcf2bin import schema
+from dcf2bin.diagnostics import shorten
 
 DEFAULT_DECL = "const unsigned char"
 PER_LINE = 12
@@ -22,14 +23,14 @@ _TITLES = {"index": "index segment", "address": "PI address segment",
 
 def name_problem(name: str) -> str | None:
     if not _C_IDENT.match(name) or "__" in name:
-        return (f"C name '{name}' must start with a letter, hold only letters, digits and "
+        return (f"C name '{shorten(name)}' must start with a letter, hold only letters, digits and "
                 "'_', and have no '__'")
     return None
 
 
 def decl_problem(decl: str) -> str | None:
     if not decl.strip() or any(ch in decl for ch in "\r\n;{}=[]"):
-        return f"declaration '{decl}' must be one line of type words (no ; {{ }} = [ ])"
+        return f"declaration '{shorten(decl)}' must be one line of type words (no ; {{ }} = [ ])"
     return None
 
 

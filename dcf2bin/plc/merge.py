@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from itertools import accumulate
 
-from dcf2bin.diagnostics import Diagnostic, Severity
+from dcf2bin.diagnostics import Diagnostic, Severity, shorten
 from dcf2bin.layout import INPUT, OUTPUT, channel_for
 from dcf2bin.plc.allocate import (RULE_BASE, AllocationError, Placed, Var, _err, _object_text,
                                   _objects, _sub_section, allocate)
@@ -154,7 +154,7 @@ def plan(base: bytes, base_path: str, variables: list[Var], vars_path: str, *, d
         idx, sub, direction, dtype = old
         if direction != v.direction or dtype is None or dtype.code != v.dtype.code:
             diags.append(_err(
-                f"'{v.name}' is already in {base_path} as 0x{idx:04X}sub{sub:X}, "
+                f"'{shorten(v.name)}' is already in {base_path} as 0x{idx:04X}sub{sub:X}, "
                 f"{dtype.name if dtype else '?'} {direction}, not {v.dtype.name} {v.direction}",
                 vars_path, v.line, RULE_BASE))
             continue
@@ -172,7 +172,8 @@ def _encoder(encoding: str, vars_path: str):
             return text.encode(encoding)
         except UnicodeEncodeError:
             raise AllocationError([_err(
-                f"'{v.name if v else text}' cannot be written in the {encoding} encoding of "
+                f"'{shorten(v.name if v else text)}' cannot be written in the {encoding} "
+                "encoding of "
                 "the DCF", vars_path, v.line if v else None, RULE_BASE)]) from None
     return enc
 

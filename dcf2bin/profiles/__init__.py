@@ -8,6 +8,8 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
+from dcf2bin.diagnostics import shorten
+
 _MODULES = {"cia301": "dcf2bin.profiles.cia301", "dis2": "dcf2bin.profiles.dis2"}
 NAMES = tuple(_MODULES)
 
@@ -32,4 +34,4 @@ def get_profile(name: str) -> Profile:
     try:
         return importlib.import_module(_MODULES[name]).PROFILE
     except KeyError:
-        raise ValueError(f"unknown profile '{name}' (known: {', '.join(NAMES)})") from None
+        raise ValueError(f"unknown profile '{shorten(name)}' (known: {', '.join(NAMES)})") from None

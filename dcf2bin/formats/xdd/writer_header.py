@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 
+from dcf2bin.diagnostics import shorten
 from dcf2bin.formats import written as w
 from dcf2bin.formats.xdd.vocabulary import BAUD_RATES
 
@@ -125,8 +126,8 @@ class Header:
         """CNV005 for the keys of ``sec`` with a value that CiA 311 has no place for."""
         for low, k in sec.keys.items():
             if low not in known and k.value:
-                self.losses.add("CNV005", None, f"{k.name}={k.value}", sec.line,
-                                group=f"[{sec.name.strip()}]")
+                self.losses.add("CNV005", None, f"{shorten(k.name)}={shorten(k.value)}", sec.line,
+                                group=f"[{shorten(sec.name.strip())}]")
 
     def identity(self) -> list[str]:
         lines = ["\t\t\t<DeviceIdentity>"]
@@ -209,11 +210,12 @@ class Header:
                 for low, k in sec.keys.items():
                     if low not in KNOWN:
                         self.losses.add("CNV005", int(canon[:4], 16),
-                                        f"[{sec.name.strip()}] {k.name}={k.value}")
+                                        f"[{shorten(sec.name.strip())}] "
+                                        f"{shorten(k.name)}={shorten(k.value)}")
                 continue
             if canon.endswith(("name", "value", "denotation")) and canon[:4].isalnum():
                 continue                    # CompactSubObj's: in the sub-objects
-            self.losses.add("CNV005", None, f"[{sec.name.strip()}]", sec.line)
+            self.losses.add("CNV005", None, f"[{shorten(sec.name.strip())}]", sec.line)
 
     # -- the document ------------------------------------------------------------------------
     def document(self, params: list[str], objects: list[str]) -> str:
