@@ -136,8 +136,7 @@ def name_too_long(ctx):
                 if v is not None and len(v) > MAX_NAME:
                     line = sec.line_of(key)
                     yield Finding(f"{shorten(sec.keys[key].name)} of [{shorten(sec.name)}] has "
-                                  f"{len(v)} "
-                                  f"characters, more than {MAX_NAME}", line,
+                                  f"{len(v)} characters, more than {MAX_NAME}", line,
                                   ctx.value_column(line))
 
 
