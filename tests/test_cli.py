@@ -83,7 +83,7 @@ def test_never_overwrites_input(tmp_path):
 def test_unreadable_input_exit_3(tmp_path):
     r = run("compile", str(tmp_path / "missing.dcf"))
     assert r.exit_code == 3
-    assert r.stderr == f"{tmp_path / 'missing.dcf'}: error: cannot read: No such file or directory\n"
+    assert r.stderr == f"{tmp_path / 'missing.dcf'}: error: cannot read: No such file or directory [IO001]\n"
 
 
 def test_usage_error_exit_2():

@@ -162,7 +162,7 @@ def test_a_directory_as_an_input_file_is_exit_3(tmp_path, args):
     d.mkdir()
     r = run(*[a.format(dir=d, tmp=tmp_path) for a in args])
     assert r.exit_code == ExitCode.UNREADABLE
-    assert r.stderr == f"{d}: error: cannot read: Is a directory\n"
+    assert r.stderr == f"{d}: error: cannot read: Is a directory [IO001]\n"
 
 
 @pytest.mark.parametrize("option", ["--static-od", "--append"])
@@ -170,7 +170,7 @@ def test_a_missing_side_input_is_exit_3_like_the_main_input(tmp_path, option):
     missing = tmp_path / "missing.eds"
     r = run("compile", SAMPLES / "bild8.dcf", option, missing, "-o", tmp_path / "x.bin")
     assert r.exit_code == ExitCode.UNREADABLE
-    assert r.stderr == f"{missing}: error: cannot read: No such file or directory\n"
+    assert r.stderr == f"{missing}: error: cannot read: No such file or directory [IO001]\n"
     assert not (tmp_path / "x.bin").exists()
 
 

@@ -667,7 +667,7 @@ def test_unreadable_inputs_are_exit_3_with_one_line(cd):
     (cd / "bad.bin").write_bytes(b"\x30\x00\x00\x00" + b"\x01\x00" * 10)
     (cd / "empty.dcf").write_text("")
     cases = {
-        "missing.dcf": "missing.dcf: error: cannot read: No such file or directory",
+        "missing.dcf": "missing.dcf: error: cannot read: No such file or directory [IO001]",
         "vars.csv": "vars.csv: error: vars.csv is not DCF/EDS text (it looks like CSV: "
                     "dcf2bin allocate reads it); dcf2bin diff compares DCF/EDS text, CiA "
                     "311 XML, containers, their JSON form and concise DCFs",

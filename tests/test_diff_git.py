@@ -298,4 +298,4 @@ def test_textconv_of_bytes_that_are_no_container_is_text_and_exit_0(tmp_path):
     os.mkfifo(tmp_path / "fifo.bin")
     code, out, err = textconv(tmp_path / "fifo.bin")
     assert (code, out) == (3, "")
-    assert err == f"{tmp_path}/fifo.bin: error: cannot read: a FIFO, not a regular file\n"
+    assert err == f"{tmp_path}/fifo.bin: error: cannot read: a FIFO, not a regular file [IO001]\n"

@@ -367,7 +367,7 @@ def test_unreadable_input_is_exit_3(tmp_path):
     r = run("download", str(tmp_path / "missing.dcf"), "-n", "3", "--dry-run")
     assert r.exit_code == 3
     missing = tmp_path / "missing.dcf"
-    assert r.stderr == f"{missing}: error: cannot read: No such file or directory\n"
+    assert r.stderr == f"{missing}: error: cannot read: No such file or directory [IO001]\n"
 
 
 def test_node_is_required():

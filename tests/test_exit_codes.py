@@ -175,7 +175,7 @@ def test_a_directory_is_exit_3_with_one_line(folder):
     for cmd in ("compile", "dump", "map", "simulate", "allocate"):
         r = CliRunner().invoke(main, [cmd, str(folder / "adir")])
         assert (r.exit_code, r.stderr) == (
-            ExitCode.UNREADABLE, f"{folder / 'adir'}: error: cannot read: Is a directory\n"), cmd
+            ExitCode.UNREADABLE, f"{folder / 'adir'}: error: cannot read: Is a directory [IO001]\n"), cmd
     r = CliRunner().invoke(main, ["map", str(SAMPLES / "plc.dcf"), "-o", str(folder / "adir")])
     assert (r.exit_code, r.stderr) == (
         ExitCode.UNREADABLE, f"{folder / 'adir'}: error: cannot write: Is a directory\n")

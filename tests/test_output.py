@@ -426,4 +426,4 @@ def test_a_closed_stdin_is_exit_3_with_one_line(args):
     out = dcf2bin(*args, stdin=subprocess.DEVNULL, capture_output=True, text=True,
                   preexec_fn=lambda: os.close(0))
     assert (out.returncode, out.stderr) == (
-        3, "<stdin>: error: cannot read: standard input is closed\n")
+        3, "<stdin>: error: cannot read: standard input is closed [IO001]\n")

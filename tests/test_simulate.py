@@ -227,7 +227,7 @@ def test_simulate_static_od_for_a_container():
 def test_simulate_unreadable_input_exit_3(tmp_path):
     r = run("simulate", tmp_path / "nope.bin")
     assert r.exit_code == 3
-    assert r.stderr == f"{tmp_path / 'nope.bin'}: error: cannot read: No such file or directory\n"
+    assert r.stderr == f"{tmp_path / 'nope.bin'}: error: cannot read: No such file or directory [IO001]\n"
 
 
 def test_simulate_broken_container_is_0xA1():

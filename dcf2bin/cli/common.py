@@ -167,8 +167,8 @@ def _colour(stream) -> bool:
         return False
 
 
-def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS):
-    emit([Diagnostic(Severity.ERROR, message, where or "dcf2bin")])
+def fail(message: str, where: str = "", code: ExitCode = ExitCode.FINDINGS, rule: str = ""):
+    emit([Diagnostic(Severity.ERROR, message, where or "dcf2bin", rule=rule)])
     raise Failure(code)
 
 
@@ -260,12 +260,14 @@ def read_input(path: str) -> bytes:
     try:
         if path == "-":
             if sys.stdin is None or getattr(sys.stdin, "buffer", None) is None:
-                fail("cannot read: standard input is closed", "<stdin>", ExitCode.UNREADABLE)
+                fail("cannot read: standard input is closed", "<stdin>", ExitCode.UNREADABLE,
+                     rule="IO001")
             return read_stream(sys.stdin.buffer, "<stdin>")
         return read_file(path)
     except OSError as exc:
+        # IO001, as validate and the network commands name an unreadable input
         fail(f"cannot read: {exc.strerror or exc}", "<stdin>" if path == "-" else path,
-             ExitCode.UNREADABLE)
+             ExitCode.UNREADABLE, rule="IO001")
 
 
 def check_input(path: str | None) -> None:
