@@ -255,24 +255,45 @@ def _said(src) -> list[str]:
     return [d.format() for d in run("canopennode", str(src)).diagnostics]
 
 
-def test_an_array_whose_elements_differ_is_refused(tmp_path):
+def test_an_array_whose_elements_differ_is_written_as_a_record(tmp_path):
     src = _with(tmp_path, "[2002sub2]\nParameterName=Output 2\nObjectType=0x7\n"
                 ";CO_accessSRDO=tx\nDataType=0x0003",
                 "[2002sub2]\nParameterName=Output 2\nObjectType=0x7\n"
                 ";CO_accessSRDO=tx\nDataType=0x0004")
     r = run("canopennode", str(src))
-    assert r.output is None
     line = src.read_text().splitlines().index("[2002]") + 1
-    assert [d.format() for d in r.errors] == [
-        f"{src}:{line}: error: 0x2002 cannot be a CANopenNode ARRAY: sub-index 0x02 differs "
-        "from sub-index 0x01 in data type, length or access [EXP316]"]
+    assert [d.format() for d in r.diagnostics] == [
+        f"{src}:{line}: warning: 0x2002 is written as a RECORD: it cannot be a CANopenNode "
+        "ARRAY (sub-index 0x02 differs from sub-index 0x01 in data type, length or access); "
+        "the stack serves it the same, the application reaches its elements as struct "
+        "members [EXP317]"]
+    h, c = r.output["OD.h"], r.output["OD.c"]
+    assert ("    struct {\n        uint8_t numberOfOutputs;\n        int16_t output1;\n"
+            "        int32_t output2;\n    } x2002_outputs;\n") in h
+    assert "OD_CNT_ARR_2002" not in h
+    assert "    {0x2002, 0x03, ODT_REC, &ODObjs.o_2002_outputs, NULL},\n" in c
+    assert ("    .x2002_outputs = {\n        .numberOfOutputs = 0x02,\n        .output1 = -1,\n"
+            "        .output2 = 32767\n    }\n") in c
 
 
-def test_an_array_with_a_gap_is_refused(tmp_path):
+def test_an_array_with_a_gap_is_written_as_a_record(tmp_path):
     src = _with(tmp_path, "[2002sub2]", "[2002sub3]")
-    assert [m for m in _said(src) if "EXP316" in m][0].endswith(
-        "error: 0x2002 cannot be a CANopenNode ARRAY: its sub-indexes are not 0, 1, 2, ... "
-        "without a gap [EXP316]")
+    assert [m for m in _said(src) if "EXP317" in m][0].endswith(
+        "warning: 0x2002 is written as a RECORD: it cannot be a CANopenNode ARRAY (its "
+        "sub-indexes are not 0, 1, 2, ... without a gap); the stack serves it the same, the "
+        "application reaches its elements as struct members [EXP317]")
+    c = run("canopennode", str(src)).output["OD.c"]
+    assert "            .subIndex = 3,\n" in c
+
+
+def test_an_array_whose_sub0_is_no_unsigned8_is_refused(tmp_path):
+    src = _with(tmp_path, "[2002sub0]\nParameterName=Number of outputs\nObjectType=0x7\n"
+                "DataType=0x0005", "[2002sub0]\nParameterName=Number of outputs\n"
+                "ObjectType=0x7\nDataType=0x0006")
+    r = run("canopennode", str(src))
+    assert r.output is None
+    assert [d.format() for d in r.errors][0].endswith(
+        "error: 0x2002: sub-index 0 of an ARRAY is UNSIGNED8 in CANopenNode [EXP316]")
 
 
 def test_a_storage_group_that_is_no_c_name_is_an_error_at_its_line(tmp_path):
@@ -335,7 +356,9 @@ def test_a_real_that_is_not_finite_has_no_c_initializer(tmp_path):
 
 
 def test_nothing_is_written_on_an_error(tmp_path):
-    src = _with(tmp_path, "[2002sub2]", "[2002sub3]")
+    src = _with(tmp_path, "[2002sub0]\nParameterName=Number of outputs\nObjectType=0x7\n"
+                "DataType=0x0005", "[2002sub0]\nParameterName=Number of outputs\n"
+                "ObjectType=0x7\nDataType=0x0006")
     out = tmp_path / "od"
     r = cli("export", "-f", "canopennode", src, "-o", out)
     assert r.exit_code == 1 and not out.exists()

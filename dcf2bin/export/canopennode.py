@@ -306,8 +306,10 @@ class _Builder:
             why = "its sub-indexes are not 0, 1, 2, ... without a gap"
         elif len(entries) > 255:
             why = f"it has {len(entries)} sub-indexes (CANopenNode counts at most 255)"
-        if why:
+        if why and len(entries) > 255:
             return self.refuse(obj, f"{label} cannot be a CANopenNode ARRAY: {why}")
+        if why:
+            return self.as_record(obj, var, group, why)
         data = [self.data(e, obj) for e in entries]
         if any(d is None for d in data):
             return None
@@ -317,12 +319,11 @@ class _Builder:
                                "CANopenNode")
         for e, d in zip(entries[2:], data[2:]):
             if d.shape != first.shape or d.attribute != first.attribute:
-                return self.refuse(obj, f"{label} cannot be a CANopenNode ARRAY: "
-                                   f"sub-index 0x{e.sub:02X} differs from sub-index 0x01 in "
-                                   "data type, length or access")
+                return self.as_record(obj, var, group, f"sub-index 0x{e.sub:02X} differs from "
+                                      "sub-index 0x01 in data type, length or access")
             if (d.init is None) != (first.init is None):
-                return self.refuse(obj, f"{label} cannot be a CANopenNode ARRAY: some "
-                                   "elements have a value and some have none")
+                return self.as_record(obj, var, group,
+                                      "some elements have a value and some have none")
         n, name = len(entries) - 1, self.out.name
         self.out.arrays[obj.index] = n
         ptr0 = ptr = "NULL"
@@ -342,6 +343,18 @@ class _Builder:
                               f"    .dataElementLength = {first.length},",
                               f"    .dataElementSizeof = {size}", "}"])
         return len(entries), "ARR"
+
+    def as_record(self, obj, var: str, group: str, why: str):
+        """An ARRAY that is no C array (CANopenNode's OD_obj_array_t is one: elements of one
+        type, length, access and kind of value, sub-indexes 0..n): the stack reads and
+        writes it as well as a RECORD, so it is written as one, with a warning -- the
+        application reaches its elements as members of a struct, not by an index."""
+        self.diags.append(warning(
+            f"0x{obj.index:04X} is written as a RECORD: it cannot be a CANopenNode ARRAY "
+            f"({why}); the stack serves it the same, the application reaches its elements as "
+            "struct members", obj.where, "EXP317",
+            "give its elements one type, access and kind of value to keep it an ARRAY"))
+        return self.record(obj, var, group)
 
     def record(self, obj, var: str, group: str):
         entries = obj.sorted_entries()
