@@ -350,3 +350,29 @@ def test_an_objflags_that_is_no_number_is_written_as_it_is_never_as_0(tmp_path):
     assert "[2100sub1]\nParameterName=V\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n" \
            "DefaultValue=0\nPDOMapping=0\nObjFlags=x2\n" in eds
     assert "ObjFlags=0x" not in eds
+
+
+NODE_0 = ("[DeviceComissioning]\nNodeID=0\n\n[2000]\nParameterName=x\nObjectType=0x7\n"
+          "DataType=0x0005\nAccessType=rw\nDefaultValue=$NODEID+1\nParameterValue=7\n")
+
+
+@pytest.mark.parametrize("suffix, written", [
+    ("xdc", '<deviceCommissioning nodeID="5"/>'),
+    ("dcf", "[DeviceComissioning]\nNodeID=5\n"),
+])
+def test_n_overrides_the_files_nodeid_as_compile_does(tmp_path, suffix, written):
+    """The reviewer's repro 6: oresat's DCF says NodeID=0; compile -n 5 compiles it, and
+    convert -n 5 stopped at DCF012 ("nothing written"). -n stands in for the file's NodeID
+    in both; without -n both refuse the file alike."""
+    src = tmp_path / "n0.dcf"
+    src.write_text(NODE_0)
+    out = tmp_path / f"x.{suffix}"
+    assert run("compile", src, "-n", "5", "-o", tmp_path / "x.bin", "-q").exit_code == 0
+    r = run("convert", src, "-n", "5", "-o", out)
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert written in out.read_text()
+    assert formats.load(str(out)).node_id == 5
+    r = run("convert", src, "-o", tmp_path / "y.dcf")
+    assert r.exit_code == 1
+    assert r.stderr.splitlines() == [
+        f"{src}:2: error: NodeID 0 is outside 1..127 [DCF012]", f"{src}: 1 error, nothing written"]

@@ -102,10 +102,12 @@ def convert(data: bytes, path: str, target: str, *, name: str | None = None,
             node_id: int | None = None):
     """Read a description (``data``, named ``path``) and write it as ``target``: a
     ``written.Written`` whose diagnostics are the reader's findings, then the writer's
-    warnings; ``ok`` is False (and nothing is written) when the reader found an error."""
+    warnings; ``ok`` is False (and nothing is written) when the reader found an error.
+    ``node_id`` is the written NodeID, and it stands in for the file's own as compile's
+    does (the builder's node_id): a NodeID the file gets wrong does not stop it."""
     from dcf2bin.diagnostics import Severity
     from dcf2bin.formats.written import Written, comment_lines
-    dev = load(path, data=data)
+    dev = load(path, data=data, node_id=node_id)
     found = [p.diagnostic for p in dev.problems]
     if any(d.severity is Severity.ERROR for d in found):
         return Written(b"", found, ok=False)
