@@ -376,3 +376,36 @@ def test_n_overrides_the_files_nodeid_as_compile_does(tmp_path, suffix, written)
     assert r.exit_code == 1
     assert r.stderr.splitlines() == [
         f"{src}:2: error: NodeID 0 is outside 1..127 [DCF012]", f"{src}: 1 error, nothing written"]
+
+
+SAMPLE_XDD = ROOT / "tests" / "fixtures" / "canopennode" / "sample.xdd"
+LEFT_OUT = ("warning: 1 object marked CO_disabled left out (CANopenNode builds it into no "
+            "object dictionary, and an EDS has no way to say so): 0x2002 [CNV004]")
+
+
+@pytest.mark.parametrize("target, said", [("xdd", []), ("xdc", []),
+                                          ("eds", [LEFT_OUT]), ("dcf", [LEFT_OUT])])
+def test_the_co_disabled_objects_are_called_left_out_only_where_they_are(tmp_path, target,
+                                                                          said):
+    """The reviewer's finding: XDD -> XDD printed the reader's "... are left out" (XDD020)
+    while every object was written. CiA 311 keeps them with their property: no word; CiA
+    306 text leaves them out: its one warning, no second note."""
+    out = tmp_path / f"x.{target}"
+    r = run("convert", SAMPLE_XDD, "-o", out)
+    assert r.exit_code == 0
+    notes = [line.split(": ", 1)[1] for line in r.stderr.splitlines()
+             if "CO_disabled" in line and not line.startswith("    hint")]
+    assert notes == said
+    disabled = 'index="2002"' in out.read_text()
+    assert disabled == (target in ("xdd", "xdc"))
+    if disabled:
+        assert '<property name="CO_disabled" value="true"/>' in out.read_text()
+    else:
+        assert "[2002]" not in out.read_text()
+
+
+def test_validate_still_says_the_reader_leaves_them_out():
+    r = run("validate", SAMPLE_XDD, "--select", "XDD020")
+    assert r.stdout.splitlines()[0] == (
+        f"{SAMPLE_XDD}: info: 1 object marked CO_disabled (CANopenNode builds it into no "
+        "object dictionary) is left out: 0x2002 [XDD020]")

@@ -170,9 +170,10 @@ def _disabled_note(doc) -> None:
     left = sorted({int(c[:4], 16) for c in doc.disabled})
     if left:
         names = ", ".join(f"0x{i:04X}" for i in left)
-        doc.problem(Severity.INFO, f"{len(left)} object{'s' if len(left) != 1 else ''} "
-                    f"marked CO_disabled (CANopenNode builds them into no object dictionary) "
-                    f"{'are' if len(left) != 1 else 'is'} left out: {names}", None,
+        many = len(left) != 1
+        doc.problem(Severity.INFO, f"{len(left)} object{'s' if many else ''} marked "
+                    f"CO_disabled (CANopenNode builds {'them' if many else 'it'} into no "
+                    f"object dictionary) {'are' if many else 'is'} left out: {names}", None,
                     rule="XDD020", hint="remove the CO_disabled property to read an object")
 
 
