@@ -409,3 +409,50 @@ def test_validate_still_says_the_reader_leaves_them_out():
     assert r.stdout.splitlines()[0] == (
         f"{SAMPLE_XDD}: info: 1 object marked CO_disabled (CANopenNode builds it into no "
         "object dictionary) is left out: 0x2002 [XDD020]")
+
+
+# -- a string's bytes through DCF -> XDC -> DCF (issue 28: the values are kept) -----------------
+
+STRING_DCF = ("[DeviceComissioning]\r\nNodeID=5\r\n[1000]\r\nParameterName=Device type\r\n"
+              "DataType=0x0007\r\nAccessType=ro\r\nDefaultValue=0\r\n[2002]\r\n"
+              "ParameterName=str\r\nDataType=0x0009\r\nAccessType=rw\r\nDefaultValue=x\r\n"
+              "ParameterValue=caf\u00e9\r\n")
+
+
+@pytest.mark.parametrize("encoding, declared, value", [
+    ("latin-1", b'<?xml version="1.0" encoding="ISO-8859-1"?>', b"caf\xe9"),
+    ("utf-8", b'<?xml version="1.0" encoding="UTF-8"?>', b"caf\xc3\xa9"),
+])
+def test_a_strings_bytes_survive_dcf_to_xdc_to_dcf(tmp_path, encoding, declared, value):
+    """The reviewer's repro 3: a Latin-1 DCF's "caf\\xE9" (4 bytes) came back from an XDC
+    as UTF-8's 5 bytes, without a word. A string's bytes are those that stood in the
+    file: the XDC is written in the source's encoding and says so in its declaration, its
+    reader takes the declared encoding, and the DCF written of it is in it again."""
+    src, xdc, back = tmp_path / "t.dcf", tmp_path / "t.xdc", tmp_path / "rt.dcf"
+    src.write_bytes(STRING_DCF.encode(encoding))
+    for a, b in ((src, xdc), (xdc, back)):
+        r = run("convert", a, "-o", b, "-q")
+        assert (r.exit_code, r.stderr) == (0, "")
+    assert xdc.read_bytes().startswith(declared + b"\n")
+    assert b'actualValue="' + value + b'"' in xdc.read_bytes()
+    assert b"\nParameterValue=" + value + b"\n" in back.read_bytes()
+    bins = []
+    for path in (src, xdc, back):
+        out = tmp_path / f"{path.name}.bin"
+        assert run("compile", path, "-o", out, "-q").exit_code == 0
+        bins.append(out.read_bytes())
+    assert bins[0] == bins[1] == bins[2]
+    assert bins[0].count(value) == 1
+
+
+def test_a_cia311_files_declared_encoding_is_its_strings_encoding():
+    latin = (b'<?xml version="1.0" encoding="windows-1252"?>'
+             + (XDD_FIX / "vendor_v10.xdc").read_bytes().split(b"?>", 1)[1])
+    dev = load(latin, "xdc")
+    assert dev.encoding == "cp1252"
+    assert formats.dump(dev, "xdc").data.startswith(
+        b'<?xml version="1.0" encoding="windows-1252"?>\n')
+    for head, encoding in ((b'<?xml version="1.0" encoding="iso-8859-1"?>', "latin-1"),
+                           (b"<?xml version='1.0' encoding='US-ASCII' ?>", "utf-8"),
+                           (b'<?xml version="1.0"?>', "utf-8")):
+        assert load(head + latin.split(b"?>", 1)[1], "xdc").encoding == encoding, head
