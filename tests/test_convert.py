@@ -350,3 +350,109 @@ def test_an_objflags_that_is_no_number_is_written_as_it_is_never_as_0(tmp_path):
     assert "[2100sub1]\nParameterName=V\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n" \
            "DefaultValue=0\nPDOMapping=0\nObjFlags=x2\n" in eds
     assert "ObjFlags=0x" not in eds
+
+
+NODE_0 = ("[DeviceComissioning]\nNodeID=0\n\n[2000]\nParameterName=x\nObjectType=0x7\n"
+          "DataType=0x0005\nAccessType=rw\nDefaultValue=$NODEID+1\nParameterValue=7\n")
+
+
+@pytest.mark.parametrize("suffix, written", [
+    ("xdc", '<deviceCommissioning nodeID="5"/>'),
+    ("dcf", "[DeviceComissioning]\nNodeID=5\n"),
+])
+def test_n_overrides_the_files_nodeid_as_compile_does(tmp_path, suffix, written):
+    """The reviewer's repro 6: oresat's DCF says NodeID=0; compile -n 5 compiles it, and
+    convert -n 5 stopped at DCF012 ("nothing written"). -n stands in for the file's NodeID
+    in both; without -n both refuse the file alike."""
+    src = tmp_path / "n0.dcf"
+    src.write_text(NODE_0)
+    out = tmp_path / f"x.{suffix}"
+    assert run("compile", src, "-n", "5", "-o", tmp_path / "x.bin", "-q").exit_code == 0
+    r = run("convert", src, "-n", "5", "-o", out)
+    assert (r.exit_code, r.stderr) == (0, "")
+    assert written in out.read_text()
+    assert formats.load(str(out)).node_id == 5
+    r = run("convert", src, "-o", tmp_path / "y.dcf")
+    assert r.exit_code == 1
+    assert r.stderr.splitlines() == [
+        f"{src}:2: error: NodeID 0 is outside 1..127 [DCF012]", f"{src}: 1 error, nothing written"]
+
+
+SAMPLE_XDD = ROOT / "tests" / "fixtures" / "canopennode" / "sample.xdd"
+LEFT_OUT = ("warning: 1 object marked CO_disabled left out (CANopenNode builds it into no "
+            "object dictionary, and an EDS has no way to say so): 0x2002 [CNV004]")
+
+
+@pytest.mark.parametrize("target, said", [("xdd", []), ("xdc", []),
+                                          ("eds", [LEFT_OUT]), ("dcf", [LEFT_OUT])])
+def test_the_co_disabled_objects_are_called_left_out_only_where_they_are(tmp_path, target,
+                                                                          said):
+    """The reviewer's finding: XDD -> XDD printed the reader's "... are left out" (XDD020)
+    while every object was written. CiA 311 keeps them with their property: no word; CiA
+    306 text leaves them out: its one warning, no second note."""
+    out = tmp_path / f"x.{target}"
+    r = run("convert", SAMPLE_XDD, "-o", out)
+    assert r.exit_code == 0
+    notes = [line.split(": ", 1)[1] for line in r.stderr.splitlines()
+             if "CO_disabled" in line and not line.startswith("    hint")]
+    assert notes == said
+    disabled = 'index="2002"' in out.read_text()
+    assert disabled == (target in ("xdd", "xdc"))
+    if disabled:
+        assert '<property name="CO_disabled" value="true"/>' in out.read_text()
+    else:
+        assert "[2002]" not in out.read_text()
+
+
+def test_validate_still_says_the_reader_leaves_them_out():
+    r = run("validate", SAMPLE_XDD, "--select", "XDD020")
+    assert r.stdout.splitlines()[0] == (
+        f"{SAMPLE_XDD}: info: 1 object marked CO_disabled (CANopenNode builds it into no "
+        "object dictionary) is left out: 0x2002 [XDD020]")
+
+
+# -- a string's bytes through DCF -> XDC -> DCF (issue 28: the values are kept) -----------------
+
+STRING_DCF = ("[DeviceComissioning]\r\nNodeID=5\r\n[1000]\r\nParameterName=Device type\r\n"
+              "DataType=0x0007\r\nAccessType=ro\r\nDefaultValue=0\r\n[2002]\r\n"
+              "ParameterName=str\r\nDataType=0x0009\r\nAccessType=rw\r\nDefaultValue=x\r\n"
+              "ParameterValue=caf\u00e9\r\n")
+
+
+@pytest.mark.parametrize("encoding, declared, value", [
+    ("latin-1", b'<?xml version="1.0" encoding="ISO-8859-1"?>', b"caf\xe9"),
+    ("utf-8", b'<?xml version="1.0" encoding="UTF-8"?>', b"caf\xc3\xa9"),
+])
+def test_a_strings_bytes_survive_dcf_to_xdc_to_dcf(tmp_path, encoding, declared, value):
+    """The reviewer's repro 3: a Latin-1 DCF's "caf\\xE9" (4 bytes) came back from an XDC
+    as UTF-8's 5 bytes, without a word. A string's bytes are those that stood in the
+    file: the XDC is written in the source's encoding and says so in its declaration, its
+    reader takes the declared encoding, and the DCF written of it is in it again."""
+    src, xdc, back = tmp_path / "t.dcf", tmp_path / "t.xdc", tmp_path / "rt.dcf"
+    src.write_bytes(STRING_DCF.encode(encoding))
+    for a, b in ((src, xdc), (xdc, back)):
+        r = run("convert", a, "-o", b, "-q")
+        assert (r.exit_code, r.stderr) == (0, "")
+    assert xdc.read_bytes().startswith(declared + b"\n")
+    assert b'actualValue="' + value + b'"' in xdc.read_bytes()
+    assert b"\nParameterValue=" + value + b"\n" in back.read_bytes()
+    bins = []
+    for path in (src, xdc, back):
+        out = tmp_path / f"{path.name}.bin"
+        assert run("compile", path, "-o", out, "-q").exit_code == 0
+        bins.append(out.read_bytes())
+    assert bins[0] == bins[1] == bins[2]
+    assert bins[0].count(value) == 1
+
+
+def test_a_cia311_files_declared_encoding_is_its_strings_encoding():
+    latin = (b'<?xml version="1.0" encoding="windows-1252"?>'
+             + (XDD_FIX / "vendor_v10.xdc").read_bytes().split(b"?>", 1)[1])
+    dev = load(latin, "xdc")
+    assert dev.encoding == "cp1252"
+    assert formats.dump(dev, "xdc").data.startswith(
+        b'<?xml version="1.0" encoding="windows-1252"?>\n')
+    for head, encoding in ((b'<?xml version="1.0" encoding="iso-8859-1"?>', "latin-1"),
+                           (b"<?xml version='1.0' encoding='US-ASCII' ?>", "utf-8"),
+                           (b'<?xml version="1.0"?>', "utf-8")):
+        assert load(head + latin.split(b"?>", 1)[1], "xdc").encoding == encoding, head

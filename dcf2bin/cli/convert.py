@@ -29,7 +29,7 @@ TARGETS = ("eds", "dcf", "xdd", "xdc")
                    "xdc (CiA 311 with the configured values). Default: by the output's "
                    "suffix.")
 @node_id_option("Written as the NodeID of a DCF's [DeviceComissioning] or an XDC's "
-                "deviceCommissioning.")
+                "deviceCommissioning (overrides the input's NodeID, as compile's -n does).")
 @quiet_option("Warnings about what the output format cannot say are left out too.")
 @debug_option
 @guarded

@@ -102,11 +102,17 @@ def convert(data: bytes, path: str, target: str, *, name: str | None = None,
             node_id: int | None = None):
     """Read a description (``data``, named ``path``) and write it as ``target``: a
     ``written.Written`` whose diagnostics are the reader's findings, then the writer's
-    warnings; ``ok`` is False (and nothing is written) when the reader found an error."""
+    warnings; ``ok`` is False (and nothing is written) when the reader found an error.
+    ``node_id`` is the written NodeID, and it stands in for the file's own as compile's
+    does (the builder's node_id): a NodeID the file gets wrong does not stop it."""
     from dcf2bin.diagnostics import Severity
     from dcf2bin.formats.written import Written, comment_lines
-    dev = load(path, data=data)
-    found = [p.diagnostic for p in dev.problems]
+    dev = load(path, data=data, node_id=node_id)
+    # The reader's note that the objects marked CO_disabled are left out of the model
+    # (XDD020) is not what becomes of them in the output: a CiA 311 writer writes them
+    # back with their property, and CiA 306 text leaves them out with its own warning
+    # (CNV004). The writer says it, for its target.
+    found = [p.diagnostic for p in dev.problems if p.diagnostic.rule != "XDD020"]
     if any(d.severity is Severity.ERROR for d in found):
         return Written(b"", found, ok=False)
     out = dump(dev, target, name=name, node_id=node_id)

@@ -41,16 +41,20 @@ def dump(dev, kind: str = "eds", *, name: str | None = None,
     [FileInfo] FileName (default: the source's); ``node_id``: a DCF's NodeID."""
     writer = _Writer(dev, kind == "dcf", Losses(dev))
     text = writer.text(name, node_id)
-    encoding = "latin-1" if dev.encoding == "latin-1" and _latin1(text) else "utf-8"
-    return Written(text.encode(encoding), writer.losses.diagnostics(kind))
+    return Written(_encoded(text, dev.encoding), writer.losses.diagnostics(kind))
 
 
-def _latin1(text: str) -> bool:
-    try:
-        text.encode("latin-1")
-    except UnicodeEncodeError:
-        return False
-    return True
+def _encoded(text: str, encoding: str) -> bytes:
+    """The text in the model's own encoding (a Latin-1 DCF's, or a CiA 311 file's
+    declared one), so that every string is the bytes that stood in the source: a reader
+    of CiA 306 text takes bytes that are no UTF-8 as Latin-1, byte for byte. UTF-8 for a
+    UTF-8 or UTF-16 model, and where the encoding has no byte for a character."""
+    if encoding not in ("utf-8", "utf-16"):
+        try:
+            return text.encode(encoding)
+        except UnicodeEncodeError:
+            pass
+    return text.encode("utf-8")
 
 
 class _Writer:

@@ -17,6 +17,9 @@ Findings have rule ids XDD0xx (dcf2bin/lint/rules_xdd.py, docs/validate.md).
 """
 from __future__ import annotations
 
+import codecs
+import re
+
 from dcf2bin.diagnostics import Diagnostics, Severity, Where
 
 
@@ -170,16 +173,32 @@ def _disabled_note(doc) -> None:
     left = sorted({int(c[:4], 16) for c in doc.disabled})
     if left:
         names = ", ".join(f"0x{i:04X}" for i in left)
-        doc.problem(Severity.INFO, f"{len(left)} object{'s' if len(left) != 1 else ''} "
-                    f"marked CO_disabled (CANopenNode builds them into no object dictionary) "
-                    f"{'are' if len(left) != 1 else 'is'} left out: {names}", None,
+        many = len(left) != 1
+        doc.problem(Severity.INFO, f"{len(left)} object{'s' if many else ''} marked "
+                    f"CO_disabled (CANopenNode builds {'them' if many else 'it'} into no "
+                    f"object dictionary) {'are' if many else 'is'} left out: {names}", None,
                     rule="XDD020", hint="remove the CO_disabled property to read an object")
 
 
+# the XML declaration's encoding (XML 1.0 section 4.3.3: at the very start, ASCII letters)
+_DECLARED = re.compile(rb"(?:\xef\xbb\xbf)?<\?xml\s[^>]*?\bencoding\s*=\s*[\"']([A-Za-z][\w.-]*)[\"']")
+
+
 def _encoding(data: bytes) -> str:
+    """The encoding the device's strings are written in: the document's own (its
+    declaration's, UTF-8 without one), so that a string's bytes are the bytes that stood
+    in the file, as in CiA 306 text. ASCII is UTF-8's first half; an encoding Python
+    does not know, libxml2 does not either (XDD001)."""
     if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
         return "utf-16"
-    return "utf-8"
+    m = _DECLARED.match(data, 0, 256)
+    if m is None:
+        return "utf-8"
+    try:
+        name = codecs.lookup(m.group(1).decode("ascii")).name
+    except LookupError:
+        return "utf-8"
+    return {"iso8859-1": "latin-1", "ascii": "utf-8"}.get(name, name)
 
 
 def dump(dev, kind: str = "xdd", *, name: str | None = None, node_id: int | None = None):

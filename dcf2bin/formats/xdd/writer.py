@@ -45,8 +45,27 @@ def dump(dev, kind: str = "xdd", *, name: str | None = None,
     body = _Objects(dev, losses, xdc)
     for obj in w.objects(dev, disabled=True):
         body.obj(obj)
-    out = head.document(body.params, body.objects)
-    return Written(out.encode("utf-8"), losses.diagnostics(kind))
+    declared, codec = xml_encoding(dev.encoding)
+    out = head.document(body.params, body.objects, declared)
+    # a character the encoding has no byte for (an output's name) as a reference
+    return Written(out.encode(codec, "xmlcharrefreplace"), losses.diagnostics(kind))
+
+
+def xml_encoding(encoding: str) -> tuple[str, str]:
+    """(declared name, Python codec) of the file written of a model whose strings are in
+    ``encoding``: the same encoding, so that a string's bytes stay the bytes that stood
+    in the source (a Latin-1 DCF's "caf\\xE9" is 4 bytes in the XDC too, read back by
+    its declaration); UTF-8 for UTF-8 and UTF-16 (XML's own two)."""
+    if encoding in ("utf-8", "utf-16"):
+        return "UTF-8", "utf-8"
+    if encoding == "latin-1":
+        return "ISO-8859-1", "latin-1"
+    name = encoding.upper()                     # Python's name -> the registered one
+    if name.startswith("ISO8859-"):
+        name = "ISO-8859-" + name[8:]
+    elif name.startswith("CP125"):
+        name = "windows-" + name[2:]
+    return name, encoding
 
 
 class _Objects:

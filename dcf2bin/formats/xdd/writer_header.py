@@ -218,10 +218,11 @@ class Header:
             self.losses.add("CNV005", None, f"[{shorten(sec.name.strip())}]", sec.line)
 
     # -- the document ------------------------------------------------------------------------
-    def document(self, params: list[str], objects: list[str]) -> str:
+    def document(self, params: list[str], objects: list[str], encoding: str = "UTF-8") -> str:
+        """The whole file as text; ``encoding``: the name its XML declaration gives."""
         files = self.file_attrs()
         product = self._get(self.info, "ProductName") or ""
-        out = ['<?xml version="1.0" encoding="UTF-8"?>',
+        out = [f'<?xml version="1.0" encoding="{encoding}"?>',
                f'<ISO15745ProfileContainer xmlns="{NS}" xmlns:xsi="{XSI}">',
                "\t<ISO15745Profile>"]
         out += _profile_header("CANopen device profile", "Device", product)
