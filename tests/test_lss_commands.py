@@ -110,6 +110,39 @@ def test_lss_set_of_a_node_that_is_not_there(bench):
                         "product code 0x00000008, revision 0x00000001, serial 0x00000007)\n")
 
 
+TWINS_ERROR = (
+    "two or more nodes answer to the identity vendor-ID 0x000000AB, product code 0x00000008, "
+    "revision 0x00010002, serial 0x0000002A (or a node answers twice): LSS cannot tell "
+    "them apart (give them distinct serial numbers)")
+
+
+@pytest.mark.parametrize("given", [[], ["--vendor", "0xAB", "--product", "8"],
+                                   ["--vendor", "0xAB", "--product", "8",
+                                    "--revision", "0x00010002"]])
+def test_lss_set_of_two_nodes_with_one_identity_changes_nothing(bench, given):
+    """The reviewer's case: both nodes answered the selection, both took node-ID 30, and
+    lss set said "1 assigned". The answers are counted: the second one stops it before any
+    node-ID is given (fastscan's last confirmation, or switch state selective)."""
+    twins = [lss_node(bench, 42), lss_node(bench, 42)]
+    r = run("lss", "set", "--serial", "42", "-n", "30", *given,
+            *bus(bench, "--scan-wait", "0.02"))
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == f"dcf2bin: error: node 30: {TWINS_ERROR}; nothing changed\n"
+    assert [(n.lss.state, n.lss.active, n.lss.pending, n.id) for n in twins] == [
+        (L.WAITING, 0xFF, 0xFF, 1)] * 2
+
+
+def test_lss_set_of_two_configured_nodes_with_one_identity(bench):
+    """Found by identify remote slave (both at factory node-ID 7): the selective switch
+    that asks their node-ID gets two answers."""
+    twins = [lss_node(bench, 42, node_id=7), lss_node(bench, 42, node_id=7)]
+    r = run("lss", "set", "--serial", "42", "--vendor", "0xAB", "--product", "8", "-n", "30",
+            *bus(bench, "--scan-wait", "0.02"))
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == f"dcf2bin: error: node 30: {TWINS_ERROR}; nothing changed\n"
+    assert [(n.lss.state, n.lss.pending, n.id) for n in twins] == [(L.WAITING, 7, 7)] * 2
+
+
 def test_lss_set_usage():
     r = run("lss", "set", "-n", "5")
     assert (r.exit_code, r.stderr.splitlines()[-1]) == (
