@@ -41,6 +41,23 @@ def test_lss_scan_lists_the_nodes_without_a_node_id(bench):
     assert [(n.lss.state, n.lss.active) for n in (ai, io)] == [(L.WAITING, 0xFF)] * 2
 
 
+def test_lss_scan_says_how_many_nodes_share_an_identity(bench):
+    """Three nodes alike in all four parts: fastscan finds the identity once (they answer
+    every step together); its last confirmation and identify remote slave are answered
+    three times."""
+    twins = [lss_node(bench, 0x1001) for _ in range(3)]
+    r = run("lss", "scan", *bus(bench, "--scan-wait", "0.02"))
+    assert r.exit_code == 1
+    assert seconds_out(r.stdout).splitlines()[1:] == [
+        "vendor-ID   product code  revision    serial",
+        "0x000000AB  0x00000008    0x00010002  0x00001001"]
+    assert r.stderr == (
+        "dcf2bin: error: 3 nodes share the identity vendor-ID 0x000000AB, product code "
+        "0x00000008, revision 0x00010002, serial 0x00001001 (or a node answers twice): LSS "
+        "cannot tell them apart (give them distinct serial numbers)\n")
+    assert [(n.lss.state, n.lss.active) for n in twins] == [(L.WAITING, 0xFF)] * 3
+
+
 def test_lss_scan_json_of_an_empty_bus(bench):
     plain_node(bench, 3)
     r = run("lss", "scan", "-f", "json", *bus(bench))

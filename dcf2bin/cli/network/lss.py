@@ -188,7 +188,7 @@ def to_text(result, source: str) -> str:
     from dcf2bin.network.show import table
     counts = {s: sum(r.status == s for r in result.rows)
               for s in (lssnet.ASSIGNED, lssnet.ALREADY, lssnet.NOT_FOUND, lssnet.REFUSED,
-                        lssnet.NO_ANSWER, lssnet.SKIPPED)}
+                        lssnet.NO_ANSWER, lssnet.SKIPPED, lssnet.TWICE)}
     shown = [f"{n} {s}" for s, n in counts.items()
              if n or s in (lssnet.ASSIGNED, lssnet.ALREADY, lssnet.NOT_FOUND, lssnet.REFUSED)]
     out = [f"{source}: {', '.join(shown)} ({result.seconds:.2f} s)"]
