@@ -194,6 +194,7 @@ class Master:
                 if got and first is None:
                     first = now
                     end = now + self.wait
+                    self.steps += 1        # a wait of ``wait``: silence is the answer
                 if now >= end:
                     return got
                 self._cond.wait(end - now)
