@@ -10,10 +10,12 @@ answer -- a fastscan step (0x51) or identify remote slave (0x46-0x4B), both answ
 ``wait`` seconds and counts the answers: several slaves may answer one step, and an
 answer that arrives late belongs to no step that follows.
 
-Where one answer is expected -- switch state selective, configure node-ID and bit
-timing, store -- the master listens ``wait`` seconds more after the first and counts the
-answer frames: nodes that share one identity all answer, with identical frames, so a
-second frame is a second node (or a slave that answers twice: the bus cannot tell which).
+Where one answer is expected to the step that selects nodes -- switch state selective,
+fastscan's last confirmation -- the master listens ``wait`` seconds more after the first
+and counts the answer frames: nodes that share one identity all answer, with identical
+frames, so a second frame is a second node (or a slave that answers twice: the bus cannot
+tell which). Configure and store then take the first answer: only the nodes that step
+counted are in configuration.
 ``selected`` is the count of the last step that switched nodes into configuration
 (switch state selective, or fastscan's last confirmation). Two identical frames sent in
 the same bit time merge into one on a real bus: counting sees those nodes as one.
@@ -89,12 +91,10 @@ class Identity:
 
 @dataclass(frozen=True)
 class Reply:
-    """The answer to a configure or store command: error 0 is success; ``answers``: the
-    answer frames that came (more than one: two nodes, or a slave that answers twice)."""
+    """The answer to a configure or store command: error 0 is success."""
     command: int
     code: int
     spec: int = 0
-    answers: int = 1
 
     @property
     def ok(self) -> bool:
@@ -213,17 +213,23 @@ class Master:
         had no node-ID and was given one takes it on its way back to waiting."""
         self.net.lss.send_switch_state_global(CONFIGURATION if configuration else WAITING)
 
-    def select(self, identity: Identity) -> int:
+    def select(self, identity: Identity, count: bool = True) -> int:
         """Switch state selective: the slave with this identity into configuration. How
         many answers came (0: none; more than 1: that many nodes have this identity, or
-        the slave answers twice)."""
+        the slave answers twice). ``count`` False takes the first answer at once (1): for
+        an identity already counted when it was found."""
         frames = [frame(cs, v) for cs, v in zip(SELECT, identity.parts)]
-        self.selected = len(self._ask_all(frames, SELECTED))
+        if count:
+            self.selected = len(self._ask_all(frames, SELECTED))
+        else:
+            self.selected = int(self._ask(frames, SELECTED) is not None)
         return self.selected
 
     def _configure(self, cs: int, *data: int) -> Reply | None:
-        got = self._ask_all([frame(cs, None, *data)], cs, size=3)
-        return None if not got else Reply(cs, got[0][1], got[0][2], len(got))
+        # one answer taken at once: the selection before it counted the nodes it switched
+        # into configuration, and only those answer
+        got = self._ask([frame(cs, None, *data)], cs, size=3)
+        return None if got is None else Reply(cs, got[1], got[2])
 
     def configure_node_id(self, node_id: int) -> Reply | None:
         return self._configure(CONFIGURE_NODE_ID, node_id)

@@ -36,9 +36,8 @@ from dataclasses import dataclass, field
 from dcf2bin.bus import lss as L
 from dcf2bin.bus import scan as sc
 
-ASSIGNED, ALREADY, NOT_FOUND, REFUSED, NO_ANSWER, SKIPPED, TWICE = (
-    "assigned", "already right", "not found", "refused", "no answer", "skipped",
-    "answered twice")
+ASSIGNED, ALREADY, NOT_FOUND, REFUSED, NO_ANSWER, SKIPPED = (
+    "assigned", "already right", "not found", "refused", "no answer", "skipped")
 OK = (ASSIGNED, ALREADY, SKIPPED)
 SELECTIVE, FASTSCAN, IDENTIFY = "selective switch", "fastscan", "identify remote slave"
 NMT_RESET_COMMUNICATION = 0x82
@@ -305,13 +304,9 @@ def _assign(m: L.Master, net, row: Row, options: Options) -> None:
     if not moves and options.bitrate is None:
         row.status = ALREADY
         return
-    answers = m.select(row.identity)
-    if not answers:
+    # counted when it was found (_find): two nodes of one identity never get here
+    if not m.select(row.identity, count=False):
         row.status, row.text = NO_ANSWER, "no answer to switch state selective"
-        return
-    if answers > 1:                               # nothing given: back to waiting
-        m.switch_global(configuration=False)
-        row.status, row.text = TWICE, shared_text(row.identity)
         return
     steps = [lambda: m.configure_node_id(target)] if moves else []
     if options.bitrate is not None:
@@ -320,17 +315,12 @@ def _assign(m: L.Master, net, row: Row, options: Options) -> None:
         steps.append(m.store)
     for step in steps:
         reply = step()
-        if reply is None or not reply.ok or reply.answers > 1:
+        if reply is None or not reply.ok:
             if moves and row.was is not None:
-                m.configure_node_id(row.was)      # leave the node (or nodes) as it was
+                m.configure_node_id(row.was)      # leave the node as it was
             m.switch_global(configuration=False)
-            if reply is not None and reply.answers > 1:
-                row.status, row.text = TWICE, f"{reply.name}: {shared_text(row.identity)}"
-                if reply.command == L.STORE and moves:
-                    row.text += f"; node-ID {target} was stored before the answers were counted"
-            else:
-                row.status = NO_ANSWER if reply is None else REFUSED
-                row.reply, row.text = reply, ("no answer" if reply is None else reply.text())
+            row.status = NO_ANSWER if reply is None else REFUSED
+            row.reply, row.text = reply, ("no answer" if reply is None else reply.text())
             return
     row.status = ASSIGNED
     if options.bitrate is not None:

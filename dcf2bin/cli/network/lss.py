@@ -42,9 +42,9 @@ def timeout_option(fn):
 
 def scan_wait_option(fn, again: bool = False):
     """``again``: the command also counts the answers where one is expected."""
-    more = (" After the first answer to a selective switch, configure or store, and to the "
-            "SDO check at each new node-ID, the master listens this long again: a second "
-            "answer is a second node of that identity." if again else "")
+    more = (" After the first answer to a selective switch, and to the SDO check at each "
+            "new node-ID, the master listens this long again: a second answer is a second "
+            "node of that identity." if again else "")
     return click.option("--scan-wait", "scan_wait", type=Seconds(0.001),
                         default=0.05, show_default=True, metavar="SECONDS",
                         help="Seconds each fastscan or identify step listens: there, "
@@ -193,7 +193,7 @@ def to_text(result, source: str) -> str:
     from dcf2bin.network.show import table
     counts = {s: sum(r.status == s for r in result.rows)
               for s in (lssnet.ASSIGNED, lssnet.ALREADY, lssnet.NOT_FOUND, lssnet.REFUSED,
-                        lssnet.NO_ANSWER, lssnet.SKIPPED, lssnet.TWICE)}
+                        lssnet.NO_ANSWER, lssnet.SKIPPED)}
     shown = [f"{n} {s}" for s, n in counts.items()
              if n or s in (lssnet.ASSIGNED, lssnet.ALREADY, lssnet.NOT_FOUND, lssnet.REFUSED)]
     out = [f"{source}: {', '.join(shown)} ({result.seconds:.2f} s)"]
