@@ -41,6 +41,23 @@ def test_lss_scan_lists_the_nodes_without_a_node_id(bench):
     assert [(n.lss.state, n.lss.active) for n in (ai, io)] == [(L.WAITING, 0xFF)] * 2
 
 
+def test_lss_scan_says_how_many_nodes_share_an_identity(bench):
+    """Three nodes alike in all four parts: fastscan finds the identity once (they answer
+    every step together); its last confirmation and identify remote slave are answered
+    three times."""
+    twins = [lss_node(bench, 0x1001) for _ in range(3)]
+    r = run("lss", "scan", *bus(bench, "--scan-wait", "0.02"))
+    assert r.exit_code == 1
+    assert seconds_out(r.stdout).splitlines()[1:] == [
+        "vendor-ID   product code  revision    serial",
+        "0x000000AB  0x00000008    0x00010002  0x00001001"]
+    assert r.stderr == (
+        "dcf2bin: error: 3 nodes share the identity vendor-ID 0x000000AB, product code "
+        "0x00000008, revision 0x00010002, serial 0x00001001 (or a node answers twice): LSS "
+        "cannot tell them apart (give them distinct serial numbers)\n")
+    assert [(n.lss.state, n.lss.active) for n in twins] == [(L.WAITING, 0xFF)] * 3
+
+
 def test_lss_scan_json_of_an_empty_bus(bench):
     plain_node(bench, 3)
     r = run("lss", "scan", "-f", "json", *bus(bench))
@@ -108,6 +125,39 @@ def test_lss_set_of_a_node_that_is_not_there(bench):
     assert r.exit_code == 1
     assert r.stderr == ("dcf2bin: error: node 5: not found by LSS (vendor-ID 0x000000AB, "
                         "product code 0x00000008, revision 0x00000001, serial 0x00000007)\n")
+
+
+TWINS_ERROR = (
+    "two or more nodes answer to the identity vendor-ID 0x000000AB, product code 0x00000008, "
+    "revision 0x00010002, serial 0x0000002A (or a node answers twice): LSS cannot tell "
+    "them apart (give them distinct serial numbers)")
+
+
+@pytest.mark.parametrize("given", [[], ["--vendor", "0xAB", "--product", "8"],
+                                   ["--vendor", "0xAB", "--product", "8",
+                                    "--revision", "0x00010002"]])
+def test_lss_set_of_two_nodes_with_one_identity_changes_nothing(bench, given):
+    """The reviewer's case: both nodes answered the selection, both took node-ID 30, and
+    lss set said "1 assigned". The answers are counted: the second one stops it before any
+    node-ID is given (fastscan's last confirmation, or switch state selective)."""
+    twins = [lss_node(bench, 42), lss_node(bench, 42)]
+    r = run("lss", "set", "--serial", "42", "-n", "30", *given,
+            *bus(bench, "--scan-wait", "0.02"))
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == f"dcf2bin: error: node 30: {TWINS_ERROR}; nothing changed\n"
+    assert [(n.lss.state, n.lss.active, n.lss.pending, n.id) for n in twins] == [
+        (L.WAITING, 0xFF, 0xFF, 1)] * 2
+
+
+def test_lss_set_of_two_configured_nodes_with_one_identity(bench):
+    """Found by identify remote slave (both at factory node-ID 7): the selective switch
+    that asks their node-ID gets two answers."""
+    twins = [lss_node(bench, 42, node_id=7), lss_node(bench, 42, node_id=7)]
+    r = run("lss", "set", "--serial", "42", "--vendor", "0xAB", "--product", "8", "-n", "30",
+            *bus(bench, "--scan-wait", "0.02"))
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == f"dcf2bin: error: node 30: {TWINS_ERROR}; nothing changed\n"
+    assert [(n.lss.state, n.lss.pending, n.id) for n in twins] == [(L.WAITING, 7, 7)] * 2
 
 
 def test_lss_set_usage():

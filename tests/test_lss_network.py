@@ -11,6 +11,8 @@ import pytest
 from bus_helpers import run, run_within
 from lss_helpers import AI, lss_node, plain_node, seconds_out
 
+from dcf2bin.bus import lss as L
+
 pytest_plugins = ["bus_fixtures"]
 pytestmark = pytest.mark.usefixtures("at_root")
 
@@ -159,12 +161,50 @@ def test_a_slave_already_at_its_node_id_without_lss_is_already_right(bench):
 
 
 def test_a_slave_that_answers_twice(bench):
-    lss_node(bench, 0x1001, twice=0.0)
-    lss_node(bench, 0x1002, twice=0.01)
-    lss_node(bench, 0x1003)
+    """Two answers to switch state selective are two identical frames: a second node of
+    that identity, or one slave answering twice -- nothing on the bus tells which, so it
+    is an error before any change. A duplicate later than --scan-wait is not counted."""
+    nodes = [lss_node(bench, 0x1001, twice=0.0), lss_node(bench, 0x1002, twice=0.06),
+             lss_node(bench, 0x1003)]
+    r = lss(bench, THREE, "--scan-wait", "0.02")
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == (
+        f"{THREE}:7: error: node 2 (io1): two or more nodes answer to the identity vendor-ID "
+        "0x000000AB, product code 0x00000008, revision 0x00010002, serial 0x00001001 (or a "
+        "node answers twice): LSS cannot tell them apart (give them distinct serial numbers)"
+        f"\n{THREE}: 1 error, nothing changed\n")
+    assert [n.lss.pending for n in nodes] == [0xFF] * 3
+
+
+def test_two_nodes_of_one_identity_change_nothing(bench):
+    """The reviewer's case in network lss: a fourth node with io2's whole identity. Both
+    answer the selective switch (counted), and no node is given a node-ID; the final SDO
+    check counts the answers at each new node-ID too."""
+    nodes = [lss_node(bench, s) for s in (0x1001, 0x1002, 0x1002, 0x1003)]
     r = lss(bench, THREE)
-    assert (r.exit_code, r.stderr) == (0, "")
-    assert [line.split()[2] for line in r.stdout.splitlines()[2:]] == ["assigned"] * 3
+    assert (r.exit_code, r.stdout) == (1, "")
+    assert r.stderr == (
+        f"{THREE}:12: error: node 3 (io2): two or more nodes answer to the identity vendor-ID "
+        "0x000000AB, product code 0x00000008, revision 0x00010002, serial 0x00001002 (or a "
+        "node answers twice): LSS cannot tell them apart (give them distinct serial numbers)"
+        f"\n{THREE}: 1 error, nothing changed\n")
+    assert [(n.lss.state, n.lss.active, n.lss.pending) for n in nodes] == [
+        (L.WAITING, 0xFF, 0xFF)] * 4
+
+
+def test_the_final_check_counts_the_answers_at_each_node_id(bench):
+    """Two nodes that the selective switch saw as one (on a real bus two identical frames
+    sent in the same bit time are one frame): both take node-ID 3, and the SDO check
+    afterwards hears two answers there."""
+    nodes = [lss_node(bench, s) for s in (0x1001, 0x1002, 0x1002, 0x1003)]
+    nodes[2].lss.answer = lambda *frame: None      # its LSS answers merged with its twin's
+    r = lss(bench, THREE)
+    assert r.exit_code == 1
+    assert r.stderr == (f"{THREE}:12: error: node 3 (io2): two nodes answer at node-ID 3 (or "
+                        "one answers twice)\n")
+    assert seconds_out(r.stdout).splitlines()[3] == (
+        f"3     io2   assigned  selective switch  none  {IO8}  0x00001002  no       two "
+        "nodes answer at node-ID 3 (or one answers twice)")
 
 
 def test_a_slave_that_refuses_to_store_keeps_its_node_id(bench):

@@ -10,6 +10,16 @@ answer -- a fastscan step (0x51) or identify remote slave (0x46-0x4B), both answ
 ``wait`` seconds and counts the answers: several slaves may answer one step, and an
 answer that arrives late belongs to no step that follows.
 
+Where one answer is expected to the step that selects nodes -- switch state selective,
+fastscan's last confirmation -- the master listens ``wait`` seconds more after the first
+and counts the answer frames: nodes that share one identity all answer, with identical
+frames, so a second frame is a second node (or a slave that answers twice: the bus cannot
+tell which). Configure and store then take the first answer: only the nodes that step
+counted are in configuration.
+``selected`` is the count of the last step that switched nodes into configuration
+(switch state selective, or fastscan's last confirmation). Two identical frames sent in
+the same bit time merge into one on a real bus: counting sees those nodes as one.
+
 python canopen's ``LssMaster`` sends switch state global (no answer); for the rest it
 falls short (its identify remote slave only sends, each command takes the first frame
 of a queue it has emptied without checking what it is, so a second slave's late answer
@@ -27,7 +37,7 @@ from __future__ import annotations
 
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 MASTER_COB, SLAVE_COB = 0x7E5, 0x7E4
 SWITCH_GLOBAL = 0x04
@@ -127,6 +137,7 @@ class Master:
         self._frames: list[bytes] = []
         self._cond = threading.Condition()
         self.steps = 0                     # waits of ``wait`` seconds so far
+        self.selected = 0                  # answers to the last step into configuration
         net.subscribe(SLAVE_COB, self._on)
 
     def close(self) -> None:
@@ -169,6 +180,25 @@ class Master:
                     return None
                 self._cond.wait(rest)
 
+    def _ask_all(self, frames: list[bytes], answer: int, size: int = 1) -> list[bytes]:
+        """Send ``frames``; the frames answering them (as :meth:`_ask` takes one) that came
+        until ``wait`` seconds after the first (none after ``timeout``): one is expected,
+        so a second is a second node."""
+        self._send(frames)
+        end = time.monotonic() + self.timeout
+        first = None
+        with self._cond:
+            while True:
+                got = [d for d in self._frames if len(d) >= size and d[0] == answer]
+                now = time.monotonic()
+                if got and first is None:
+                    first = now
+                    end = now + self.wait
+                    self.steps += 1        # a wait of ``wait``: silence is the answer
+                if now >= end:
+                    return got
+                self._cond.wait(end - now)
+
     def _count(self, frames: list[bytes], answer: int) -> int:
         """Send ``frames``; how many answers ``answer`` came within ``wait``."""
         self._send(frames)
@@ -183,12 +213,21 @@ class Master:
         had no node-ID and was given one takes it on its way back to waiting."""
         self.net.lss.send_switch_state_global(CONFIGURATION if configuration else WAITING)
 
-    def select(self, identity: Identity) -> bool:
-        """Switch state selective: the slave with this identity into configuration."""
+    def select(self, identity: Identity, count: bool = True) -> int:
+        """Switch state selective: the slave with this identity into configuration. How
+        many answers came (0: none; more than 1: that many nodes have this identity, or
+        the slave answers twice). ``count`` False takes the first answer at once (1): for
+        an identity already counted when it was found."""
         frames = [frame(cs, v) for cs, v in zip(SELECT, identity.parts)]
-        return self._ask(frames, SELECTED) is not None
+        if count:
+            self.selected = len(self._ask_all(frames, SELECTED))
+        else:
+            self.selected = int(self._ask(frames, SELECTED) is not None)
+        return self.selected
 
     def _configure(self, cs: int, *data: int) -> Reply | None:
+        # one answer taken at once: the selection before it counted the nodes it switched
+        # into configuration, and only those answer
         got = self._ask([frame(cs, None, *data)], cs, size=3)
         return None if got is None else Reply(cs, got[1], got[2])
 
@@ -233,6 +272,7 @@ class Master:
         found (None: no slave matched); the slave found is then in configuration, and
         takes part in no further fastscan until it is back in waiting."""
         known = known or {}
+        self.selected = 0
         present = self._step(0, FASTSCAN_RESET, 0, 0) > 0
         if not present:
             return False, None
@@ -246,9 +286,11 @@ class Master:
                 for bit in range(31, -1, -1):
                     if not self._step(value, bit, sub, sub):
                         value |= 1 << bit
-            if not self._step(value, 0, sub, following):
+            answers = self._step(value, 0, sub, following)
+            if not answers:
                 return present, None
             found[sub] = value
+            self.selected = answers        # the last one: into configuration
         return present, found
 
     def matches(self, known: dict[int, int]) -> bool:
@@ -298,11 +340,13 @@ class Master:
 
 @dataclass
 class Census:
-    """What :func:`unconfigured` found: the identities, the fastscans run, and whether it
-    ended because no node was left (False: a fastscan singled out nobody, again)."""
+    """What :func:`unconfigured` found: the identities, the fastscans run, whether it
+    ended because no node was left (False: a fastscan singled out nobody, again), and the
+    identities that more than one node answered to (identity -> answers counted)."""
     identities: list[Identity]
     rounds: int
     complete: bool
+    shared: dict[Identity, int] = field(default_factory=dict)
 
 
 def unconfigured(master: Master, limit: int = 127, retries: int = 2) -> Census:
@@ -312,23 +356,28 @@ def unconfigured(master: Master, limit: int = 127, retries: int = 2) -> Census:
     run again up to ``retries`` times in a row. The nodes found stay in configuration
     (so that the next fastscan passes them by) until the caller switches them back."""
     found: list[Identity] = []
+    shared: dict[Identity, int] = {}
     rounds = failures = 0
     while len(found) < limit:
         rounds += 1
         present, parts = master.fastscan()
         if not present:
-            return Census(found, rounds, True)
+            return Census(found, rounds, True, shared)
         if parts is not None:
             identity = Identity(*(parts[k] for k in range(4)))
-            if master.identify(identity.vendor, identity.product, (identity.revision,) * 2,
-                               (identity.serial,) * 2):
+            selected = master.selected
+            answers = master.identify(identity.vendor, identity.product,
+                                      (identity.revision,) * 2, (identity.serial,) * 2)
+            if answers:
                 found.append(identity)
+                if max(answers, selected) > 1:     # nodes alike in all four parts
+                    shared[identity] = max(answers, selected)
                 failures = 0
                 continue
         failures += 1
         if failures > retries:
-            return Census(found, rounds, False)
-    return Census(found, rounds, True)
+            return Census(found, rounds, False, shared)
+    return Census(found, rounds, True, shared)
 
 
 def census_bound(rounds: int, wait: float) -> float:

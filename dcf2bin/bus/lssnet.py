@@ -161,35 +161,51 @@ def _find_all(m: L.Master, rows: list[Row], serial_key: str) -> list[Problem]:
                                              "product code, or a serial number)")
             continue
         found = _find(m, w)
-        m.switch_global(configuration=False)
-        if len(found) > 1:
+        if len(found) == 1 and found[0][2] == IDENTIFY:     # ask its node-ID, count it
+            identity = found[0][0]
+            node_id, answers = _node_id_of(m, identity)
+            found = [(identity, node_id, found[0][2])] * max(answers, 1)
+        m.switch_global(configuration=False)     # back to waiting, none given a node-ID
+        if len(found) > 1 and found[0][0] == found[1][0]:
+            problems.append(Problem(f"{w.label}: {shared_text(found[0][0])}", w.where))
+        elif len(found) > 1:
             problems.append(Problem(f"{w.label}: two nodes match its identity "
                                     f"({_known_text(w.known)}): {_twins(w, found)}; the "
                                     f"network file must tell them apart ({serial_key})",
                                     w.where))
         elif found:
             row.identity, row.was, row.found_by = found[0]
-            if row.was is None:
-                row.was = _node_id_of(m, row.identity)
     return problems
+
+
+def shared_text(identity: L.Identity) -> str:
+    """Nodes alike in all four parts of their identity: nothing LSS sends tells them apart."""
+    return (f"two or more nodes answer to the identity {identity.text()} (or a node answers "
+            "twice): LSS cannot tell them apart (give them distinct serial numbers)")
 
 
 def _find(m: L.Master, w: Wanted) -> list[tuple[L.Identity | None, int | None, str]]:
     """The nodes that match: (identity, node-ID or None when not asked yet, how found); a
-    second node found by fastscan is not scanned further (identity None)."""
+    second node found by fastscan is not scanned further (identity None). Nodes that
+    share one whole identity answer one selective switch or fastscan together: each
+    answer is one entry, all with that identity."""
     if len(w.known) == 4:
         identity = L.Identity(*(w.known[k] for k in range(4)))
-        return [(identity, _node_id_of(m, identity, switch_back=False), SELECTIVE)] \
-            if m.select(identity) else []
+        answers = m.select(identity)
+        if not answers:
+            return []
+        return [(identity, _node_id_of(m, identity, switch_back=False)[0], SELECTIVE)] * answers
     skip = frozenset({2}) if 2 not in w.known and 3 in w.known else frozenset()
     _, parts = m.fastscan(w.known, skip)
     if parts is not None:
+        answers = m.selected
         if 2 in skip:
             parts[2] = m.inquire(2)             # the one node in configuration
         if parts.get(2) is not None:
-            found = [(L.Identity(*(parts[k] for k in range(4))), L.UNCONFIGURED, FASTSCAN)]
-            if 0 in w.known and m.matches(w.known):     # the first stays in configuration
-                found.append((None, L.UNCONFIGURED, FASTSCAN))
+            identity = L.Identity(*(parts[k] for k in range(4)))
+            found = [(identity, L.UNCONFIGURED, FASTSCAN)] * answers
+            if answers == 1 and 0 in w.known and m.matches(w.known):   # the first stays
+                found.append((None, L.UNCONFIGURED, FASTSCAN))         # in configuration
             return found
     if not w.identified:
         return []
@@ -199,13 +215,19 @@ def _find(m: L.Master, w: Wanted) -> list[tuple[L.Identity | None, int | None, s
             for rev, serial in m.search(w.known[0], w.known[1], revisions, serials)]
 
 
-def _node_id_of(m: L.Master, identity: L.Identity, switch_back: bool = True) -> int | None:
-    if switch_back and not m.select(identity):
-        return None
+def _node_id_of(m: L.Master, identity: L.Identity,
+                switch_back: bool = True) -> tuple[int | None, int]:
+    """The node-ID of the node with this identity, and how many answered its selection
+    (``switch_back`` False: it is selected already)."""
+    answers = m.selected
+    if switch_back:
+        answers = m.select(identity)
+        if not answers:
+            return None, 0
     node_id = m.inquire_node_id()
     if switch_back:
         m.switch_global(configuration=False)
-    return node_id
+    return node_id, answers
 
 
 def _twins(w: Wanted, found) -> str:
@@ -282,7 +304,8 @@ def _assign(m: L.Master, net, row: Row, options: Options) -> None:
     if not moves and options.bitrate is None:
         row.status = ALREADY
         return
-    if not m.select(row.identity):
+    # counted when it was found (_find): two nodes of one identity never get here
+    if not m.select(row.identity, count=False):
         row.status, row.text = NO_ANSWER, "no answer to switch state selective"
         return
     steps = [lambda: m.configure_node_id(target)] if moves else []
@@ -335,13 +358,20 @@ class _BootUp:
 
 def _confirm(net, rows: list[Row], options: Options) -> None:
     """Each node assigned or already right answers SDO at its node-ID with the identity
-    LSS found (the entries of 0x1018 it has)."""
+    LSS found (the entries of 0x1018 it has), and is alone there: one SDO request, one
+    answer."""
     done = {r.wanted.node_id: r for r in rows if r.status in (ASSIGNED, ALREADY)}
     if not done:
         return
+    crowd = _answers_at(net, sorted(done), options.timeout, options.wait)
     scan = sc.scan(net, listen=0, timeout=options.timeout, retries=0, ids=sorted(done))
     for node_id, row in done.items():
         f = scan.found.get(node_id)
+        if crowd.get(node_id, 0) > 1:
+            row.answers = False
+            row.text = _join(row.text, f"two nodes answer at node-ID {node_id} (or one "
+                             "answers twice)")
+            continue
         if f is None or not f.answered:
             row.answers = False
             row.text = _join(row.text, f"no SDO answer at node-ID {node_id}")
@@ -352,6 +382,38 @@ def _confirm(net, rows: list[Row], options: Options) -> None:
         row.answers = not wrong
         if wrong:
             row.text = _join(row.text, f"node-ID {node_id} answers, but its " + "; ".join(wrong))
+
+
+def _answers_at(net, ids: list[int], timeout: float, wait: float) -> dict[int, int]:
+    """One SDO upload of 0x1000 sub 0 to each node-ID of ``ids`` at once: the answer
+    frames of each, counted until ``wait`` seconds after the last first answer (or
+    ``timeout``). Nodes that share a node-ID all answer; one node answers once."""
+    request = bytes([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])
+    counts = dict.fromkeys(ids, 0)
+    cond = threading.Condition()
+
+    def on(can_id, data, timestamp):
+        if bytes(data[1:4]) == request[1:4]:
+            with cond:
+                counts[can_id - sc.SDO_TX] += 1
+                cond.notify_all()
+    for node_id in ids:
+        net.subscribe(sc.SDO_TX + node_id, on)
+    try:
+        for node_id in ids:
+            sc._send(net, sc.SDO_RX + node_id, request)
+        end = time.monotonic() + timeout
+        with cond:
+            while True:
+                now = time.monotonic()
+                if all(counts.values()) and end > now + wait:
+                    end = now + wait            # every one answered: listen for a second
+                if now >= end:
+                    return dict(counts)
+                cond.wait(end - now)
+    finally:
+        for node_id in ids:
+            net.unsubscribe(sc.SDO_TX + node_id, on)
 
 
 def _join(a: str, b: str) -> str:

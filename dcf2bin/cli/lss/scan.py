@@ -33,7 +33,9 @@ def scan_cmd(interface, channel, bitrate, scan_wait, fmt, output, quiet, debug):
     passes it by); then every node is switched back to waiting, as it was. Nothing is
     changed on the nodes. A fastscan takes at most 134 steps of --scan-wait seconds (6.7 s
     with the default), so N nodes at most (N + 1) x 134 x SCAN_WAIT seconds. Exit status 1
-    when nodes answer that no fastscan can single out (answers later than --scan-wait).
+    when nodes answer that no fastscan can single out (answers later than --scan-wait), and
+    when several nodes answer to one identity found (nodes alike in all four parts, which
+    LSS cannot tell apart; or a node that answers twice).
     """
     from dcf2bin.bus import link
     from dcf2bin.bus import lss as L
@@ -52,10 +54,17 @@ def scan_cmd(interface, channel, bitrate, scan_wait, fmt, output, quiet, debug):
         write_output(_json(census, seconds, bound), output, [], binary=False)
     elif not quiet:
         write_output(_text(census, seconds, bound), output, [], binary=False)
+    diags = [Diagnostic(Severity.ERROR, f"{n} nodes share the identity {identity.text()} (or "
+                        "a node answers twice): LSS cannot tell them apart (give them "
+                        "distinct serial numbers)", "dcf2bin")
+             for identity, n in census.shared.items()]
     if not census.complete:
-        emit([Diagnostic(Severity.ERROR, "nodes without a node-ID answer, but fastscan "
-                         f"singles out none of them after {len(census.identities)} found "
-                         f"(do they answer within --scan-wait {scan_wait:g} s?)", "dcf2bin")])
+        diags.append(Diagnostic(Severity.ERROR, "nodes without a node-ID answer, but fastscan "
+                                f"singles out none of them after {len(census.identities)} "
+                                f"found (do they answer within --scan-wait {scan_wait:g} s?)",
+                                "dcf2bin"))
+    if diags:
+        emit(diags)
         raise Failure(ExitCode.FINDINGS)
 
 

@@ -30,7 +30,7 @@ def lss_options(fn):
                       help="Seconds the check before any change waits for a node to answer "
                       "SDO at each node-ID to give: silence says the node-ID is free, so "
                       "every node must answer within it (as long as network scan waits).")(fn)
-    return scan_wait_option(timeout_option(fn))
+    return scan_wait_option(timeout_option(fn), again=True)
 
 
 def timeout_option(fn):
@@ -40,11 +40,16 @@ def timeout_option(fn):
                         "SDO answers of one scan round.")(fn)
 
 
-def scan_wait_option(fn):
+def scan_wait_option(fn, again: bool = False):
+    """``again``: the command also counts the answers where one is expected."""
+    more = (" After the first answer to a selective switch, and to the SDO check at each "
+            "new node-ID, the master listens this long again: a second answer is a second "
+            "node of that identity." if again else "")
     return click.option("--scan-wait", "scan_wait", type=Seconds(0.001),
                         default=0.05, show_default=True, metavar="SECONDS",
                         help="Seconds each fastscan or identify step listens: there, "
-                        "silence is the answer, and every node must answer within it.")(fn)
+                        "silence is the answer, and every node must answer within it."
+                        + more)(fn)
 
 
 def check_bitrate(value: int | None) -> None:
