@@ -659,6 +659,27 @@ def test_a_truncated_concise_dcf_is_unreadable(tmp_path):
     assert (dumped.exit_code, dumped.stderr) == (1, r.stderr)
 
 
+def test_the_json_form_of_a_concise_dcf_is_compared(tmp_path):
+    """``dump -f json`` of a network build's <slave>.bin is the concise DCF's lossless form:
+    diff reads it as the concise DCF it records (it was refused, exit 3, in words that
+    named the kinds diff takes as the ones it did not)."""
+    form = tmp_path / "drive.json"
+    dumped = CliRunner().invoke(main, ["dump", "-f", "json", str(FLAT / "drive.bin"),
+                                       "-o", str(form)])
+    assert dumped.exit_code == 0, dumped.output
+    r = run(form, FLAT / "drive.bin")
+    assert (r.exit_code, r.stdout, r.stderr) == (
+        0, "", f"{form}, {FLAT}/drive.bin: equal; 18 entries compared\n")
+    assert run(form, FLAT / "drive.dcf").exit_code == 0
+    r = run(form, FLAT / "io.bin", "-q", "--ignore", "0x1400-0x1BFF,0x6060")
+    assert (r.exit_code, r.stdout) == (1, f"--- {form}\n+++ {FLAT}/io.bin\n"
+                                          "@@ 0x1017 @@\n-0x1017sub0: 50\n+0x1017sub0: 200\n")
+    doc = json.loads(run(form, FLAT / "drive.bin", "-f", "json").stdout)
+    check_schema(doc)
+    assert [doc["files"][0][s]["kind"] for s in "ab"] == ["concise-json", "concise"]
+    assert doc["files"][0]["a"]["file"] == str(form)
+
+
 # -- what cannot be compared ----------------------------------------------------------------
 
 def test_unreadable_inputs_are_exit_3_with_one_line(cd):
@@ -670,7 +691,8 @@ def test_unreadable_inputs_are_exit_3_with_one_line(cd):
         "missing.dcf": "missing.dcf: error: cannot read: No such file or directory",
         "vars.csv": "vars.csv: error: vars.csv is not DCF/EDS text (it looks like CSV: "
                     "dcf2bin allocate reads it); dcf2bin diff compares DCF/EDS text, CiA "
-                    "311 XML, containers, their JSON form and concise DCFs",
+                    "311 XML, containers, concise DCFs and the JSON form of either "
+                    "[DCF008]",
         "bad.bin": "bad.bin:0x0: error: 24 bytes: too short for the 40-byte header "
                    "[CNT001]",
         "empty.dcf": "empty.dcf: error: the file is empty [DCF056]",

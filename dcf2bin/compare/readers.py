@@ -12,8 +12,8 @@ What each kind holds:
   PDO mapping flag and whether a write list must write it (``Item.configured``: a
   ParameterValue or DownloadFile other than its DefaultValue on a writable entry whose
   ObjFlags bit 0 is clear);
-* a write list -- a container, its JSON form, a concise DCF -- the last write of each
-  entry (what the target holds after it), with a container's attribute byte.
+* a write list -- a container, a concise DCF, the JSON form of either -- the last write of
+  each entry (what the target holds after it), with a container's attribute byte.
 
 A file that cannot be read as its kind raises ``Unreadable`` with its diagnostics. A
 description read with errors is compared as read, its errors kept (``Source.errors``):
@@ -34,7 +34,7 @@ from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
 from dcf2bin.indexes import is_pdo_mapping
 
 DESCRIPTIONS = ("dcf", "xdd")
-WRITE_LISTS = ("bin", "json", "concise")
+WRITE_LISTS = ("bin", "json", "concise", "concise-json")
 KINDS = DESCRIPTIONS + WRITE_LISTS
 # access types compile writes (SPEC §1: configured writable entries; D-9)
 _WRITABLE = frozenset({"rw", "wo", "rwr", "rww"})
@@ -77,6 +77,8 @@ def load(data: bytes, path: str, kind: str, *, label: str | None = None,
         return _description(data, path, label, kind, node_id)
     if kind == "concise":
         return _concise(data, label)
+    if kind == "concise-json":
+        return _concise_json(data, label)
     return _container(data, label, kind)
 
 
@@ -89,6 +91,19 @@ def _concise(data: bytes, label: str) -> Source:
         raise Unreadable(diags)
     places = [f"{label}:0x{off:X}" for off in offsets(entries)]
     return Source(label, "concise", entries=entries, places=places)
+
+
+def _concise_json(data: bytes, label: str) -> Source:
+    """The JSON form of a concise DCF (``dump -f json``): the bytes it records, read as a
+    concise DCF is; its entries are placed by the file alone (a JSON form's byte offsets
+    are the concise DCF's, not the file's)."""
+    from dcf2bin.dump import from_json_bytes
+    raw, diags = from_json_bytes(data, label)
+    if raw is None:
+        raise Unreadable(diags)
+    src = _concise(raw, label)
+    src.kind, src.places = "concise-json", None
+    return src
 
 
 def _container(data: bytes, label: str, kind: str) -> Source:
