@@ -365,6 +365,30 @@ def test_pdo_mapping_entries_name_the_objects_they_map(cd):
         "+0x1A00sub1 Mapped object 1: 0x60400010 = 0x6040sub0 Controlword, 16 bits"]
 
 
+STRING_DCF = ("[DeviceComissioning]\r\nNodeID=5\r\n[2002]\r\nParameterName=str\r\n"
+              "ObjectType=0x7\r\nDataType=0x0009\r\nAccessType=rw\r\nParameterValue=")
+
+
+def test_values_that_read_alike_show_their_bytes(cd):
+    """A Latin-1 "café" (E9) against a UTF-8 one (C3 A9): the same text, other bytes. Each
+    line shows its bytes, or the two would differ in nothing a reader sees; in the JSON
+    form too, whose ``value`` is the text's (``data`` holds the bytes as ever)."""
+    (cd / "a.dcf").write_bytes(STRING_DCF.encode() + "café\r\n".encode("latin-1"))
+    (cd / "b.dcf").write_bytes(STRING_DCF.encode() + "café\r\n".encode("utf-8"))
+    r = run("a.dcf", "b.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.dcf\n+++ b.dcf\n@@ 0x2002 str @@\n"
+                                          '-0x2002sub0 str: "café" (63 61 66 E9)\n'
+                                          '+0x2002sub0 str: "café" (63 61 66 C3 A9)\n')
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json").stdout)
+    d = doc["files"][0]["differences"][0]
+    assert [(d[s]["value"], d[s]["data"]) for s in "ab"] == [
+        ('"café" (63 61 66 E9)', "636166E9"), ('"café" (63 61 66 C3 A9)', "636166C3A9")]
+    # values that read differently show no bytes
+    (cd / "b.dcf").write_bytes(STRING_DCF.encode() + b"cafe\r\n")
+    assert run("a.dcf", "b.dcf", "-q").stdout.splitlines()[3:] == [
+        '-0x2002sub0 str: "café"', '+0x2002sub0 str: "cafe"']
+
+
 # -- the other facts of an entry -----------------------------------------------------------
 
 def test_data_type_access_and_mapping_flag_differences_are_shown(cd):
