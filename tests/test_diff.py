@@ -389,6 +389,127 @@ def test_values_that_read_alike_show_their_bytes(cd):
         '-0x2002sub0 str: "café"', '+0x2002sub0 str: "cafe"']
 
 
+IDENTITY = """\
+[DeviceInfo]
+VendorNumber=0x000000AB
+ProductNumber=0x1234
+RevisionNumber=0x00010002
+
+[DeviceComissioning]
+NodeID=5
+LSS_SerialNumber=1234
+
+[1018]
+ParameterName=Identity Object
+ObjectType=0x9
+SubNumber=5
+
+[1018sub0]
+ParameterName=Highest sub-index supported
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=4
+
+[1018sub1]
+ParameterName=Vendor ID
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub2]
+ParameterName=Product Code
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub3]
+ParameterName=Revision number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub4]
+ParameterName=Serial number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+"""
+
+
+def test_an_identity_entry_without_a_value_is_the_one_the_file_states_elsewhere(cd):
+    """Issue 29: 0x1018 sub 1-4 without a value hold what [DeviceInfo] VendorNumber,
+    ProductNumber, RevisionNumber and [DeviceComissioning] LSS_SerialNumber say, as the
+    node made of the file answers them (model.identity): the EDS equals the DCF an upload
+    writes of that node, which states them (it differed: "0x00000000 (no value given)")."""
+    dcf(cd, "a.eds", text=IDENTITY)
+    values = ("0x000000AB", "0x00001234", "0x00010002", "0x000004D2")
+    up = dcf(cd, "up.dcf", *((f"[1018sub{sub}]\nParameterName={name}\nObjectType=0x7\n"
+                               "DataType=0x0007\nAccessType=ro\n",
+                               f"[1018sub{sub}]\nParameterName={name}\nObjectType=0x7\n"
+                               f"DataType=0x0007\nAccessType=ro\nParameterValue={v}\n")
+                              for sub, name, v in zip((1, 2, 3, 4), (
+                                  "Vendor ID", "Product Code", "Revision number",
+                                  "Serial number"), values)), text=IDENTITY)
+    r = run("a.eds", "up.dcf")
+    assert (r.exit_code, r.stdout, r.stderr) == (0, "", "a.eds, up.dcf: equal; 5 entries "
+                                                        "compared\n")
+    up.write_text(up.read_text().replace("ParameterValue=0x00001234", "ParameterValue=0x1235")
+                  .replace("ParameterValue=0x000004D2", "ParameterValue=0x4D3"))
+    r = run("a.eds", "up.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.eds\n+++ up.dcf\n"
+                                          "@@ 0x1018 Identity Object @@\n"
+                                          "-0x1018sub2 Product Code: 0x00001234 (from "
+                                          "[DeviceInfo] ProductNumber)\n"
+                                          "+0x1018sub2 Product Code: 0x00001235\n"
+                                          "-0x1018sub4 Serial number: 0x000004D2 (from "
+                                          "[DeviceComissioning] LSS_SerialNumber)\n"
+                                          "+0x1018sub4 Serial number: 0x000004D3\n")
+    d = json.loads(run("a.eds", "up.dcf", "-f", "json").stdout)["files"][0]["differences"]
+    assert [(x["a"]["value"], x["a"]["data"], x["a"]["where"]) for x in d] == [
+        ("0x00001234 (from [DeviceInfo] ProductNumber)", "34120000", "a.eds:3"),
+        ("0x000004D2 (from [DeviceComissioning] LSS_SerialNumber)", "D2040000", "a.eds:8")]
+    # a key that is no UNSIGNED32 states nothing: the entry has no value (never guessed)
+    dcf(cd, "b.eds", ("ProductNumber=0x1234", "ProductNumber=0x1FFFFFFFF"), text=IDENTITY)
+    r = run("b.eds", "a.eds", "-q")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert run("b.eds", "a.eds").stderr == ("b.eds, a.eds: equal; 5 entries compared, "
+                                            "1 value only one file states not compared\n")
+
+
+def test_a_value_only_one_description_states_is_not_compared(cd):
+    """Between two descriptions, an entry one gives no value says nothing of what the
+    node holds there (as such an entry is not read from a node): its value is not
+    compared, and the last line counts it; its type, access and PDO mapping flag are.
+    Against a write list the type's zero stands (compile writes it)."""
+    dcf(cd, "a.dcf", ("DefaultValue=0x10\n", "\n"))
+    dcf(cd, "b.dcf", ("DefaultValue=0x10\n", "ParameterValue=500\n"))
+    r = run("a.dcf", "b.dcf")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert r.stderr == ("a.dcf, b.dcf: equal; 10 entries compared, 3 of the node's state "
+                        "left out (--all compares them), 1 value only one file states not "
+                        "compared\n")
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json").stdout)
+    check_schema(doc)
+    assert doc["files"][0]["left_out"] == {"state": 3, "ignored": 0, "no_value": 1}
+    dcf(cd, "c.dcf", ("DataType=0x0006\nAccessType=rw\nDefaultValue=0x10\n",
+                      "DataType=0x0007\nAccessType=rw\nParameterValue=500\n"))
+    r = run("a.dcf", "c.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.dcf\n+++ c.dcf\n"
+                                          "@@ 0x1017 Producer heartbeat time @@\n"
+                                          "-0x1017sub0 Producer heartbeat time: 0 (no value "
+                                          "given) (UNSIGNED16)\n"
+                                          "+0x1017sub0 Producer heartbeat time: 0x000001F4 "
+                                          "(UNSIGNED32)\n")
+    # a container compiled from b.dcf writes 500 where a.dcf's compile would write the zero
+    assert CliRunner().invoke(main, ["compile", "b.dcf", "-o", "b.bin", "-q"]).exit_code == 0
+    r = run("a.dcf", "b.bin", "-q")
+    assert (r.exit_code, r.stdout.splitlines()[2:]) == (1, [
+        "@@ 0x1017 Producer heartbeat time @@",
+        "-0x1017sub0 Producer heartbeat time: 0 (no value given)",
+        "+0x1017sub0 Producer heartbeat time: 500"])
+
+
 # -- the other facts of an entry -----------------------------------------------------------
 
 def test_data_type_access_and_mapping_flag_differences_are_shown(cd):
@@ -770,7 +891,7 @@ def test_json_form_exactly(cd):
     assert {k: v for k, v in f.items() if k != "differences"} == {
         "a": {"file": "a.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
         "b": {"file": "b.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
-        "equal": False, "compared": 11, "left_out": {"state": 3, "ignored": 0},
+        "equal": False, "compared": 11, "left_out": {"state": 3, "ignored": 0, "no_value": 0},
         "objects_only_in_a": [], "objects_only_in_b": ["0x6100"]}
     assert f["differences"] == [
         {"index": "0x1A00", "subindex": 1, "change": "changed",

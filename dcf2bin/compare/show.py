@@ -79,6 +79,8 @@ def value_text(item: Item, other: Item | None = None) -> str:
     text = typed(v.data, type_of(item, other))
     if _looks_alike(text, item, other):
         text += f" ({_spaced(v.data)})"
+    if v.source is not None:
+        return f"{text} (from {v.source})"
     return f"{text} (no value given)" if v.implied else text
 
 
