@@ -346,9 +346,15 @@ def mismatch(path: str, kind: str, wanted: str | tuple[str, ...], *,
             f"{advice(kind)})" + (f"; {use}" if use else "")
     # a command that takes DCF/EDS text takes CiA 311 XML too: "DCF/EDS text" names both;
     # "its JSON form" names the JSON forms of the kinds named before it
-    want = " or ".join(called(w).replace("the JSON form of a container", "its JSON form")
-                       .replace("the JSON form of a concise DCF", "its JSON form")
-                       for w in _named(wanted))
+    named = _named(wanted)
+    # both binaries and both JSON forms: the JSON form follows them, "of either"
+    either = {CONTAINER, CONCISE, JSON, CONCISE_JSON} <= set(wanted)
+    if either:
+        named = [w for w in named if w != JSON] + [JSON]
+    form = "the JSON form of either" if either else "its JSON form"
+    want = " or ".join(called(w).replace("the JSON form of a container", form)
+                       .replace("the JSON form of a concise DCF", form)
+                       for w in named)
     return f"{what_it_is(path, kind)}, not {want}; {use or _USE[kind]}"
 
 

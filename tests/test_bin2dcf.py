@@ -56,6 +56,23 @@ def run(*args, input=None):
                               catch_exceptions=False)
 
 
+@pytest.mark.parametrize("binary", [SAMPLES / "plc.bin",
+                                    GOLDEN / "network" / "flat" / "out" / "drive.bin"],
+                         ids=["container", "concise"])
+def test_the_json_form_converts_as_the_bytes_it_records(binary, tmp_path):
+    """``dump -f json`` is the lossless form of a container or a concise DCF: bin2dcf of it
+    is bin2dcf of the bytes, line for line but the name it was read from (the JSON form
+    was refused: "use dcf2bin compile to turn it back")."""
+    (tmp_path / "x.bin").write_bytes(binary.read_bytes())
+    assert run("dump", "-f", "json", tmp_path / "x.bin", "-o", tmp_path / "x.json").exit_code == 0
+    from_bin = run("bin2dcf", tmp_path / "x.bin", "-o", "-")
+    from_json = run("bin2dcf", tmp_path / "x.json", "-o", "-")
+    assert (from_json.exit_code, from_json.stderr) == (from_bin.exit_code, from_bin.stderr.replace(
+        "x.bin", "x.json"))
+    assert from_json.stdout == from_bin.stdout.replace(f"{tmp_path}/x.bin", f"{tmp_path}/x.json")
+    assert f"from {tmp_path}/x.json (" in from_json.stdout.splitlines()[0]
+
+
 # -- samples: compile -> bin2dcf -> compile is byte-identical; golden DCFs ----------------------
 
 @pytest.mark.parametrize("name", SAMPLE_NAMES)

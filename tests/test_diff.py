@@ -365,6 +365,151 @@ def test_pdo_mapping_entries_name_the_objects_they_map(cd):
         "+0x1A00sub1 Mapped object 1: 0x60400010 = 0x6040sub0 Controlword, 16 bits"]
 
 
+STRING_DCF = ("[DeviceComissioning]\r\nNodeID=5\r\n[2002]\r\nParameterName=str\r\n"
+              "ObjectType=0x7\r\nDataType=0x0009\r\nAccessType=rw\r\nParameterValue=")
+
+
+def test_values_that_read_alike_show_their_bytes(cd):
+    """A Latin-1 "café" (E9) against a UTF-8 one (C3 A9): the same text, other bytes. Each
+    line shows its bytes, or the two would differ in nothing a reader sees; in the JSON
+    form too, whose ``value`` is the text's (``data`` holds the bytes as ever)."""
+    (cd / "a.dcf").write_bytes(STRING_DCF.encode() + "café\r\n".encode("latin-1"))
+    (cd / "b.dcf").write_bytes(STRING_DCF.encode() + "café\r\n".encode("utf-8"))
+    r = run("a.dcf", "b.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.dcf\n+++ b.dcf\n@@ 0x2002 str @@\n"
+                                          '-0x2002sub0 str: "café" (63 61 66 E9)\n'
+                                          '+0x2002sub0 str: "café" (63 61 66 C3 A9)\n')
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json").stdout)
+    d = doc["files"][0]["differences"][0]
+    assert [(d[s]["value"], d[s]["data"]) for s in "ab"] == [
+        ('"café" (63 61 66 E9)', "636166E9"), ('"café" (63 61 66 C3 A9)', "636166C3A9")]
+    # values that read differently show no bytes
+    (cd / "b.dcf").write_bytes(STRING_DCF.encode() + b"cafe\r\n")
+    assert run("a.dcf", "b.dcf", "-q").stdout.splitlines()[3:] == [
+        '-0x2002sub0 str: "café"', '+0x2002sub0 str: "cafe"']
+
+
+IDENTITY = """\
+[DeviceInfo]
+VendorNumber=0x000000AB
+ProductNumber=0x1234
+RevisionNumber=0x00010002
+
+[DeviceComissioning]
+NodeID=5
+LSS_SerialNumber=1234
+
+[1018]
+ParameterName=Identity Object
+ObjectType=0x9
+SubNumber=5
+
+[1018sub0]
+ParameterName=Highest sub-index supported
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=4
+
+[1018sub1]
+ParameterName=Vendor ID
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub2]
+ParameterName=Product Code
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub3]
+ParameterName=Revision number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+[1018sub4]
+ParameterName=Serial number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+"""
+
+
+def test_an_identity_entry_without_a_value_is_the_one_the_file_states_elsewhere(cd):
+    """Issue 29: 0x1018 sub 1-4 without a value hold what [DeviceInfo] VendorNumber,
+    ProductNumber, RevisionNumber and [DeviceComissioning] LSS_SerialNumber say, as the
+    node made of the file answers them (model.identity): the EDS equals the DCF an upload
+    writes of that node, which states them (it differed: "0x00000000 (no value given)")."""
+    dcf(cd, "a.eds", text=IDENTITY)
+    values = ("0x000000AB", "0x00001234", "0x00010002", "0x000004D2")
+    up = dcf(cd, "up.dcf", *((f"[1018sub{sub}]\nParameterName={name}\nObjectType=0x7\n"
+                               "DataType=0x0007\nAccessType=ro\n",
+                               f"[1018sub{sub}]\nParameterName={name}\nObjectType=0x7\n"
+                               f"DataType=0x0007\nAccessType=ro\nParameterValue={v}\n")
+                              for sub, name, v in zip((1, 2, 3, 4), (
+                                  "Vendor ID", "Product Code", "Revision number",
+                                  "Serial number"), values)), text=IDENTITY)
+    r = run("a.eds", "up.dcf")
+    assert (r.exit_code, r.stdout, r.stderr) == (0, "", "a.eds, up.dcf: equal; 5 entries "
+                                                        "compared\n")
+    up.write_text(up.read_text().replace("ParameterValue=0x00001234", "ParameterValue=0x1235")
+                  .replace("ParameterValue=0x000004D2", "ParameterValue=0x4D3"))
+    r = run("a.eds", "up.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.eds\n+++ up.dcf\n"
+                                          "@@ 0x1018 Identity Object @@\n"
+                                          "-0x1018sub2 Product Code: 0x00001234 (from "
+                                          "[DeviceInfo] ProductNumber)\n"
+                                          "+0x1018sub2 Product Code: 0x00001235\n"
+                                          "-0x1018sub4 Serial number: 0x000004D2 (from "
+                                          "[DeviceComissioning] LSS_SerialNumber)\n"
+                                          "+0x1018sub4 Serial number: 0x000004D3\n")
+    d = json.loads(run("a.eds", "up.dcf", "-f", "json").stdout)["files"][0]["differences"]
+    assert [(x["a"]["value"], x["a"]["data"], x["a"]["where"]) for x in d] == [
+        ("0x00001234 (from [DeviceInfo] ProductNumber)", "34120000", "a.eds:3"),
+        ("0x000004D2 (from [DeviceComissioning] LSS_SerialNumber)", "D2040000", "a.eds:8")]
+    # a key that is no UNSIGNED32 states nothing: the entry has no value (never guessed)
+    dcf(cd, "b.eds", ("ProductNumber=0x1234", "ProductNumber=0x1FFFFFFFF"), text=IDENTITY)
+    r = run("b.eds", "a.eds", "-q")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert run("b.eds", "a.eds").stderr == ("b.eds, a.eds: equal; 5 entries compared, "
+                                            "1 value only one file states not compared\n")
+
+
+def test_a_value_only_one_description_states_is_not_compared(cd):
+    """Between two descriptions, an entry one gives no value says nothing of what the
+    node holds there (as such an entry is not read from a node): its value is not
+    compared, and the last line counts it; its type, access and PDO mapping flag are.
+    Against a write list the type's zero stands (compile writes it)."""
+    dcf(cd, "a.dcf", ("DefaultValue=0x10\n", "\n"))
+    dcf(cd, "b.dcf", ("DefaultValue=0x10\n", "ParameterValue=500\n"))
+    r = run("a.dcf", "b.dcf")
+    assert (r.exit_code, r.stdout) == (0, "")
+    assert r.stderr == ("a.dcf, b.dcf: equal; 10 entries compared, 3 of the node's state "
+                        "left out (--all compares them), 1 value only one file states not "
+                        "compared\n")
+    doc = json.loads(run("a.dcf", "b.dcf", "-f", "json").stdout)
+    check_schema(doc)
+    assert doc["files"][0]["left_out"] == {"state": 3, "ignored": 0, "no_value": 1}
+    dcf(cd, "c.dcf", ("DataType=0x0006\nAccessType=rw\nDefaultValue=0x10\n",
+                      "DataType=0x0007\nAccessType=rw\nParameterValue=500\n"))
+    r = run("a.dcf", "c.dcf", "-q")
+    assert (r.exit_code, r.stdout) == (1, "--- a.dcf\n+++ c.dcf\n"
+                                          "@@ 0x1017 Producer heartbeat time @@\n"
+                                          "-0x1017sub0 Producer heartbeat time: 0 (no value "
+                                          "given) (UNSIGNED16)\n"
+                                          "+0x1017sub0 Producer heartbeat time: 0x000001F4 "
+                                          "(UNSIGNED32)\n")
+    # a container compiled from b.dcf writes 500 where a.dcf's compile would write the zero
+    assert CliRunner().invoke(main, ["compile", "b.dcf", "-o", "b.bin", "-q"]).exit_code == 0
+    r = run("a.dcf", "b.bin", "-q")
+    assert (r.exit_code, r.stdout.splitlines()[2:]) == (1, [
+        "@@ 0x1017 Producer heartbeat time @@",
+        "-0x1017sub0 Producer heartbeat time: 0 (no value given)",
+        "+0x1017sub0 Producer heartbeat time: 500"])
+
+
 # -- the other facts of an entry -----------------------------------------------------------
 
 def test_data_type_access_and_mapping_flag_differences_are_shown(cd):
@@ -659,6 +804,27 @@ def test_a_truncated_concise_dcf_is_unreadable(tmp_path):
     assert (dumped.exit_code, dumped.stderr) == (1, r.stderr)
 
 
+def test_the_json_form_of_a_concise_dcf_is_compared(tmp_path):
+    """``dump -f json`` of a network build's <slave>.bin is the concise DCF's lossless form:
+    diff reads it as the concise DCF it records (it was refused, exit 3, in words that
+    named the kinds diff takes as the ones it did not)."""
+    form = tmp_path / "drive.json"
+    dumped = CliRunner().invoke(main, ["dump", "-f", "json", str(FLAT / "drive.bin"),
+                                       "-o", str(form)])
+    assert dumped.exit_code == 0, dumped.output
+    r = run(form, FLAT / "drive.bin")
+    assert (r.exit_code, r.stdout, r.stderr) == (
+        0, "", f"{form}, {FLAT}/drive.bin: equal; 18 entries compared\n")
+    assert run(form, FLAT / "drive.dcf").exit_code == 0
+    r = run(form, FLAT / "io.bin", "-q", "--ignore", "0x1400-0x1BFF,0x6060")
+    assert (r.exit_code, r.stdout) == (1, f"--- {form}\n+++ {FLAT}/io.bin\n"
+                                          "@@ 0x1017 @@\n-0x1017sub0: 50\n+0x1017sub0: 200\n")
+    doc = json.loads(run(form, FLAT / "drive.bin", "-f", "json").stdout)
+    check_schema(doc)
+    assert [doc["files"][0][s]["kind"] for s in "ab"] == ["concise-json", "concise"]
+    assert doc["files"][0]["a"]["file"] == str(form)
+
+
 # -- what cannot be compared ----------------------------------------------------------------
 
 def test_unreadable_inputs_are_exit_3_with_one_line(cd):
@@ -670,7 +836,8 @@ def test_unreadable_inputs_are_exit_3_with_one_line(cd):
         "missing.dcf": "missing.dcf: error: cannot read: No such file or directory [IO001]",
         "vars.csv": "vars.csv: error: vars.csv is not DCF/EDS text (it looks like CSV: "
                     "dcf2bin allocate reads it); dcf2bin diff compares DCF/EDS text, CiA "
-                    "311 XML, containers, their JSON form and concise DCFs",
+                    "311 XML, containers, concise DCFs and the JSON form of either "
+                    "[DCF008]",
         "bad.bin": "bad.bin:0x0: error: 24 bytes: too short for the 40-byte header "
                    "[CNT001]",
         "empty.dcf": "empty.dcf: error: the file is empty [DCF056]",
@@ -724,7 +891,7 @@ def test_json_form_exactly(cd):
     assert {k: v for k, v in f.items() if k != "differences"} == {
         "a": {"file": "a.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
         "b": {"file": "b.dcf", "kind": "dcf", "node_id": 5, "errors": 0},
-        "equal": False, "compared": 11, "left_out": {"state": 3, "ignored": 0},
+        "equal": False, "compared": 11, "left_out": {"state": 3, "ignored": 0, "no_value": 0},
         "objects_only_in_a": [], "objects_only_in_b": ["0x6100"]}
     assert f["differences"] == [
         {"index": "0x1A00", "subindex": 1, "change": "changed",

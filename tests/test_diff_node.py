@@ -156,3 +156,41 @@ def test_a_build_states_the_identity_the_node_must_have(bench, tmp_path):
                         f"+0x1018sub3 Revision number: {NONE}\n"
                         "-0x1018sub4 Serial number: 0x000004D2\n"
                         f"+0x1018sub4 Serial number: {NONE}\n")
+
+
+def test_a_build_and_an_upload_of_the_same_node_agree(bench, tmp_path):
+    """Issue 29: an EDS that gives its identity in [DeviceInfo] and [DeviceComissioning]
+    only (0x1018 sub 2-4 without a value). The node made of it answers them from there,
+    as a real device holds its identity, so the upload writes them; the build's DCF
+    against the upload, and against the node, are equal -- one rule (model.identity):
+    the build compared 0x1018 sub 2 as "0x00000000 (no value given)" against the upload's
+    0x00001234 (exit 1) while the node said equal."""
+    eds = tmp_path / "ts.eds"
+    eds.write_text((NET / "technosoft.eds").read_text().replace(
+        "VendorNumber=0x000001A3\n",
+        "VendorNumber=0x000001A3\nProductNumber=0x1234\nRevisionNumber=0x00010002\n", 1)
+        + "\n[DeviceComissioning]\nLSS_SerialNumber=1234\n")
+    bus = tmp_path / "bus.yml"
+    bus.write_text(f"master:\n  node_id: 1\n  sync_period: 10000\na:\n  dcf: {eds}\n"
+                   "  node_id: 20\n")
+    out, up = tmp_path / "out", tmp_path / "up"
+    assert run("network", "build", str(bus), "-o", str(out), "-q").exit_code == 0
+    bench.device(20, str(eds))
+    args = bus_args(bench.channel)
+    assert run("network", "download", str(bus), "-q", *args).exit_code == 0
+    r = run("network", "upload", str(bus), "-o", str(up), "-q", *args)
+    assert r.exit_code == 0, r.stderr
+    r = run("diff", str(out), str(up), "-q")
+    assert (r.exit_code, r.stdout) == (0, "")
+    r = run("diff", str(out / "a.dcf"), "-n", "20", "-q", *args)
+    assert (r.exit_code, r.stdout) == (0, "")
+    # the identity is compared, not skipped: a node of another product code differs there
+    bench.close()
+    bench.device(20, str(tmp_path / "up" / "a.dcf"))
+    bench.nodes[-1].sdo[0x1018][2].raw = 0x1235
+    r = run("diff", str(out / "a.dcf"), "-n", "20", "-q", *args)
+    assert (r.exit_code, r.stdout) == (1, f"--- {out}/a.dcf\n+++ node 20\n"
+                                          "@@ 0x1018 Identity Object @@\n"
+                                          "-0x1018sub2 Product Code: 0x00001234 (from "
+                                          "[DeviceInfo] ProductNumber)\n"
+                                          "+0x1018sub2 Product Code: 0x00001235\n")

@@ -77,8 +77,8 @@ WRONG = [
     ("dump", [], "dcf", DCF_IS_NOT.format(CONCISE_TOO)),
     ("dump", [], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
     ("bin2dcf", ["-o", "-"], "dcf", "is DCF/EDS text, not a binary container" + CONCISE_TOO +
-     "; it is a DCF already (dcf2bin compile makes a container of it)"),
-    ("bin2dcf", ["-o", "-"], "json", JSON_IS_NOT.format("a binary container" + CONCISE_TOO)),
+     " or the JSON form of either; it is a DCF already (dcf2bin compile makes a container "
+     "of it)"),
     ("compile", ["-o", "-"], "bin", BIN_IS_NOT.format(" or its JSON form")),
     ("export", ["-f", "lenze-st"], "bin", BIN_IS_NOT.format("")),
     ("export", ["-f", "lenze-st"], "json", JSON_IS_NOT.format("DCF/EDS text")),

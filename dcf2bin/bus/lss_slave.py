@@ -250,19 +250,11 @@ def identity_of(node, serial: int | None = None,
 
 def device_info(data: bytes, path: str) -> dict[int, int]:
     """0x1018 sub -> value from the [DeviceInfo] of an EDS/DCF: VendorNumber,
-    ProductNumber, RevisionNumber (those that read as integers)."""
-    from dcf2bin import ini, values
-    section = ini.parse_bytes(data, path).section("deviceinfo")
-    out = {}
-    for sub, key in ((1, "vendornumber"), (2, "productnumber"), (3, "revisionnumber")):
-        text = section.get(key) if section is not None else None
-        if text is None:
-            continue
-        try:
-            out[sub] = values.parse_int(values.split_numeric_comment(text)[0])
-        except values.ValueProblem:
-            continue
-    return out
+    ProductNumber, RevisionNumber, and [DeviceComissioning] LSS_SerialNumber (those that
+    read as UNSIGNED32s: ``model.identity``, the one rule)."""
+    from dcf2bin import ini
+    from dcf2bin.model.identity import stated_identity
+    return {sub: s.value for sub, s in stated_identity(ini.parse_bytes(data, path)).items()}
 
 
 def fill_identity(node, identity: L.Identity, subs=(1, 2, 3, 4)) -> None:

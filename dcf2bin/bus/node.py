@@ -531,25 +531,7 @@ def from_file(path: str, node_id: int | None, *, data: bytes | None = None):
 # The node's diagnostics at start, each with its code (man/dcf2bin-node.1, "DIAGNOSTICS"):
 MISSING, NO_DEVICE_TYPE, NO_VENDOR, FILE_ERRORS = "NOD001", "NOD002", "NOD003", "NOD004"
 
-_INFO_KEYS = {1: ("vendornumber", "VendorNumber", "vendor-ID"),
-              2: ("productnumber", "ProductNumber", "product code"),
-              3: ("revisionnumber", "RevisionNumber", "revision number")}
 _NO_VALUE = "SDO abort 0x060A0023 (resource not available)"
-
-
-def _device_info(dev) -> dict[str, int]:
-    """[DeviceInfo] VendorNumber, ProductNumber, RevisionNumber that read as numbers."""
-    info = dev.ini.section("deviceinfo") if dev.ini is not None else None
-    out = {}
-    for key, _, _ in _INFO_KEYS.values():
-        text = info.get(key) if info is not None else None
-        if text is None:
-            continue
-        try:
-            out[key] = values.parse_int(values.split_numeric_comment(text)[0])
-        except values.ValueProblem:
-            continue
-    return out
 
 
 def _unset(var) -> bool:
@@ -565,12 +547,14 @@ def _warning(message: str, where, path: str, rule: str):
 def fill_mandatory(od, dev) -> list:
     """An EDS often gives its identity in [DeviceInfo] only, and no value to 0x1000 or
     0x1018: a real device answers them, so the node does too. Without a value in the file,
-    0x1018 sub 1-3 take [DeviceInfo] VendorNumber, ProductNumber and RevisionNumber, sub 0
+    0x1018 sub 1-3 take [DeviceInfo] VendorNumber, ProductNumber and RevisionNumber, sub 4
+    [DeviceComissioning] LSS_SerialNumber (``model.identity``, the rule diff compares by), sub 0
     the highest sub-index present, 0x1001 (error register) 0 (a software node has no
     error) and 0x1000 (device type) 0x00000000 (CiA 301: no device profile); each value
     the node has to make up that way, and each mandatory object it cannot answer, is one
     warning (a ``Diagnostic`` at the object's section, else the file, with its code)."""
-    info = _device_info(dev)
+    from dcf2bin.model.identity import stated_identity
+    info = stated_identity(dev.ini)
     warnings = []
     for index, what in ((0x1000, "device type"), (0x1001, "error register"),
                         (0x1018, "identity object")):
@@ -591,17 +575,17 @@ def fill_mandatory(od, dev) -> list:
     identity = od.get(0x1018)
     if identity is None or not hasattr(identity, "subindices"):
         return warnings
-    for sub, (key, shown, what) in _INFO_KEYS.items():
+    for sub in (1, 2, 3, 4):
         var = identity.get(sub)
         if not _unset(var):
             continue
-        if key in info:
-            var.default = info[key]
+        if sub in info:
+            var.default = info[sub].value
         elif sub == 1:
             entry = dev.objects[0x1018].entries.get(1)
             warnings.append(_warning(
-                f"0x1018 sub 1 ({what}) has no value in the file nor in [DeviceInfo] "
-                f"{shown}: the node answers {_NO_VALUE}",
+                "0x1018 sub 1 (vendor-ID) has no value in the file nor in [DeviceInfo] "
+                f"VendorNumber: the node answers {_NO_VALUE}",
                 entry.where if entry is not None else None, dev.path, NO_VENDOR))
     sub0 = identity.get(0)
     if _unset(sub0):

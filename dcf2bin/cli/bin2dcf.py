@@ -7,9 +7,9 @@ import os
 import click
 
 from dcf2bin import __version__
-from dcf2bin.cli.common import (CONTEXT, Command, Failure, debug_option, default_output, emit,
-                                fail,
-                                force_option, guarded, output_option, read_binary, read_eds,
+from dcf2bin.cli.common import (CONTEXT, Command, Failure, debug_option, decode_concise,
+                                decode_container, default_output, emit, fail, force_option,
+                                guarded, input_kind, output_option, read_eds, read_input,
                                 without_cyclic_gc, write_output)
 from dcf2bin.cli.dump import EDS, INPUT, QUIET
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
@@ -17,8 +17,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @without_cyclic_gc
 def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     from dcf2bin import dcfwriter
-    kind, c, name = read_binary(input, quiet, use={
-        "dcf": "it is a DCF already (dcf2bin compile makes a container of it)"})
+    kind, c, name = _read(input, quiet)
     if strict and kind == "concise":
         fail(f"{name} is a concise DCF: --strict checks that compile gives a container's "
              "bytes back, and a DCF keeps no order of a concise DCF's writes; convert it "
@@ -48,6 +47,27 @@ def _bin2dcf(input, output, force, eds, strict, quiet) -> None:
     write_output(res.to_bytes(), output, [input] + ([eds] if eds else []), binary=False)
 
 
+def _read(path: str, quiet: bool):
+    """A container or a concise DCF, or the lossless JSON form of either (``dump -f json``:
+    the bytes it records), each by its content: ``(kind, what, name)`` as
+    ``common.read_binary`` gives them."""
+    data = read_input(path)
+    name = "<stdin>" if path == "-" else path
+    kind = input_kind(path, data, ("bin", "concise", "json", "concise-json"), quiet=quiet,
+                      use={"dcf": "it is a DCF already (dcf2bin compile makes a container "
+                                  "of it)"})
+    if kind == "concise-json":
+        from dcf2bin.dump import from_json_bytes
+        data, diags = from_json_bytes(data, name)
+        emit(diags, quiet)
+        if data is None:
+            raise Failure(ExitCode.FINDINGS)
+        return "concise", decode_concise(data, name, quiet), name
+    if kind == "concise":
+        return kind, decode_concise(data, name, quiet), name
+    return "bin", decode_container(data, name, quiet, json_input=kind == "json"), name
+
+
 def _bin2dcf_options(fn):
     for deco in reversed([
         INPUT,
@@ -64,7 +84,8 @@ def _bin2dcf_options(fn):
     return fn
 
 
-_BIN2DCF_HELP = """Turn a binary container or a concise DCF back into a DCF.
+_BIN2DCF_HELP = """Turn a binary container or a concise DCF (or the JSON form of either,
+from 'dcf2bin dump --format json') back into a DCF.
 
 One object section per index; ParameterValue is the last value written, comments list
 earlier writes (PDO sequences). Types come from the CiA 405 ranges and the attribute

@@ -12,7 +12,8 @@ from dcf2bin.cli.common import (CONTEXT, COUNT, Failure, Seconds, check_output, 
 from dcf2bin.cli.download import bus_options, open_bus
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
-KINDS = ("dcf", "xdd", "bin", "json", "concise")   # = compare.KINDS (not imported: --help)
+# = compare.KINDS (not imported: --help)
+KINDS = ("dcf", "xdd", "bin", "json", "concise", "concise-json")
 
 
 def _ignore(ctx, param, value):
@@ -55,8 +56,8 @@ def _ignore(ctx, param, value):
 @guarded
 def diff_cmd(a, b, node_id, interface, channel, bitrate, timeout, retries, all_, ignore,
              values_only, fmt, output, quiet, debug):
-    """Compare two configurations entry by entry: DCF, EDS, XDD/XDC, containers, their
-    JSON form, concise DCFs, two network build (or upload) folders, or with -n and one
+    """Compare two configurations entry by entry: DCF, EDS, XDD/XDC, containers, concise
+    DCFs, the JSON form of either, two network build (or upload) folders, or with -n and one
     file a node on the bus.
 
     Values are compared by type and meaning ($NODEID worked out, 0x10 equals 16); a
@@ -110,10 +111,11 @@ def _load(path: str, node_id, quiet: bool):
     name = "<stdin>" if path == "-" else path
     kind = filekind.detect(data, "" if path == "-" else path)
     problem = filekind.mismatch(name, kind, KINDS, use="dcf2bin diff compares DCF/EDS "
-                                "text, CiA 311 XML, containers, their JSON form and concise "
-                                "DCFs")
-    if problem:
-        fail(problem, name, ExitCode.UNREADABLE)
+                                "text, CiA 311 XML, containers, concise DCFs and the JSON "
+                                "form of either")
+    if problem:          # not a file of a kind diff reads (DCF008, as validate says it)
+        emit([Diagnostic(Severity.ERROR, problem, name, rule="DCF008")])
+        raise Failure(ExitCode.UNREADABLE)
     # the content wins, as in every command (a concise DCF is a .bin as a container is)
     note = filekind.misnamed(name, kind)
     if note:

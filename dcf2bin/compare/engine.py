@@ -11,8 +11,11 @@ Entries compared (docs/diff.md, "What it compares"):
 * a node and a file: the entries the file lists that were read (``Side.unread`` holds
   those that were not: write-only, no value in the file, left out).
 
-Per entry the value always (bytes; integers by number where the two sides give two
-integer types), and where both sides know it the data type, the access, the PDO mapping
+Per entry the value (bytes; integers by number where the two sides give two integer
+types) -- except between two descriptions where only one states a value: the other's
+type's zero says nothing of what the node holds there (as a file's entry without a value
+is not read from a node), so that value is not compared, and counted (``no_value``) --
+and where both sides know it the data type, the access, the PDO mapping
 flag and a container's attribute byte -- unless ``Scope.values_only``. The node's state
 and ``--ignore`` entries are left out and counted (``scope``).
 """
@@ -22,7 +25,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin.compare.scope import Scope, state_reason
-from dcf2bin.compare.side import WRITES, Item, Side
+from dcf2bin.compare.side import DESCRIPTION, WRITES, Item, Side
 from dcf2bin.diagnostics import Diagnostic, Severity
 
 CHANGED, REMOVED, ADDED = "changed", "removed", "added"     # removed: only in A; added: B
@@ -41,7 +44,8 @@ class Change:
 @dataclass
 class FileDiff:
     """What two inputs differ in. ``left_out``: why entries were not compared, with the
-    count of each (state, ignored); ``only_a``/``only_b``: objects of which one side
+    count of each (state, ignored; no_value: entries whose value only one description
+    states, their other facets compared); ``only_a``/``only_b``: objects of which one side
     holds no compared entry."""
     a: Side
     b: Side
@@ -135,7 +139,10 @@ def compare(a: Side, b: Side, scope: Scope | None = None) -> FileDiff:
         elif ia is None:
             out.changes.append(Change(key, ADDED, None, ib))
         else:
-            facets = differing(ia, ib, scope.values_only)
+            unstated = one_states(a, b, ia, ib)
+            if unstated:
+                out.left_out["no_value"] = out.left_out.get("no_value", 0) + 1
+            facets = differing(ia, ib, scope.values_only, values=not unstated)
             if facets:
                 out.changes.append(Change(key, CHANGED, ia, ib, facets))
     out.only_a, out.only_b = shown_a - shown_b, shown_b - shown_a
@@ -162,10 +169,19 @@ def _problems(out: FileDiff, compared: set) -> None:
                     d.column, d.offset, d.rule, d.hint))
 
 
-def differing(a: Item, b: Item, values_only: bool = False) -> tuple[str, ...]:
-    """The facets in which two sides' entries differ (FACETS' order)."""
+def one_states(a: Side, b: Side, ia: Item, ib: Item) -> bool:
+    """Two descriptions of which only one states the entry's value (the other's is its
+    type's zero, ``Value.implied``): the value is not compared."""
+    return a.source == DESCRIPTION and b.source == DESCRIPTION \
+        and ia.value.implied != ib.value.implied
+
+
+def differing(a: Item, b: Item, values_only: bool = False,
+              values: bool = True) -> tuple[str, ...]:
+    """The facets in which two sides' entries differ (FACETS' order); ``values``: False
+    leaves the value out."""
     out = []
-    if not same_value(a, b):
+    if values and not same_value(a, b):
         out.append("value")
     if values_only:
         return tuple(out)

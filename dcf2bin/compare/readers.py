@@ -8,12 +8,14 @@ What each kind holds:
 
 * a description (DCF/EDS, CiA 311 XML): every entry of every object from 0x1000 on,
   with its effective value (ParameterValue, else the DownloadFile's bytes, else
-  DefaultValue, else the type's zero, SPEC §1: ``Value.implied``), data type, access,
+  DefaultValue; for an identity entry, 0x1018 sub 1-4, else what [DeviceInfo] or
+  LSS_SerialNumber states, ``model.identity``, as the node made of the file answers it;
+  else the type's zero, SPEC §1: ``Value.implied``), data type, access,
   PDO mapping flag and whether a write list must write it (``Item.configured``: a
   ParameterValue or DownloadFile other than its DefaultValue on a writable entry whose
   ObjFlags bit 0 is clear);
-* a write list -- a container, its JSON form, a concise DCF -- the last write of each
-  entry (what the target holds after it), with a container's attribute byte.
+* a write list -- a container, a concise DCF, the JSON form of either -- the last write of
+  each entry (what the target holds after it), with a container's attribute byte.
 
 A file that cannot be read as its kind raises ``Unreadable`` with its diagnostics. A
 description read with errors is compared as read, its errors kept (``Source.errors``):
@@ -34,7 +36,7 @@ from dcf2bin.diagnostics import DcfError, Diagnostic, Severity
 from dcf2bin.indexes import is_pdo_mapping
 
 DESCRIPTIONS = ("dcf", "xdd")
-WRITE_LISTS = ("bin", "json", "concise")
+WRITE_LISTS = ("bin", "json", "concise", "concise-json")
 KINDS = DESCRIPTIONS + WRITE_LISTS
 # access types compile writes (SPEC §1: configured writable entries; D-9)
 _WRITABLE = frozenset({"rw", "wo", "rwr", "rww"})
@@ -77,6 +79,8 @@ def load(data: bytes, path: str, kind: str, *, label: str | None = None,
         return _description(data, path, label, kind, node_id)
     if kind == "concise":
         return _concise(data, label)
+    if kind == "concise-json":
+        return _concise_json(data, label)
     return _container(data, label, kind)
 
 
@@ -89,6 +93,19 @@ def _concise(data: bytes, label: str) -> Source:
         raise Unreadable(diags)
     places = [f"{label}:0x{off:X}" for off in offsets(entries)]
     return Source(label, "concise", entries=entries, places=places)
+
+
+def _concise_json(data: bytes, label: str) -> Source:
+    """The JSON form of a concise DCF (``dump -f json``): the bytes it records, read as a
+    concise DCF is; its entries are placed by the file alone (a JSON form's byte offsets
+    are the concise DCF's, not the file's)."""
+    from dcf2bin.dump import from_json_bytes
+    raw, diags = from_json_bytes(data, label)
+    if raw is None:
+        raise Unreadable(diags)
+    src = _concise(raw, label)
+    src.kind, src.places = "concise-json", None
+    return src
 
 
 def _container(data: bytes, label: str, kind: str) -> Source:
@@ -147,6 +164,7 @@ def _description_side(src: Source, node_id: int | None) -> Side:
         dev.node_id = node_id
         dev.encoded.clear()          # no encoding made before holds a $NODEID value
     out = Side(src.label, src.kind, DESCRIPTION, node_id=dev.node_id)
+    identity = _identity(dev)
     for obj in dev.sorted_objects():
         if obj.index < 0x1000:       # data type definitions hold no entries (SPEC §1)
             continue
@@ -154,6 +172,9 @@ def _description_side(src: Source, node_id: int | None) -> Side:
         count = None
         for e in obj.sorted_entries():
             value, problem = _value(dev, e)
+            where = ""
+            if value.implied and (e.index, e.sub) in identity:
+                value, where = identity[(e.index, e.sub)]
             if problem is not None:
                 out.problems.append((e.index, e.sub, problem, True))
             if e.sub == 0 and is_pdo_mapping(obj.index) and value.data is not None:
@@ -162,7 +183,26 @@ def _description_side(src: Source, node_id: int | None) -> Side:
             unused = count is not None and e.sub > count
             out.items[(e.index, e.sub)] = Item(
                 e.index, e.sub, value, e.dtype, e.access, e.pdo_mapping, name=e.name,
-                configured=not unused and _changes_default(dev, e, value), entry=e)
+                configured=not unused and _changes_default(dev, e, value), entry=e,
+                where=where)
+    return out
+
+
+def _identity(dev) -> dict[tuple[int, int], tuple[Value, str]]:
+    """0x1018 sub 1-4 as the file states them outside the object (``model.identity``: the
+    rule the software node answers by), each with the place of its key; only an UNSIGNED32
+    entry takes one."""
+    obj = dev.objects.get(0x1018)
+    if obj is None:
+        return {}
+    from dcf2bin.model.identity import stated_identity
+    out = {}
+    for sub, stated in stated_identity(dev.ini).items():
+        e = obj.entries.get(sub)
+        if e is not None and e.dtype is not None and e.dtype.code == dt.UNSIGNED32.code:
+            place = str(dev.ini.where(stated.line))
+            out[(0x1018, sub)] = (Value(stated.value.to_bytes(4, "little"), source=stated.key),
+                                  place)
     return out
 
 

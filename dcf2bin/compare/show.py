@@ -7,7 +7,9 @@ else what a container's attribute byte and the size say; without any, the bytes 
 
 Every value is shown bounded: long bytes as their first 32 and the count, a string or a
 value as written of more than 80 characters as its first 40 and last 12 and the count
-(``diagnostics.shorten``); the JSON form's ``data`` holds the whole bytes.
+(``diagnostics.shorten``); the JSON form's ``data`` holds the whole bytes. Two values of
+other bytes that read as the same text (a Latin-1 string against a UTF-8 one) show their
+bytes after it: ``"café" (63 61 66 E9)``.
 """
 from __future__ import annotations
 
@@ -75,7 +77,25 @@ def value_text(item: Item, other: Item | None = None) -> str:
             return shorten(v.text, LONG_TEXT)   # a $NODEID formula without a node-ID
         return "(no value)"
     text = typed(v.data, type_of(item, other))
+    if _looks_alike(text, item, other):
+        text += f" ({_spaced(v.data)})"
+    if v.source is not None:
+        return f"{text} (from {v.source})"
     return f"{text} (no value given)" if v.implied else text
+
+
+def _looks_alike(text: str, item: Item, other: Item | None) -> bool:
+    """Two values of other bytes shown as the same text (a Latin-1 "café" and a UTF-8
+    one): the lines would differ in nothing a reader sees, so each shows its bytes too."""
+    if other is None or other.value.data is None or other.value.data == item.value.data:
+        return False
+    return typed(other.value.data, type_of(other, item)) == text
+
+
+def _spaced(data: bytes) -> str:
+    """Bytes as spaced hex (``63 61 66 E9``), the first 32 of longer ones and the count."""
+    shown = " ".join(f"{b:02X}" for b in data[:LONG])
+    return f"{shown} ... {len(data)} bytes" if len(data) > LONG else shown
 
 
 def typed(data: bytes, t: dt.DataType | None) -> str:

@@ -24,13 +24,16 @@ class Value:
     values are equal for every node-ID exactly when they are equal at both: each is the
     node-ID plus a constant, or a constant); else ``problem``: why the text as written
     (``text``) has no bytes (a value out of range, an SDO abort). ``implied``: the input
-    states no value, and ``data`` is the type's zero that stands for it (SPEC §1). All
-    None: no value and no type to give it one."""
+    states no value, and ``data`` is the type's zero that stands for it (SPEC §1).
+    ``source``: where a value the entry itself does not state comes from (an identity
+    entry's ``[DeviceInfo] ProductNumber``: ``model.identity``). All None: no value and
+    no type to give it one."""
     data: bytes | None = None
     text: str | None = None
     formula: tuple[bytes, bytes] | None = None
     problem: str | None = None
     implied: bool = False
+    source: str | None = None
 
     @property
     def stated(self) -> bool:

@@ -88,6 +88,9 @@ def summary(result: Result) -> str:
         notes.append(f"{left['state']} of the node's state left out (--all compares them)")
     if left.get("ignored"):
         notes.append(f"{left['ignored']} ignored")
+    if left.get("no_value"):
+        n = left["no_value"]
+        notes.append(f"{_count(n, 'value')} only one file states not compared")
     head = f"{escape(result.a)}, {escape(result.b)}: "
     if result.folders:
         differ = sum(1 for f in result.files if f.changes)
