@@ -72,8 +72,15 @@ def test_names_key_forms(tmp_path):
 
 @pytest.mark.parametrize("entry,expected", [
     ('    "6200x": a\n',
-     "bus.yml:9: error: names: '6200x' is not an object (an index such as 0x6040, or "
-     '"0x6041sub0" with the sub-index in hex) [NET004]'),
+     "bus.yml:9: error: names: '6200x' is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
+    # the key as written, in hex (it said "names: '629145' is not an object")
+    ('    0x99999: a\n',
+     "bus.yml:9: error: names: 0x99999 is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
+    ('    true: a\n',
+     "bus.yml:9: error: names: true is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
     ("    0x6200: [a]\n",
      "bus.yml:9: error: names: 0x6200sub0: expected a text, found a list [NET004]"),
     ("    0x6200: 1st\n",

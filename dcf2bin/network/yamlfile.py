@@ -69,6 +69,16 @@ def object_key(key) -> tuple[int, int] | None:
     return (index, sub) if 0 <= index <= 0xFFFF and 0 <= sub <= 0xFF else None
 
 
+def key_text(key) -> str:
+    """A ``names:`` key as the user wrote it: a text quoted, an integer in hex as indexes
+    are written (YAML gave ``0x99999`` as 629145)."""
+    if isinstance(key, bool):
+        return str(key).lower()
+    if isinstance(key, int):
+        return f"-0x{-key:X}" if key < 0 else f"0x{key:X}"
+    return f"'{shorten(key)}'"
+
+
 class _Reader(Items):
     """The layouts and the nodes."""
 
@@ -146,8 +156,8 @@ class _Reader(Items):
             kline = value.lines[key]
             obj = object_key(key)
             if obj is None:
-                self.err(f"names: '{shorten(key)}' is not an object (an index such as 0x6040, or "
-                         "\"0x6041sub0\" with the sub-index in hex)", kline)
+                self.err(f"names: {key_text(key)} is not an object (an index 0x0000..0xFFFF "
+                         "such as 0x6040, or \"0x6041sub0\" with the sub-index in hex)", kline)
                 continue
             index, sub = obj
             got = self.scalar(f"names: 0x{index:04X}sub{sub:X}", "str", v, kline)
