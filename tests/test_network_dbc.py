@@ -152,7 +152,9 @@ Düse₂:
       mapping: [{{index: 0x2003}}]
 """, encoding="utf-8")
     res = examine(str(path), lint=ERRORS)
-    assert [d.rule for d in res.diagnostics] == ["NET122"]      # the object twice
+    # the object twice; a name: that is no IEC identifier is an error for a lely master
+    # too (D-17, D-21), and dbc still makes a DBC identifier of what it is given
+    assert [(d.rule, d.line) for d in res.diagnostics] == [("NET122", 9), ("NET106", 8)]
     data = dbc.dump(res.network)
     db = cantools.database.load_string(data.decode("cp1252"), "dbc")
     assert [n.name for n in db.nodes] == ["master", "_1st_sensor", "_1st_sensor_2", "D_se_"]

@@ -159,3 +159,33 @@ def test_ros2_simple_file_builds():
     assert list(res.outputs) == ["master.dcf", "master.bin", "proxy_device_1.bin",
                                  "proxy_device_2.bin", "proxy_device_1.dcf",
                                  "proxy_device_2.dcf"]
+
+
+def test_show_names_the_lely_masters_application_objects(tmp_path):
+    """show headed a lely master's table "PLC variables:" (there is no PLC): its rows are
+    the records 0x2000/0x2200 that master.dcf maps the slaves' data into (D-21), each
+    variable at the sub where it first came (drive's 0x6041, mapped in two TPDOs, at
+    0x2004sub1 as [1605Value] maps it); a PLC master keeps its heading and columns."""
+    out = run("network", "show", LELY / "flat.yml").output.split("\n\n")
+    table = next(b for b in out if b.startswith("Mapped"))
+    lines = table.splitlines()
+    assert lines[:3] == [
+        "Mapped application objects of the lely master (0x2000/0x2200):",
+        "variable      dir  type        node       object      master entry",
+        "io_7130_1     in   INTEGER16   io (5)     0x7130sub1  0x2000sub1"]
+    assert lines[-7:] == [
+        "drive_6041_0  in   UNSIGNED16  drive (2)  0x6041sub0  0x2004sub1",
+        "drive_6064_0  in   INTEGER32   drive (2)  0x6064sub0  0x2004sub2",
+        "drive_606C_0  in   INTEGER32   drive (2)  0x606Csub0  0x2005sub1",
+        "drive_6040_0  out  UNSIGNED16  drive (2)  0x6040sub0  0x2200sub1",
+        "drive_6060_0  out  INTEGER8    drive (2)  0x6060sub0  0x2200sub2",
+        "drive_607A_0  out  INTEGER32   drive (2)  0x607Asub0  0x2201sub1",
+        "drive_60FF_0  out  INTEGER32   drive (2)  0x60FFsub0  0x2202sub1"]
+    assert not any("PLC" in b for b in out)
+    page = run("network", "show", LELY / "flat.yml", "-f", "html").output
+    assert ("<h2>Mapped application objects of the lely master (0x2000/0x2200)</h2>" in page
+            and "PLC" not in page)
+    plc = run("network", "show", LELY / "plc.yml").output.split("\n\n")
+    assert [b.splitlines()[:2] for b in plc if "PLC variables" in b] == [[
+        "PLC variables:",
+        "variable        dir  type        node       object      PLC entry    offset"]]

@@ -48,6 +48,9 @@ SIZE = ("dcfgen is wrong: UNSIGNED24 and INTEGER40 are written with size 3 and 5
 SERIAL = ("the master's own serial_number: dcfgen writes it in master.bin, into 0x1018 sub 4, "
           "which its master.dcf marks ro (a concise DCF that writes a read-only entry); "
           "dcf2bin states it as that entry's DefaultValue in master.dcf")
+FILE_INFO = ("dcfgen writes no [FileInfo], which CiA 306 requires: dcf2bin's master.dcf "
+             "has one (FileName, versions, no creation date: the same network builds the "
+             "same bytes), so that validate --strict passes it (DCF060)")
 
 # dcfgen's master PDO number -> dcf2bin's for the same slave PDO, where they differ
 # (None: dcfgen mirrors a slave PDO that dcf2bin does not, the "dcfgen RPDOn (...)" row
@@ -88,7 +91,9 @@ EXPECTED = [
      MIRRORED + " (drive's RPDO2-4: its file's COB-IDs are valid)"),
     ("keys", ("cn.bin order",), ORDER),
     ("keys", ("master.dcf 0x1018", "master.bin 0x1018sub4"), SERIAL),
-]
+] + [(ident, ("master.dcf [[]FileInfo]",), FILE_INFO)    # (fnmatch: [[] is "[")
+     for ident in ("flat", "nodes", "anchors", "pdo8", "both_ways", "dcfgen_wrong",
+                   "plc-as-lely", "keys")]
 
 # Where dcfgen stops: the last line of its traceback.
 CRASHES = {

@@ -72,8 +72,15 @@ def test_names_key_forms(tmp_path):
 
 @pytest.mark.parametrize("entry,expected", [
     ('    "6200x": a\n',
-     "bus.yml:9: error: names: '6200x' is not an object (an index such as 0x6040, or "
-     '"0x6041sub0" with the sub-index in hex) [NET004]'),
+     "bus.yml:9: error: names: '6200x' is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
+    # the key as written, in hex (it said "names: '629145' is not an object")
+    ('    0x99999: a\n',
+     "bus.yml:9: error: names: 0x99999 is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
+    ('    true: a\n',
+     "bus.yml:9: error: names: true is not an object (an index 0x0000..0xFFFF such as "
+     '0x6040, or "0x6041sub0" with the sub-index in hex) [NET004]'),
     ("    0x6200: [a]\n",
      "bus.yml:9: error: names: 0x6200sub0: expected a text, found a list [NET004]"),
     ("    0x6200: 1st\n",
@@ -82,23 +89,60 @@ def test_names_key_forms(tmp_path):
     ("    0x6200: a\n    0x6200sub0: b\n",
      "bus.yml:10: error: names: 0x6200sub0 is named twice (first at line 9) [NET002]"),
     ("    0x6001: a\n",
-     "bus.yml:9: warning: names: 0x6001sub0 of io is mapped by no PDO linked with the PLC: "
+     "bus.yml:9: warning: names: 0x6001sub0 of io is mapped by no PDO linked with the master: "
      "the name is not used [NET123]"),
     ("    0x6200: io_6000_0\n",
      "bus.yml:9: error: name 'io_6000_0' is given to two objects (also at mini.eds:198) "
      "[NET107]"),
 ])
-def test_names_findings(tmp_path, entry, expected):
-    got, _ = build(tmp_path, SLAVE + "  names:\n" + entry)
+@pytest.mark.parametrize("master", ["plc", "lely"])
+def test_names_findings(tmp_path, entry, expected, master):
+    """The same findings with and without a master dcf: (D-17, D-21): a lely master's
+    variables are show's rows and dbc's signals, named by the same rules."""
+    got, _ = build_as(tmp_path, master, SLAVE + "  names:\n" + entry)
     assert got == [expected]
 
 
-def test_a_mapping_name_and_names_disagree(tmp_path):
+# a lely master (no dcf:), its keys on as many lines as HEAD's, so that lines agree
+LELY_HEAD = "master:\n  node_id: 1\n  # a lely master: no dcf\n  heartbeat_producer: 100\n"
+
+
+def build_as(tmp_path, master: str, body: str):
+    """``build`` of test_network_build with a PLC master (HEAD) or a lely master."""
+    got, res = build(tmp_path, body)
+    if master == "plc":
+        return got, res
+    (tmp_path / "bus.yml").write_text(LELY_HEAD + body)
+    from dcf2bin.network import build_network
+    res = build_network(str(tmp_path / "bus.yml"))
+    assert res.network.master.device is None          # (the lely kind was built)
+    return [d.format().replace(str(tmp_path) + "/", "") for d in res.diagnostics
+            if not d.rule.startswith("NET2")], res
+
+
+@pytest.mark.parametrize("master", ["plc", "lely"])
+def test_a_mapping_name_and_names_disagree(tmp_path, master):
     body = SLAVE + ("  tpdo:\n    1:\n      mapping:\n        - {index: 0x6000, name: level}\n"
                     "  names: {0x6000: height}\n")
-    got, _ = build(tmp_path, body)
+    got, _ = build_as(tmp_path, master, body)
     assert got == ["bus.yml:12: error: 0x6000sub0 of io is named 'height' here and 'level' "
                    "at line 11 [NET107]"]
+
+
+@pytest.mark.parametrize("master", ["plc", "lely"])
+def test_a_mapping_name_is_checked(tmp_path, master):
+    """A mapping entry's name: is an IEC identifier, and one name is one object, for a
+    lely master too (a lely build wrote 0 errors and show listed a variable 'bad name')."""
+    body = SLAVE + ('  tpdo:\n    1:\n      mapping:\n        - {index: 0x6000, name: "bad name"}\n'
+                    "  rpdo:\n    1:\n      mapping:\n        - {index: 0x6200, name: horn}\n"
+                    "  names: {0x6000: level}\n")
+    got, res = build_as(tmp_path, master, body)
+    assert got == [
+        "bus.yml:11: error: name 'bad name' is not an IEC 61131-3 identifier (letters, digits "
+        "and single '_', not a keyword) [NET106]",
+        "bus.yml:16: error: 0x6000sub0 of io is named 'level' here and 'bad name' at line 11 "
+        "[NET107]"]
+    assert res.outputs == {}
 
 
 def test_no_false_net224_when_the_plc_cannot_place_its_variables(tmp_path):

@@ -358,3 +358,26 @@ def test_a_node_file_named_dev_stdin_is_never_this_process_input(tmp_path):
                        timeout=60)
     assert (r.returncode, r.stdout.decode().splitlines()[0]) == (
         3, f"{path}:15: error: cannot read /dev/stdin: a FIFO, not a regular file [NET010]")
+
+
+def test_a_device_description_as_the_network_file_says_what_it_is(tmp_path):
+    """`network check ts.eds` answered `YAML syntax: did not find expected <document
+    start> [NET001]`, `network build p.xpd` "mapping values are not allowed": the file's
+    kind (as validate names a network file given to it), in one line, with the code of a
+    network file that cannot be read, exit 3, nothing written -- in every command."""
+    eds = tmp_path / "ts.eds"
+    eds.write_text("[FileInfo]\nFileName=ts.eds\n\n[DeviceInfo]\nVendorNumber=0x1\n")
+    xpd = tmp_path / "p.xpd"
+    shutil.copy(ROOT / "tests" / "fixtures" / "convert" / "small.xdd", xpd)
+    said = {eds: "DCF/EDS text", xpd: "CiA 311 XML (XDD/XDC)"}
+    for path, kind in said.items():
+        line = (f"{path}: error: {path} is {kind}, not a YAML network file or a CiA 306-3 "
+                "network project; a network file names it as a node's dcf: (dcf2bin validate "
+                "checks it, compile makes a container of it) [IO001]")
+        for command in SUBCOMMANDS:
+            more = ["-o", str(tmp_path / "o")] if command in ("build", "upload") else []
+            r = run("network", command, path, *more)
+            assert r.exit_code == 3, command
+            got = [t for t in (r.stdout + r.stderr).splitlines() if "error:" in t]
+            assert got == [line], command
+    assert not (tmp_path / "o").exists()

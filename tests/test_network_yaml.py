@@ -346,3 +346,23 @@ def test_a_tab_that_indents_is_named(tmp_path):
     assert found(net, tmp_path) == [
         "bus.yml:2: error: YAML syntax: while scanning for the next token: found character "
         "that cannot start any token (a tab: YAML indents with spaces) [NET001]"]
+
+
+
+def test_another_kind_of_file_is_named_not_parsed(tmp_path):
+    """A concise DCF (not UTF-8: it was "not UTF-8 text") and a CSV list (it was "must be
+    a mapping") given as the network file: what each is and which command reads it, in
+    filekind's words for every command; a YAML file keeps its syntax error (above)."""
+    p = tmp_path / "io.bin"
+    p.write_bytes(bytes.fromhex("01000000" "0018" "01" "04000000" "81010080"))
+    assert found(load_network(str(p)), tmp_path) == [
+        "io.bin: error: io.bin is a concise DCF (CiA 302-3), not a YAML network file or a "
+        "CiA 306-3 network project; use dcf2bin dump to read it (dcf2bin validate checks it, "
+        "download writes it to a node, bin2dcf turns it into a DCF) [IO001]"]
+    assert found(load(tmp_path, "name,type,direction\nlevel,UNSIGNED8,input\n", "v.csv"),
+                 tmp_path) == [
+        "v.csv: error: v.csv is not a YAML network file (it looks like CSV: dcf2bin allocate "
+        "reads it) [IO001]"]
+    # a flow-style network file in a file named .txt is YAML all the same
+    net = load(tmp_path, "{master: {node_id: 1}, io: {dcf: io.eds, node_id: 5}}\n", "n.txt")
+    assert found(net, tmp_path) == [] and [n.node_id for n in net.nodes] == [1, 5]

@@ -79,6 +79,7 @@ class VarRow:
     pi_index: int | None
     pi_sub: int | None
     pi_offset: int | None
+    app: tuple[int, int] | None = None      # a lely master's 0x2000/0x2200 record and sub
 
 
 @dataclass
@@ -111,6 +112,7 @@ class View:
     variables: list[VarRow] = field(default_factory=list)
     slaves: list[SlaveRow] = field(default_factory=list)
     kind: str = "yaml"                        # "yaml" or "cpj"
+    lely: bool = False                        # a lely master (no dcf:): no PLC variables
 
 
 def identity_of(network, node) -> dict[int, int]:
@@ -204,12 +206,22 @@ def build(network: Network, writes: str | None = None) -> View:
     view = View(network.path, network.bitrate, nodes, links, load.total, len(load.unknown),
                 kind=network.kind)
     by_id = {n.node_id: n for n in network.nodes}
+    master = network.master
+    # a lely master: a YAML master without dcf: (master_kind's rule), whose variables no
+    # PLC's file holds
+    view.lely = (network.kind == "yaml" and master is not None and master.file is None
+                 and not any(v.pi_index is not None for v in network.variables))
+    places = {}
+    if view.lely and network.variables:     # D-21: the records 0x2000/0x2200 dcfgen makes
+        from dcf2bin.network.lely.layout import places as lely_places
+        places = lely_places(network)
     for v in network.variables:
         t = dt.BY_CODE.get(v.datatype)
         slave = by_id.get(v.node_id)
         view.variables.append(VarRow(v.name, v.direction, t.name if t else f"0x{v.datatype:04X}",
                                      slave.name if slave else "?", v.node_id, v.index, v.sub,
-                                     v.pi_index, v.pi_sub, v.pi_offset))
+                                     v.pi_index, v.pi_sub, v.pi_offset,
+                                     places.get((v.node_id, v.index, v.sub, v.direction))))
     chosen = None if writes in (None, "all") else find_node(network, writes)
     for n in sorted(network.slaves, key=lambda n: n.node_id):
         row = SlaveRow(n.name, n.node_id, dict(sorted(identity_of(network, n).items())))
@@ -250,6 +262,34 @@ def table(head: list[str], rows: list[list[str]]) -> list[str]:
     return [fmt(head)] + [fmt(r) for r in rows]
 
 
+def variables_title(view: View) -> str:
+    """The heading of the variables: a PLC's network variables, or for a lely master
+    (D-21) the application objects its PDOs map the slaves' data into."""
+    if view.lely:
+        return "Mapped application objects of the lely master (0x2000/0x2200)"
+    return "PLC variables"
+
+
+def variable_table(view: View, short: bool) -> tuple[list[str], list[list[str]]]:
+    """The head and rows of the variables (``short``: ``in``/``out`` for the direction):
+    a PLC's entry and offset, or the lely master's application object."""
+    def direction(v: VarRow) -> str:
+        return ("in" if v.direction == "input" else "out") if short else v.direction
+
+    def entry(place) -> str:
+        return f"0x{place[0]:04X}sub{place[1]:X}" if place is not None else ""
+    head = ["variable", "dir" if short else "direction", "type", "node", "object"]
+    common = [[v.name, direction(v), v.datatype, f"{v.node} ({v.node_id})",
+               f"0x{v.index:04X}sub{v.sub:X}"] for v in view.variables]
+    if view.lely:
+        return head + ["master entry"], [row + [entry(v.app)]
+                                         for row, v in zip(common, view.variables)]
+    return head + ["PLC entry", "offset"], [
+        row + [entry((v.pi_index, v.pi_sub) if v.pi_index is not None else None),
+               str(v.pi_offset) if v.pi_offset is not None else ""]
+        for row, v in zip(common, view.variables)]
+
+
 def text(view: View) -> str:
     out = [f"{view.path}: {len(view.nodes)} nodes, {sum(k.is_pdo for k in view.links)} PDO "
            f"COB-IDs, estimated bus load {view.total:.1f} % of {view.bitrate // 1000} kbit/s"
@@ -263,13 +303,9 @@ def text(view: View) -> str:
     out += table(["COB-ID", "frame", "producer", "consumers", "bytes", "rate", "load",
                    "content"], rows)
     if view.variables:
-        out += ["", "PLC variables:"]
-        out += table(["variable", "dir", "type", "node", "object", "PLC entry", "offset"],
-                      [[v.name, "in" if v.direction == "input" else "out", v.datatype,
-                        f"{v.node} ({v.node_id})", f"0x{v.index:04X}sub{v.sub:X}",
-                        f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
-                        str(v.pi_offset) if v.pi_offset is not None else ""]
-                       for v in view.variables])
+        head, rows = variable_table(view, short=True)
+        out += ["", f"{variables_title(view)}:"]
+        out += table(head, rows)
     if view.slaves:
         out += ["", "Identity the master enforces:" if view.kind != "cpj" else
                 "Identity each node's DCF states (a .cpj project has no master):"]

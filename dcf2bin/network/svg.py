@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from dcf2bin import htmlpage
-from dcf2bin.network.show import View, rate_text
+from dcf2bin.network.show import View, rate_text, variable_table, variables_title
 
 FONT = "DejaVu Sans Mono, Menlo, Consolas, monospace"
 ADVANCE = 0.6            # em: every character of a monospace font
@@ -288,13 +288,8 @@ def to_html(view: View) -> str:
                    rate_text(k.rate), f"{k.share:.2f} %", ", ".join(k.content)]
                   for k in view.links])
     if view.variables:
-        out.append("<h2>PLC variables</h2>")
-        out += table(["variable", "direction", "type", "node", "object", "PLC entry", "offset"],
-                     [[v.name, v.direction, v.datatype, f"{v.node} ({v.node_id})",
-                       f"0x{v.index:04X}sub{v.sub:X}",
-                       f"0x{v.pi_index:04X}sub{v.pi_sub:X}" if v.pi_index is not None else "",
-                       str(v.pi_offset) if v.pi_offset is not None else ""]
-                      for v in view.variables])
+        out.append(f"<h2>{variables_title(view)}</h2>")
+        out += table(*variable_table(view, short=False))
     if view.slaves:
         out.append("<h2>Identity the master enforces</h2>" if view.kind != "cpj" else
                    "<h2>Identity each node's DCF states</h2>")

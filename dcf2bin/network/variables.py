@@ -1,4 +1,7 @@
-"""The PLC's network variables (SPEC §10.2, D-17).
+"""The network variables (SPEC §10.2, D-17): a PLC master's network variables; for a lely
+master (D-21) the same variables, named by the same rules and checked alike, are what
+``show`` lists and ``dbc`` calls its signals (its own application objects 0x2000/0x2200
+are named by dcfgen's rule, :mod:`.lely.layout`).
 
 Each slave object mapped in a linked PDO becomes one PLC variable of its data type (an
 input from a slave TPDO, an output to a slave RPDO), mapped at the same position with the
@@ -78,25 +81,22 @@ def make_variables(net: Network, mirrors: list[Pdo], diags: Diagnostics) -> None
                 by_object[key] = var
                 if m.name:
                     name_where[key] = where
-                    _check_name(m.name, where, with_dcf, diags)
-                _claim(var.name, key, where, by_name, with_dcf, diags)
+                    _check_name(m.name, where, diags)
+                _claim(var.name, key, where, by_name, diags)
             elif m.name and var.name != m.name:
                 first = name_where.get(key)
                 if first is not None:
-                    if with_dcf:
-                        diags.error(f"0x{m.index:04X}sub{m.sub:X} of {shorten(slave.name)} is "
-                                    "named "
-                                    f"'{shorten(m.name)}' here and '{shorten(var.name)}' at "
-                                    f"line {first.line}",
-                                    where, rule="NET107")
+                    diags.error(f"0x{m.index:04X}sub{m.sub:X} of {shorten(slave.name)} is named "
+                                f"'{shorten(m.name)}' here and '{shorten(var.name)}' at line "
+                                f"{first.line}", where, rule="NET107")
                 else:     # the first mapping had no name: this one names it
                     by_name.pop(var.name.casefold(), None)
                     var.name = m.name
                     name_where[key] = where
-                    _check_name(m.name, where, with_dcf, diags)
-                    _claim(var.name, key, where, by_name, with_dcf, diags)
+                    _check_name(m.name, where, diags)
+                    _claim(var.name, key, where, by_name, diags)
             mirror.mapping.append(Mapped(m.index, m.sub, m.bits, m.datatype, var.name, where))
-    _slave_names(net, by_object, name_where, by_name, both, with_dcf, diags)
+    _slave_names(net, by_object, name_where, by_name, both, diags)
     for mirror in mirrors:      # a later name: may have renamed a variable
         for m in mirror.mapping:
             if not m.is_dummy:
@@ -110,7 +110,7 @@ def _key(mirror: Pdo, m: Mapped) -> tuple:
 
 
 def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
-                 both: set, with_dcf: bool, diags: Diagnostics) -> None:
+                 both: set, diags: Diagnostics) -> None:
     """A slave's ``names:`` (D-17): the name of each variable of that object that no
     ``name:`` of a mapping names (``_in``/``_out`` added for an object mapped both ways);
     a mapping's ``name:`` that says otherwise is two names for one object (NET107); an
@@ -120,17 +120,15 @@ def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
             keys = [k for k in ((slave.node_id, index, sub, d) for d in ("input", "output"))
                     if k in by_object]
             if not keys:
-                if with_dcf:
-                    diags.warning(f"names: 0x{index:04X}sub{sub:X} of {shorten(slave.name)} is "
-                                  "mapped "
-                                  "by no PDO linked with the PLC: the name is not used",
-                                  where, rule="NET123")
+                diags.warning(f"names: 0x{index:04X}sub{sub:X} of {shorten(slave.name)} is "
+                              "mapped by no PDO linked with the master: the name is not used",
+                              where, rule="NET123")
                 continue
             for key in keys:
                 var, want = by_object[key], text + suffix(key, both)
                 first = name_where.get(key)
                 if first is not None:
-                    if var.name != want and with_dcf:
+                    if var.name != want:
                         diags.error(f"0x{index:04X}sub{sub:X} of {shorten(slave.name)} is named "
                                     f"'{shorten(want)}' here and '{shorten(var.name)}' at line "
                                     f"{first.line}",
@@ -139,8 +137,8 @@ def _slave_names(net: Network, by_object: dict, name_where: dict, by_name: dict,
                 by_name.pop(var.name.casefold(), None)
                 var.name = want
                 name_where[key] = where
-                _check_name(want, where, with_dcf, diags)
-                _claim(want, key, where, by_name, with_dcf, diags)
+                _check_name(want, where, diags)
+                _claim(want, key, where, by_name, diags)
 
 
 def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
@@ -159,20 +157,22 @@ def _new(net: Network, slave: Node, m: Mapped, direction: str, where: Where,
     return var
 
 
-def _check_name(name: str, where: Where, with_dcf: bool, diags: Diagnostics) -> None:
-    if with_dcf and not is_iec_identifier(name):
+def _check_name(name: str, where: Where, diags: Diagnostics) -> None:
+    """A name given (``name:``, ``names:``) is an IEC 61131-3 identifier with or without
+    a master ``dcf:`` (D-17, D-21): the variable of a PLC, and for a lely master the signal
+    of ``network dbc`` and the row of ``show`` -- one name for both masters."""
+    if not is_iec_identifier(name):
         diags.error(f"name '{shorten(name)}' is not an IEC 61131-3 identifier (letters, digits and "
                     "single '_', not a keyword)", where, rule="NET106")
 
 
-def _claim(name: str, key: tuple, where: Where, by_name: dict, with_dcf: bool,
-           diags: Diagnostics) -> None:
+def _claim(name: str, key: tuple, where: Where, by_name: dict, diags: Diagnostics) -> None:
     fold = name.casefold()
     other = by_name.get(fold)
     if other is None:
         by_name[fold] = (key, where)
         return
-    if other[0] != key and with_dcf:
+    if other[0] != key:
         diags.error(f"name '{shorten(name)}' is given to two objects (also at {other[1]})", where,
                     rule="NET107")
 

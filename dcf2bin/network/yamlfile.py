@@ -38,15 +38,41 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     try:
         data.decode("utf-8-sig")      # (libyaml reads the bytes: no copy of the text kept)
     except UnicodeDecodeError as exc:
+        other = other_kind(path, data)       # a container, a concise DCF: what it is
+        if other is not None:
+            diags.error(other, Where(path), rule="IO001")
+            return net
         line = data.count(b"\n", 0, exc.start) + 1
         diags.error("the network file is not UTF-8 text", Where(path, line), rule="NET001")
         return net
     try:
         root = read_tree(data, path, diags)
     except YamlError:
-        return net
+        root = None
+    if not isinstance(root, YMap):
+        other = other_kind(path, data)
+        if other is not None:        # one line for what it is, not its YAML syntax error
+            net.diagnostics = Summarised()
+            net.diagnostics.error(other, Where(path), rule="IO001")
+            return net
+        if root is None and diags.has_errors:
+            return net
     _Reader(net, os.path.dirname(path)).run(root)
     return net
+
+
+def other_kind(path: str, data: bytes) -> str | None:
+    """What a file that YAML cannot read as a mapping is, when the file-kind detection
+    every command uses says it is another kind (an EDS given as the network file, an XDD,
+    a container): ``ts.eds is DCF/EDS text, not a YAML network file or a CiA 306-3 network
+    project; a network file names it as a node's dcf: ...`` -- the words ``validate`` has for a network file
+    given to it, the other way round. None for a YAML file (its syntax error is the
+    finding)."""
+    from dcf2bin import filekind
+    node_file = ("a network file names it as a node's dcf: (dcf2bin validate checks it, "
+                 "compile makes a container of it)")
+    return filekind.mismatch(path, filekind.detect(data, path), ("yaml", "cpj"),
+                             use={filekind.DCF: node_file, filekind.XDD: node_file})
 
 
 _OBJECT = re.compile(r"(.+?)sub([0-9a-fA-F]{1,2}|0[xX][0-9a-fA-F]{1,2})", re.IGNORECASE)
@@ -67,6 +93,16 @@ def object_key(key) -> tuple[int, int] | None:
     except _Bad:
         return None
     return (index, sub) if 0 <= index <= 0xFFFF and 0 <= sub <= 0xFF else None
+
+
+def key_text(key) -> str:
+    """A ``names:`` key as the user wrote it: a text quoted, an integer in hex as indexes
+    are written (YAML gave ``0x99999`` as 629145)."""
+    if isinstance(key, bool):
+        return str(key).lower()
+    if isinstance(key, int):
+        return f"-0x{-key:X}" if key < 0 else f"0x{key:X}"
+    return f"'{shorten(key)}'"
 
 
 class _Reader(Items):
@@ -146,8 +182,8 @@ class _Reader(Items):
             kline = value.lines[key]
             obj = object_key(key)
             if obj is None:
-                self.err(f"names: '{shorten(key)}' is not an object (an index such as 0x6040, or "
-                         "\"0x6041sub0\" with the sub-index in hex)", kline)
+                self.err(f"names: {key_text(key)} is not an object (an index 0x0000..0xFFFF "
+                         "such as 0x6040, or \"0x6041sub0\" with the sub-index in hex)", kline)
                 continue
             index, sub = obj
             got = self.scalar(f"names: 0x{index:04X}sub{sub:X}", "str", v, kline)

@@ -99,3 +99,18 @@ def layout(net: Network) -> Layout:
             if record.subs:
                 out.records.append(record)
     return out
+
+
+def places(net: Network) -> dict[tuple[int, int, int, str], tuple[int, int]]:
+    """(slave node-ID, index, sub, "input"/"output") -> (index, sub) of the master's
+    application object that each slave object is mapped to: where ``show`` says a lely
+    master keeps each variable (a dummy entry is no variable)."""
+    lay = layout(net)
+    out: dict[tuple[int, int, int, str], tuple[int, int]] = {}
+    for rows, direction in ((lay.rpdos, "input"), (lay.tpdos, "output")):
+        for mp in rows:
+            for e, value in zip(mp.src.mapping, mp.mapping):
+                if not e.is_dummy:
+                    out.setdefault((mp.slave.node_id, e.index, e.sub, direction),
+                                   (value >> 16, (value >> 8) & 0xFF))
+    return out

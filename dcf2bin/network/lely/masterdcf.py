@@ -71,7 +71,7 @@ def master_dcf(net: Network, names: dict[str, str]) -> str:
     slaves = dcfgen_order(net)
     master = net.master
     uploads = {s.node_id: upload_file(net, s, names[s.name]) for s in slaves}
-    sections = _header(master, lay)
+    sections = [_file_info(names[master.name] + ".dcf")] + _header(master, lay)
     sections += _lists(master, lay, bool(uploads), _updates(slaves))
     sections += _communication(net, slaves)
     sections += _pdos(lay)
@@ -110,6 +110,16 @@ def _updates(slaves: list[Node]) -> dict[int, str]:
     """node-ID -> the program the master downloads to it (``software_file``, 0x1F58)."""
     return {s.node_id: s.config["software_file"] for s in slaves
             if "software_file" in s.config}
+
+
+def _file_info(file_name: str) -> Section:
+    """[FileInfo], which dcfgen does not write and CiA 306 requires (validate: DCF060):
+    no CreationDate/CreationTime, as bin2dcf and allocate write none, so that a build of
+    the same network gives the same bytes (the tests' golden files, a user's diff)."""
+    return ("FileInfo", [("FileName", file_name), ("FileVersion", "1"),
+                         ("FileRevision", "0"), ("EDSVersion", "4.0"),
+                         ("Description", "lely master built by dcf2bin network build"),
+                         ("CreatedBy", "dcf2bin network build")])
 
 
 def _header(master: Node, lay: Layout) -> list[Section]:
