@@ -370,7 +370,7 @@ class _Builder:
                                "UNSIGNED8 in CANopenNode")
         members, inits, rows, taken = [], [], [], {}
         for e, d in zip(entries, data):
-            m = self.member_name(e, taken)
+            m = _member_name(e, taken, self.diags)
             ptr = "NULL"
             if d.init is not None:
                 members.append(f"{d.ctype} {m}{d.dims};")
@@ -388,27 +388,29 @@ class _Builder:
         self.out.objs.append([f".o_{var} = {{", *rows, "}"])
         return len(entries), "REC"
 
-    def member_name(self, entry, taken: dict) -> str:
-        """A sub-entry's member name: its C name; the sub-index where the name gives none,
-        is a C keyword, or is taken by an earlier sub-entry (warning EXP315)."""
-        m = cname(entry.name)
-        if not m or m in C_KEYWORDS:
-            m = f"{m}_sub{entry.sub:X}" if m else f"sub{entry.sub:X}"
-        if m in taken:
-            first = taken[m]
-            m2 = f"{m}_sub{entry.sub:X}"
-            self.diags.append(warning(
-                f"{entry.label}: its C name '{shorten(m)}' is taken by sub-index 0x{first:02X}; "
-                f"it is named '{shorten(m2)}'", entry.where, "EXP315", "give the sub-entries different names"))
-            m = m2
-        taken[m] = entry.sub
-        return m
-
     def refuse(self, obj, message: str):
         self.diags.append(error(message, obj.where, "EXP316",
                                 "make it a RECORD (ObjectType=0x9), or give its elements one "
                                 "type, access and kind of value"))
         return None
+
+
+def _member_name(entry, taken: dict, diags: list) -> str:
+    """A sub-entry's member name: its C name; the sub-index where the name gives none,
+    is a C keyword, or is taken by an earlier sub-entry (warning EXP315)."""
+    m = cname(entry.name)
+    if not m or m in C_KEYWORDS:
+        m = f"{m}_sub{entry.sub:X}" if m else f"sub{entry.sub:X}"
+    if m in taken:
+        first = taken[m]
+        m2 = f"{m}_sub{entry.sub:X}"
+        diags.append(warning(
+            f"{entry.label}: its C name '{shorten(m)}' is taken by sub-index 0x{first:02X}; "
+            f"it is named '{shorten(m2)}'", entry.where, "EXP315",
+            "give the sub-entries different names"))
+        m = m2
+    taken[m] = entry.sub
+    return m
 
 
 def _where(entry, line: int | None) -> Where:
