@@ -189,3 +189,22 @@ def test_show_names_the_lely_masters_application_objects(tmp_path):
     assert [b.splitlines()[:2] for b in plc if "PLC variables" in b] == [[
         "PLC variables:",
         "variable        dir  type        node       object      PLC entry    offset"]]
+
+
+def test_check_and_show_take_master_as_build_does(tmp_path):
+    """--master lely on a file whose master has dcf: (plc.yml): check says what build says
+    of it (the master's dcf: not read) and exits as build does, and show draws the lely
+    master's table; without --master both follow dcf: (a PLC). --master plc on a file
+    without dcf: is build's NET119 in check too (one verdict)."""
+    r = run("network", "check", LELY / "plc.yml", "--master", "lely")
+    assert r.exit_code == 0
+    assert (f"{LELY}/plc.yml:6: info: the master's dcf: is not read: a lely master is built "
+            "[NET007]") in r.stdout.splitlines()
+    assert "NET007" not in run("network", "check", LELY / "plc.yml").stdout
+    shown = run("network", "show", LELY / "plc.yml", "--master", "lely").output
+    assert "Mapped application objects of the lely master (0x2000/0x2200):" in shown
+    assert "PLC variables:" in run("network", "show", LELY / "plc.yml").output
+    r = run("network", "check", LELY / "flat.yml", "--master", "plc")
+    assert r.exit_code == 1
+    assert (f"{LELY}/flat.yml:9: error: build needs the PLC's EDS or DCF: give it as 'dcf:' "
+            "under 'master:' [NET119]") in r.stdout.splitlines()

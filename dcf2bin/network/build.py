@@ -77,11 +77,7 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
     net = checked.network
     master = net.master
     mode = kind or (PLC if master is not None and master.file is not None else LELY)
-    res = BuildResult(net, list(checked.diagnostics), mode=mode)
-    if mode == PLC and master is not None and master.file is None and res.ok:
-        res.diagnostics.append(Diagnostic(
-            Severity.ERROR, "build needs the PLC's EDS or DCF: give it as 'dcf:' under "
-            "'master:'", master.where.file, master.where.line, rule="NET119"))
+    res = BuildResult(net, list(checked.diagnostics), mode=mode)    # NET119: master_kind
     if not res.ok or master is None or not net.configured:
         return res
     out = Diagnostics()

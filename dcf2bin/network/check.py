@@ -146,15 +146,17 @@ def read_network(path: str, *, net: int | None = None, data: bytes | None = None
 
 
 def check_network(path: str, *, select=None, ignore=None, max_load: float = 80.0,
-                  net: int | None = None) -> CheckResult:
+                  net: int | None = None, master: str | None = None) -> CheckResult:
     """Check the network file ``path`` (YAML or .cpj) as ``dcf2bin network check`` does.
 
     ``select``/``ignore`` take rule codes, code prefixes or names (a string or a list);
     ``net`` picks the network of a .cpj (``[TopologyN]``, default the first); a bus load
     above ``max_load`` percent is a warning. Never raises for a problem in the inputs: a
-    file that cannot be read is an ``IO001`` finding.
+    file that cannot be read is an ``IO001`` finding. ``master``: "plc" or "lely" checks
+    the network for that kind of master (by default: plc when the master has ``dcf:``).
     """
-    return examine(path, select=select, ignore=ignore, max_load=max_load, net=net)
+    return examine(path, select=select, ignore=ignore, max_load=max_load, net=net,
+                   master=master)
 
 
 # What every network command finds (issue 26: one verdict). ``check`` lints each node's

@@ -212,4 +212,8 @@ def master_kind(net: Network, kind: str | None) -> str:
         net.diagnostics.info("the master's dcf: is not read: a lely master is built",
                              master.config_where.get("dcf", master.where), rule="NET007")
         master.file = None
+    if kind == PLC and master is not None and master.file is None:
+        # said here, so that check and show say what build says (one verdict)
+        net.diagnostics.error("build needs the PLC's EDS or DCF: give it as 'dcf:' under "
+                              "'master:'", master.where, rule="NET119")
     return kind

@@ -7,6 +7,7 @@ import click
 from dcf2bin.cli.common import (CONTEXT, Failure, OutputPath, debug_option, emit, fail, guarded,
                                 quiet_option, register_input, registered_inputs,
                                 rule_options, say, verbose_option)
+from dcf2bin.cli.network.show import master_option
 from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 
 
@@ -15,10 +16,7 @@ from dcf2bin.diagnostics import Diagnostic, ExitCode, Severity
 @click.option("-o", "--output", "output", required=True, metavar="DIR",
               type=OutputPath(), help="Output folder (made when missing); its files are "
               "written all or none, never over an input.")
-@click.option("--master", "master_kind", type=click.Choice(["plc", "lely"]), default=None,
-              help="The kind of master to build: plc (the master's dcf: is the PLC's file) "
-                   "or lely (master.dcf as lely's dcfgen -r writes it). Default: plc when "
-                   "the master has dcf:, else lely.")
+@master_option
 @rule_options
 @verbose_option("every link and every PLC variable, on standard error.")
 @quiet_option()

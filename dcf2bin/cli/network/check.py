@@ -12,6 +12,7 @@ from dcf2bin import argspec
 from dcf2bin.cli.common import (CONTEXT, Failure, Integer, Number, check_output, debug_option,
                                 format_option, guarded, lint_report, output_option,
                                 quiet_option, rule_options, write_output)
+from dcf2bin.cli.network.show import master_option
 from dcf2bin.diagnostics import ExitCode
 
 FORMATS = ("text", "json", "sarif", "github")
@@ -27,13 +28,14 @@ FORMATS = ("text", "json", "sarif", "github")
 @click.option("--net", "net", type=Integer(spec=argspec.NET), metavar="N",
               help="For a .cpj project: check its N-th network ([TopologyN]; default the "
                    "first, [Topology]).")
+@master_option
 @click.option("--list-rules", is_flag=True, help="Print every rule and exit.")
 @click.option("--hints", is_flag=True, help="Text format: print each finding's hint below it.")
 @quiet_option("Text format: no summary line either.")
 @debug_option
 @guarded
-def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list_rules, hints,
-              quiet, debug):
+def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, master_kind,
+              list_rules, hints, quiet, debug):
     """Check a network as a whole: every node's file as validate checks it, then the
     rules between nodes (node-IDs, COB-IDs, PDO mappings, SYNC, heartbeats, bus load).
 
@@ -66,7 +68,8 @@ def check_cmd(network, fmt, output, select_, ignore, strict, max_load, net, list
         resolve(select_, ignore, table)
     except SelectorError as exc:
         raise click.BadParameter(str(exc), param_hint="'--select' / '--ignore'")
-    result = check_network(network, select=select_, ignore=ignore, max_load=max_load, net=net)
+    result = check_network(network, select=select_, ignore=ignore, max_load=max_load, net=net,
+                           master=master_kind)
     diags = result.diagnostics
     code = result.exit_code(strict)
     text = lint_report(fmt, diags, result.files, rules, code, output=output, quiet=quiet,

@@ -36,8 +36,18 @@ def read_network_file(path: str) -> bytes:
         raise Failure(ExitCode.UNREADABLE)
 
 
+def master_option(fn):
+    """--master plc|lely: the kind of master, the same in build, check and show, so that
+    what build makes in a mode is what check checks and show draws."""
+    return click.option(
+        "--master", "master_kind", type=click.Choice(["plc", "lely"]), default=None,
+        help="The kind of master: plc (the master's dcf: is the PLC's file) or lely "
+             "(master.dcf as lely's dcfgen -r writes it). Default: plc when the master "
+             "has dcf:, else lely.")(fn)
+
+
 def examined(path: str, quiet: bool, net: int | None = None, *, select=None, ignore=None,
-             need: str = "file"):
+             need: str = "file", master: str | None = None):
     """``network check``'s findings of ``path`` (a YAML network, configured in memory, or a
     .cpj project, whose nodes are their DCFs as they are; ``net`` picks its network), with
     validate's warnings about each node's file left out, ``select``/``ignore`` as check
@@ -49,7 +59,7 @@ def examined(path: str, quiet: bool, net: int | None = None, *, select=None, ign
     from dcf2bin.network.check import ERRORS, examine
     data = read_network_file(path)
     res = examine(path, net=net, lint=ERRORS, select=select, ignore=ignore, binding=need,
-                  data=data)
+                  data=data, master=master)
     emit(res.diagnostics, quiet)
     return res
 
@@ -149,11 +159,13 @@ class WritesOption(click.Option):
               "those of one slave, NODE its name or node-ID: index, sub, name, value and "
               "why.")
 @net_option
+@master_option
 @rule_options
 @quiet_option("No warnings about the network file.")
 @debug_option
 @guarded
-def show_cmd(network_file, fmt, output, writes, net, select_, ignore, strict, quiet, debug):
+def show_cmd(network_file, fmt, output, writes, net, master_kind, select_, ignore, strict,
+             quiet, debug):
     """Show what talks to what in a network (YAML network file or .cpj project).
 
     Per COB-ID the producer, consumers, bytes, rate and share of the estimated bus load;
@@ -179,7 +191,7 @@ def show_cmd(network_file, fmt, output, writes, net, select_, ignore, strict, qu
     ctx = click.get_current_context()
     node = ctx.meta.get("dcf2bin.writes_node")
     writes = node if node is not None else ("all" if writes else None)
-    res = examined(network_file, quiet, net, select=select_, ignore=ignore)
+    res = examined(network_file, quiet, net, select=select_, ignore=ignore, master=master_kind)
     network = res.network
     errors = [d for d in res.diagnostics if d.severity is Severity.ERROR]
     drawable = network.configured or network.kind == "cpj"
