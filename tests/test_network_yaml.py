@@ -366,3 +366,13 @@ def test_another_kind_of_file_is_named_not_parsed(tmp_path):
     # a flow-style network file in a file named .txt is YAML all the same
     net = load(tmp_path, "{master: {node_id: 1}, io: {dcf: io.eds, node_id: 5}}\n", "n.txt")
     assert found(net, tmp_path) == [] and [n.node_id for n in net.nodes] == [1, 5]
+
+
+@pytest.mark.parametrize("value,shown", [("0x99999", "0x99999"), ("629145", "0x99999"),
+                                         ("-1", "-0x1")])
+def test_an_index_out_of_range_is_shown_in_hex(tmp_path, value, shown):
+    """An object index is hex as users write it: 0x99999 was shown as 629145."""
+    net = load(tmp_path, MINIMAL + "  tpdo:\n    1:\n      mapping:\n"
+               f"        - {{index: {value}, sub_index: 0}}\n")
+    assert found(net, tmp_path) == [
+        f"bus.yml:9: error: index: {shown} is outside 0x0000..0xFFFF [NET004]"]

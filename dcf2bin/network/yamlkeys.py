@@ -68,6 +68,10 @@ RANGES = {
     "sync_overflow": (0, 0xFF), "emcy_inhibit_time": (0, 0xFFFF),
     "nmt_inhibit_time": (0, 0xFFFF), "restore_configuration": (0, 0xFF),
 }
+
+# keys whose values are object indexes: a value out of range is shown in hex
+HEX_KEYS = frozenset({"index"})
+
 # error_behavior: {sub: value}, 0x1029 sub 1..254 (sub 0 is the count), UNSIGNED8 values
 BEHAVIOR_SUBS, BEHAVIOR_VALUES = (1, 0xFE), (0, 0xFF)
 
@@ -206,6 +210,9 @@ class _Values:
                 got = as_int(value)
                 lo, hi = RANGES.get(key, (0, 0xFFFFFFFF))
                 if not lo <= got <= hi:
+                    if key in HEX_KEYS:     # an object index is hex, as users write it
+                        raise _Bad(f"{'-' if got < 0 else ''}0x{abs(got):X} is outside "
+                                   f"0x{lo:04X}..0x{hi:04X}")
                     raise _Bad(f"{got} is outside {lo}..{hi}")
                 if key == "sync_overflow" and (got == 1 or got > 240):
                     # CiA 301: a device refuses them (SDO abort 0x06090030)
