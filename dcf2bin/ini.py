@@ -474,13 +474,12 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
         line = 1
     else:                                      # blank and comment lines only
         at = text.find(nl + "[")
-        head = text if at < 0 else text[:at]
-        if _lone(head, nl) or not _comments_only(head, nl):
+        end = len(text) if at < 0 else at      # the text before the first header, looked
+        if _lone(text, nl, end) or not _comments_only(text, nl, end):   # at in place
             return None
-        line = head.count(nl) + 2
+        line = text.count(nl, 0, end) + 2
         # where the first section's name starts (past the end: the text has no section)
         start = len(text) + 1 if at < 0 else at + len(nl) + 1
-        head = None
     chunks = _Chunks(text, nl, start, MAX_SECTIONS)
     sections: dict[str, Section] = {}
     respelled: list[str] = []
@@ -615,29 +614,33 @@ class _Chunks:
             pos = cut + n_sep
 
 
-def _comments_only(text: str, nl: str) -> bool:
-    """Whether every line of ``text`` is blank or a comment, looked at where each starts
-    (the text before the first header: a file can begin with 60 MB of comments)."""
-    if len(text) <= _BIG:
-        return _body_values(text, nl) == {}
-    find, n, pos = text.find, len(text), 0
+def _comments_only(text: str, nl: str, end: int | None = None) -> bool:
+    """Whether every line of ``text[:end]`` is blank or a comment, looked at where each
+    starts, in ``text`` (the text before the first header: a file can begin with 60 MB
+    of comments, which a copy would hold twice)."""
+    n = len(text) if end is None else end
+    if n <= _BIG:
+        return _body_values(text[:n], nl) == {}
+    find, pos = text.find, 0
     while pos <= n:
-        j = find(nl, pos)
+        j = find(nl, pos, n)
         stop = n if j < 0 else j
-        first = text[pos:pos + 1]
+        first = text[pos:pos + 1] if pos < n else ""
         if first != ";" and first != "#" and _line(text[pos:stop]) != ():
             return False
         pos = stop + len(nl)
     return True
 
 
-def _lone(text: str, nl: str) -> bool:
-    """Whether ``text`` has a CR or LF that is not part of a line end ``nl`` (counted, not
-    copied: ``text`` can be most of a 60 MB file)."""
+def _lone(text: str, nl: str, end: int | None = None) -> bool:
+    """Whether ``text`` (``text[:end]``) has a CR or LF that is not part of a line end
+    ``nl`` (counted, not copied: ``text`` can be most of a 60 MB file)."""
+    if end is None:
+        end = len(text)
     if nl == "\n":
-        return "\r" in text
-    n = text.count("\r\n")
-    return text.count("\r") != n or text.count("\n") != n
+        return text.find("\r", 0, end) >= 0
+    n = text.count("\r\n", 0, end)
+    return text.count("\r", 0, end) != n or text.count("\n", 0, end) != n
 
 
 class _Big(str):

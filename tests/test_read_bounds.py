@@ -141,6 +141,18 @@ def test_the_fast_reader_cuts_sections_a_block_at_a_time(monkeypatch):
                 assert text[chunks.stop:] == "[" + rest
                 assert chunks.unread == rest.count(nl + "[") + 1
 
+
+def test_the_lines_before_the_first_header_are_read_in_place(monkeypatch):
+    # more than _BIG characters before the first header: looked at in the text, line by
+    # line, as the lines of a shorter head are (a comment, a blank -- indented too; anything
+    # else, or a lone CR or LF, is the exact reader's)
+    monkeypatch.setattr(ini, "_BIG", 4)
+    for nl in ("\n", "\r\n"):
+        fast = ini._parse_fast(f";comment{nl}{nl}# more{nl}[A]{nl}x=1{nl}", "t.dcf", "utf-8")
+        assert [(c, s.line, s.get("x")) for c, s in fast.sections.items()] == [("a", 4, "1")]
+        for head in (f";comment{nl}k=1{nl}", f";com\rment{nl}", f"= ;x{nl}", f";comment{nl}[B{nl}"):
+            assert ini._parse_fast(head + f"[A]{nl}x=1{nl}", "t.dcf", "utf-8") is None, head
+
 # -- at the real bounds ------------------------------------------------------------------------
 
 def test_a_section_of_65537_keys_is_one_error_in_validate_and_compile(tmp_path):
