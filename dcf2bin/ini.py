@@ -10,6 +10,7 @@ import re
 import weakref
 from array import array
 from bisect import bisect_left
+from itertools import chain
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -465,32 +466,24 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     a Denotation= line among them, that text with its value cut out is the key). Other
     sections go through ``_Templates.other``.
     """
-    # each a section, from just after its '['; the last of more than MAX_SECTIONS is the
-    # rest of the file, which is not read (one error, DCF015)
-    chunks = text.split(nl + "[", MAX_SECTIONS + (text[:1] != "["))
-    skip = 0
+    # each a section, from just after its '[', cut a block at a time (``_Chunks``): a list
+    # of every section's text at once was one and a half times the file for sections of
+    # a hundred bytes, and the rest of a file of more than MAX_SECTIONS was one more copy
     if text[:1] == "[":                        # no lines before the first header
-        if len(chunks[0]) > _BIG:
-            skip = 1                           # (_Templates.big skips it: no copy)
-        else:
-            chunks[0] = chunks[0][1:]
+        start = 1
         line = 1
     else:                                      # blank and comment lines only
-        head = chunks.pop(0)
-        if _lone(head, nl) or not _comments_only(head, nl):
+        at = text.find(nl + "[")
+        end = len(text) if at < 0 else at      # the text before the first header, looked
+        if _lone(text, nl, end) or not _comments_only(text, nl, end):   # at in place
             return None
-        line = head.count(nl) + 2
-        line_start = len(head) + len(nl) + 1   # where the first section's name starts
-        head = None
-    unread = stop = None
-    if len(chunks) > MAX_SECTIONS:
-        rest = chunks.pop()
-        unread = rest.count(nl + "[") + 1      # the sections not read
-        stop = len(text) - len(rest) - 1       # where the first of them starts: its '['
-        rest = None
+        line = text.count(nl, 0, end) + 2
+        # where the first section's name starts (past the end: the text has no section)
+        start = len(text) + 1 if at < 0 else at + len(nl) + 1
+    chunks = _Chunks(text, nl, start, MAX_SECTIONS)
     sections: dict[str, Section] = {}
     respelled: list[str] = []
-    templates = _Templates(_Source(text if source is None else source, nl, stop), nl)
+    templates = _Templates(_Source(text if source is None else source, nl), nl)
     by_tail: dict[str, _Template] = {}         # lines after a first ParameterName= line
     by_tail_get = by_tail.get
     last = last_tail = None                    # the last template found by_tail, and its key
@@ -499,19 +492,11 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     shared, denoted, new = _SharedSection, _DenotedSection, _SharedSection.__new__
     too_many: list[tuple] = []                 # sections of more than MAX_KEYS keys
     # str.partition, `in` and == only: find and startswith with a start index parse their
-    # arguments at a cost that shows at 60,000 sections
-    if max(map(len, chunks), default=0) > _BIG:
-        # a section of more than _BIG characters is read in ``text`` by _Templates.big:
-        # its chunk becomes a _Big naming where it is there (no copy of it stays alive),
-        # which the loop hands to _Templates.other as it does any section it does not
-        # read itself (so that the loop spends nothing on them)
-        at = 0 if text[:1] == "[" and skip else 1 if text[:1] == "[" else line_start
-        for k in range(len(chunks)):
-            n = len(chunks[k])
-            if n > _BIG:
-                chunks[k] = _Big(text, at + (skip if k == 0 else 0), at + n)
-            at += n + len(nl) + 1
-    for chunk in chunks:
+    # arguments at a cost that shows at 60,000 sections. A section of more than _BIG
+    # characters comes as a _Big naming where it is in ``text`` (``_Templates.big`` reads it
+    # there: no copy of it), which the loop hands to _Templates.other as it does any
+    # section it does not read itself (so that the loop spends nothing on them).
+    for chunk in chain.from_iterable(chunks.blocks()):
         name, hit, rest = chunk.partition(close_name)
         canon = name.lower()
         pname, more, tail = rest.partition(nl)
@@ -567,8 +552,10 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
             sec.denotation = denotation
         sections[canon] = sec
         line += step
-    if len(sections) != len(chunks):
+    if len(sections) != chunks.count:
         return None                            # a repeated section
+    unread = chunks.unread
+    templates.source.stop = chunks.stop
     diags = Diagnostics()
     for canon, header, at, n in too_many:
         _too_many_keys(diags, path, sections[canon], at, n)
@@ -579,29 +566,81 @@ def _read_sections(text: str, nl: str, path: str, encoding: str,
     return parsed
 
 
-def _comments_only(text: str, nl: str) -> bool:
-    """Whether every line of ``text`` is blank or a comment, looked at where each starts
-    (the text before the first header: a file can begin with 60 MB of comments)."""
-    if len(text) <= _BIG:
-        return _body_values(text, nl) == {}
-    find, n, pos = text.find, len(text), 0
+class _Chunks:
+    """The sections of ``text`` from ``start`` (just after the first one's '['), each from
+    just after its '[' -- what ``text[start:].split(nl + "[")`` gives -- a block of at most
+    ``_BIG`` characters at a time (``blocks``); a section of more than ``_BIG`` characters
+    as a ``_Big`` (not copied). The first ``limit`` sections only: ``stop`` is where the
+    first section not read starts (its '['), ``unread`` how many are not read (both None
+    when every section is read), ``count`` how many were given."""
+    __slots__ = ("text", "sep", "start", "limit", "count", "stop", "unread")
+
+    def __init__(self, text: str, nl: str, start: int, limit: int):
+        self.text, self.sep, self.start, self.limit = text, nl + "[", start, limit
+        self.count = 0
+        self.stop = self.unread = None
+
+    def blocks(self):
+        text, sep, pos, limit = self.text, self.sep, self.start, self.limit
+        find, rfind, n, n_sep = text.find, text.rfind, len(text), len(sep)
+        # the first section's '[' counts into its length (as one piece of the text cut at
+        # each "<nl>[", the first starting at the file's '[')
+        extra = 1 if pos == 1 else 0
+        while pos <= n:
+            if self.count == limit:            # the rest is not read (DCF015)
+                self.stop, self.unread = pos - 1, 1 + text.count(sep, pos)
+                return
+            nxt = find(sep, pos)
+            end = n if nxt < 0 else nxt
+            if end - pos + extra > _BIG:       # one section of more than _BIG characters
+                self.count += 1
+                yield (_Big(text, pos, end),)
+                pos, extra = end + n_sep, 0
+                continue
+            extra = 0
+            if nxt < 0:
+                self.count += 1
+                yield (text[pos:],)
+                return
+            # whole sections up to the last "<nl>[" that starts within _BIG of ``pos``, or
+            # to the end of the text when that is as near
+            cut = n if n - pos <= _BIG else rfind(sep, pos, pos + _BIG + n_sep)
+            parts = text[pos:cut].split(sep)
+            if self.count + len(parts) > limit:
+                parts = parts[:limit - self.count]
+                cut = pos + sum(map(len, parts)) + n_sep * len(parts) - n_sep
+            self.count += len(parts)
+            yield parts
+            pos = cut + n_sep
+
+
+def _comments_only(text: str, nl: str, end: int | None = None) -> bool:
+    """Whether every line of ``text[:end]`` is blank or a comment, looked at where each
+    starts, in ``text`` (the text before the first header: a file can begin with 60 MB
+    of comments, which a copy would hold twice)."""
+    n = len(text) if end is None else end
+    if n <= _BIG:
+        return _body_values(text[:n], nl) == {}
+    find, pos = text.find, 0
     while pos <= n:
-        j = find(nl, pos)
+        j = find(nl, pos, n)
         stop = n if j < 0 else j
-        first = text[pos:pos + 1]
+        first = text[pos:pos + 1] if pos < n else ""
         if first != ";" and first != "#" and _line(text[pos:stop]) != ():
             return False
         pos = stop + len(nl)
     return True
 
 
-def _lone(text: str, nl: str) -> bool:
-    """Whether ``text`` has a CR or LF that is not part of a line end ``nl`` (counted, not
-    copied: ``text`` can be most of a 60 MB file)."""
+def _lone(text: str, nl: str, end: int | None = None) -> bool:
+    """Whether ``text`` (``text[:end]``) has a CR or LF that is not part of a line end
+    ``nl`` (counted, not copied: ``text`` can be most of a 60 MB file)."""
+    if end is None:
+        end = len(text)
     if nl == "\n":
-        return "\r" in text
-    n = text.count("\r\n")
-    return text.count("\r") != n or text.count("\n") != n
+        return text.find("\r", 0, end) >= 0
+    n = text.count("\r\n", 0, end)
+    return text.count("\r", 0, end) != n or text.count("\n", 0, end) != n
 
 
 class _Big(str):

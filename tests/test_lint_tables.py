@@ -125,6 +125,7 @@ def _check_tables(ctx: DcfContext) -> None:
     for kind in set(kinds.values()):
         pairs = [(c, s) for c, s in sections.items() if kinds[c] == kind]
         assert ctx.of_kind(kind) == pairs
+        assert list(ctx.each_of_kind(kind)) == pairs
         assert tables.kind_sections(ctx, kind) == [s for _, s in pairs]
     subs: dict = {}
     for canon, sec in sections.items():
@@ -148,7 +149,8 @@ def _check_tables(ctx: DcfContext) -> None:
     assert sorted(map(id, covered)) == sorted(map(id, sections.values()))
     nameless = tables.nameless(ctx)
     assert {i for ids in nameless.values() for i in ids} == {
-        id(s) for s in sections.values() if s.get("parametername") is None}
+        id(s) for c, s in sections.items()
+        if kinds[c] in tables.NAMED_KINDS and s.get("parametername") is None}
     entries = [e for i in sorted(ctx.dev.objects) for e in ctx.dev.objects[i].entries.values()
                if not e.implicit]
     assert tables.entries(ctx) == entries

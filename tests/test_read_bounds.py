@@ -115,6 +115,44 @@ def test_exact_reader_reads_lines_in_blocks():
         assert list(ini._split_lines(text + "\n", block)) == (text + "\n").split("\n")
 
 
+
+def test_the_fast_reader_cuts_sections_a_block_at_a_time(monkeypatch):
+    # _Chunks gives the pieces of text.split("<nl>[") (a section of more than _BIG
+    # characters as a _Big, the first one's '[' counted in), the first ``limit`` only,
+    # and where the rest starts and how many sections it has; blocks of 5 characters
+    from itertools import chain
+    monkeypatch.setattr(ini, "_BIG", 5)
+    texts = ["[A]\nx=1\n[B]\n[C]\ny=22222222\n[D]", "[A]", "[A]\n[", "[Abcdef]\n[B]",
+             ";c\r\n[A]\r\n[Bcdefghij]\r\nk=1\r\n[C]\r\n"]
+    for text in texts:
+        nl = "\r\n" if "\r" in text else "\n"
+        start = 1 if text[0] == "[" else text.find(nl + "[") + len(nl) + 1
+        for limit in (1, 2, 3, 100):
+            chunks = ini._Chunks(text, nl, start, limit)
+            got = [(c.text[c.start:c.end], True) if type(c) is ini._Big else (c, False)
+                   for c in chain.from_iterable(chunks.blocks())]
+            parts = text[start:].split(nl + "[", limit)
+            rest = parts.pop() if len(parts) > limit else None
+            assert got == [(p, len(p) + (start == 1 and k == 0) > 5) for k, p in enumerate(parts)]
+            assert chunks.count == len(parts)
+            if rest is None:
+                assert chunks.stop is None and chunks.unread is None
+            else:
+                assert text[chunks.stop:] == "[" + rest
+                assert chunks.unread == rest.count(nl + "[") + 1
+
+
+def test_the_lines_before_the_first_header_are_read_in_place(monkeypatch):
+    # more than _BIG characters before the first header: looked at in the text, line by
+    # line, as the lines of a shorter head are (a comment, a blank -- indented too; anything
+    # else, or a lone CR or LF, is the exact reader's)
+    monkeypatch.setattr(ini, "_BIG", 4)
+    for nl in ("\n", "\r\n"):
+        fast = ini._parse_fast(f";comment{nl}{nl}# more{nl}[A]{nl}x=1{nl}", "t.dcf", "utf-8")
+        assert [(c, s.line, s.get("x")) for c, s in fast.sections.items()] == [("a", 4, "1")]
+        for head in (f";comment{nl}k=1{nl}", f";com\rment{nl}", f"= ;x{nl}", f";comment{nl}[B{nl}"):
+            assert ini._parse_fast(head + f"[A]{nl}x=1{nl}", "t.dcf", "utf-8") is None, head
+
 # -- at the real bounds ------------------------------------------------------------------------
 
 def test_a_section_of_65537_keys_is_one_error_in_validate_and_compile(tmp_path):

@@ -166,6 +166,10 @@ class DcfContext:
         return sorted((x for k in kinds for x in tables.of_kind(self, k)),
                       key=lambda cs: cs[1].line)
 
+    def each_of_kind(self, kind: str | None):
+        """``of_kind(kind)``'s pairs one after the other (no list of them)."""
+        return tables.each_of_kind(self, kind)
+
     @property
     def sub_sections(self) -> dict[int, dict[int, ini_mod.Section]]:
         """index -> {subindex: [<index>subN] section} as they stand in the file."""

@@ -50,7 +50,7 @@ def unknown_key(ctx):
       "A section that CiA 306 does not define (a vendor section); kept, never an error.",
       hint="fine for vendor data; check the spelling otherwise")
 def unknown_section(ctx):
-    for canon, sec in ctx.of_kind(None):
+    for canon, sec in ctx.each_of_kind(None):
         if not _almost_object(canon):
             yield Finding(f"section [{shorten(sec.name)}] is not defined by CiA 306", sec.line)
 
@@ -145,7 +145,7 @@ def name_too_long(ctx):
       "[14xxsub0]); it is not part of the object dictionary.",
       hint="object sections are [<index>] with 4 hex digits, sub-objects [<index>subN]")
 def malformed_object_section(ctx):
-    for canon, sec in ctx.of_kind(None):
+    for canon, sec in ctx.each_of_kind(None):
         if _almost_object(canon):
             yield Finding(f"section [{shorten(sec.name)}] is not a valid object section name; "
                           "ignored",

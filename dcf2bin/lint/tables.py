@@ -33,9 +33,10 @@ _REST = attrgetter("rest")
 NAME_KEYS = {"parametername": "param_name", "denotation": "denotation"}  # cut out of ``rest``
 
 
-def _split(ctx) -> tuple[list[str], list[bool], list[tuple[str, str | None]], str]:
-    """(every canonical name, whether each is a sub-object section's, (name, kind) of the
-    others in file order, the names joined: each after a line end, and one at the end).
+def _split(ctx) -> tuple[list[str], list[bool], list[str], list[str | None], str]:
+    """(every canonical name, whether each is a sub-object section's, the names of the
+    others in file order and their kinds (two lists: a pair each was 64 bytes more a
+    section, issue 26), the names joined: each after a line end, and one at the end).
     The sub-object sections are told apart by one search over all names for the others
     (in a PLC DCF, a few hundred of 60,000); only those are classified one by one
     (vocabulary.classify)."""
@@ -44,7 +45,7 @@ def _split(ctx) -> tuple[list[str], list[bool], list[tuple[str, str | None]], st
         return got
     names = list(ctx.ini.sections)
     is_sub = [True] * len(names)
-    others = []
+    other_names, other_kinds = [], []
     joined = "\n" + "\n".join(names) + "\n" if names else ""
     if names:
         line, pos = 0, 0
@@ -55,8 +56,9 @@ def _split(ctx) -> tuple[list[str], list[bool], list[tuple[str, str | None]], st
             line += joined.count("\n", pos, m.start())   # the m.start()-th name follows it
             pos = m.start()
             is_sub[line] = False
-            others.append((names[line], classify(names[line])))
-    got = ctx.cache["split"] = (names, is_sub, others, joined)
+            other_names.append(names[line])
+            other_kinds.append(classify(names[line]))
+    got = ctx.cache["split"] = (names, is_sub, other_names, other_kinds, joined)
     return got
 
 
@@ -65,7 +67,7 @@ def kind_sections(ctx, kind: str | None) -> list:
     if kind == "sub":
         got = ctx.cache.get("sub sections")
         if got is None:
-            names, is_sub, others, _ = _split(ctx)
+            names, is_sub, others, _, _ = _split(ctx)
             got = ctx.cache["sub sections"] = list(compress(ctx.ini.sections.values(), is_sub)) \
                 if len(others) < len(names) else []
         return got
@@ -73,7 +75,7 @@ def kind_sections(ctx, kind: str | None) -> list:
     if table is None:
         table = ctx.cache["other sections"] = {}
         sections = ctx.ini.sections
-        for canon, k in _split(ctx)[2]:
+        for canon, k in zip(*_split(ctx)[2:4]):
             table.setdefault(k, []).append(sections[canon])
     return table.get(kind, [])
 
@@ -82,12 +84,12 @@ def by_kind(ctx) -> dict[str | None, list]:
     """kind (vocabulary.classify) -> [(canonical name, section)] in file order."""
     got = ctx.cache.get("by_kind")
     if got is None:
-        names, is_sub, others, _ = _split(ctx)
+        names, is_sub, others, other_kinds, _ = _split(ctx)
         sections = ctx.ini.sections
         got = {}
         if len(others) < len(names):
             got["sub"] = list(compress(sections.items(), is_sub))
-        for canon, kind in others:
+        for canon, kind in zip(others, other_kinds):
             got.setdefault(kind, []).append((canon, sections[canon]))
         ctx.cache["by_kind"] = got
     return got
@@ -102,17 +104,30 @@ def of_kind(ctx, kind: str | None) -> list:
     got = ctx.cache.get(key)
     if got is None:
         sections = ctx.ini.sections
-        got = ctx.cache[key] = [(c, sections[c]) for c, k in _split(ctx)[2] if k == kind]
+        got = ctx.cache[key] = [(c, sections[c]) for c, k in zip(*_split(ctx)[2:4])
+                                if k == kind]
     return got
+
+
+def each_of_kind(ctx, kind: str | None):
+    """The pairs of ``of_kind(ctx, kind)``, one after the other, without a list of them (a
+    file can have a million sections of one kind, 72 bytes a pair: DCF051 reads them once)."""
+    if kind == "sub" or "by_kind" in ctx.cache or ("pairs of", kind) in ctx.cache:
+        yield from of_kind(ctx, kind)
+        return
+    sections = ctx.ini.sections
+    for c, k in zip(*_split(ctx)[2:4]):
+        if k == kind:
+            yield c, sections[c]
 
 
 def kinds(ctx) -> dict[str, str | None]:
     """canonical name -> kind, in file order: ``{c: classify(c) for c in sections}``."""
     got = ctx.cache.get("kinds")
     if got is None:
-        names, is_sub, others, _ = _split(ctx)
+        names, is_sub, others, other_kinds, _ = _split(ctx)
         got = dict.fromkeys(names, "sub")
-        got.update(others)
+        got.update(zip(others, other_kinds))
         ctx.cache["kinds"] = got
     return got
 
@@ -123,7 +138,7 @@ def sub_sections(ctx) -> dict[int, dict[int, object]]:
     got = ctx.cache.get("sub_sections")
     if got is not None:
         return got
-    names, is_sub, _, _ = _split(ctx)
+    names, is_sub, _, _, _ = _split(ctx)
     names = list(compress(names, is_sub))
     secs = kind_sections(ctx, "sub")
     numbers = list(map(_SUB_NUMBERS.get, map(_TAIL, names)))
@@ -156,7 +171,7 @@ def groups(ctx) -> list[tuple[str | None, dict | None, list]]:
     if got is not None:
         return got
     got = []
-    kinds_ = dict.fromkeys(["sub"] + [k for _, k in _split(ctx)[2]])
+    kinds_ = dict.fromkeys(["sub"] + _split(ctx)[3])
     for kind in kinds_:
         secs = kind_sections(ctx, kind)
         if not secs:
@@ -215,13 +230,20 @@ def longest_name(rest: dict | None, secs: list, key: str) -> int:
     return max(own, len(rest.get(key) or ""))   # the template's: where not cut out
 
 
+# the kinds whose sections name themselves (DCF114); a set of the ids of a million unknown
+# sections without a name was 60 bytes a section (issue 26)
+NAMED_KINDS = ("object", "sub")
+
+
 def nameless(ctx) -> dict[str | None, set[int]]:
-    """kind -> ``id`` of every section of that kind without a ParameterName (``get`` says
-    None); kinds with none are left out."""
+    """kind -> ``id`` of every object or sub-object section (``NAMED_KINDS``) of that kind
+    without a ParameterName (``get`` says None); kinds with none are left out."""
     got = ctx.cache.get("nameless")
     if got is None:
         got = {}
         for kind, rest, secs in groups(ctx):
+            if kind not in NAMED_KINDS:
+                continue
             if rest is not None and len(secs) == 1:    # most groups but the variables'
                 s = secs[0]
                 v = s.param_name
@@ -244,7 +266,7 @@ def sub_counts(ctx) -> dict[int, int]:
     got = ctx.cache.get("sub_counts")
     if got is not None:
         return got
-    joined = _split(ctx)[3]
+    joined = _split(ctx)[4]
     if _NOT_CANONICAL_SUB.search(joined):   # (the readers write canonical names)
         got = {idx: len(subs) for idx, subs in sub_sections(ctx).items()}
     else:
