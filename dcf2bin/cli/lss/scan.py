@@ -81,7 +81,10 @@ def _text(census, seconds: float, bound: float) -> str:
 def _json(census, seconds: float, bound: float) -> str:
     """The JSON document (dcf2bin/schemas/lss-scan.json; docs/options.md, "JSON outputs")."""
     keys = ("vendor_id", "product_code", "revision_number", "serial_number")
-    nodes = [{k: f"0x{v:08X}" for k, v in zip(keys, i.parts)} for i in census.identities]
+    # answers: the nodes that answered to this identity (more than 1: nodes alike in all
+    # four parts, which LSS cannot tell apart, or a node that answers twice)
+    nodes = [{**{k: f"0x{v:08X}" for k, v in zip(keys, i.parts)},
+              "answers": census.shared.get(i, 1)} for i in census.identities]
     return json.dumps({"format": "dcf2bin-lss-scan", "version": 1,
                        "seconds": round(seconds, 3), "at_most_seconds": round(bound, 3),
                        "complete": census.complete, "nodes": nodes}, indent=2) + "\n"
