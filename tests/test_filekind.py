@@ -122,11 +122,14 @@ def test_the_issue_fake_bin_everywhere(tmp_path):
     assert r.exit_code == 0 and r.stdout.startswith(
         f"{fake}: warning: {fake} is DCF/EDS text, not a binary container as its name says; "
         "checked as DCF/EDS text [IO002]\n")
-    for args in (["dump"], ["bin2dcf", "-o", "-"]):
+    said = (f"{fake}: error: {fake} is DCF/EDS text, not a binary container or a concise DCF "
+            "(CiA 302-3)")
+    for args, rest in ((["dump"], "; use dcf2bin compile to make a container of it (dcf2bin "
+                        "validate checks it)"),
+                       (["bin2dcf", "-o", "-"], " or the JSON form of either; it is a DCF "
+                        "already (dcf2bin compile makes a container of it)")):
         r = run(*args, fake)
-        assert r.exit_code == 1 and "use dcf2bin compile" in r.stderr \
-            or "it is a DCF already" in r.stderr, args
-        assert "truncated" not in r.stderr
+        assert (r.exit_code, r.stderr) == (1, said + rest + "\n"), args
 
 
 def test_the_issue_fake_dcf_everywhere(tmp_path):
