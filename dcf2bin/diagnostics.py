@@ -204,77 +204,6 @@ class Diagnostics:
         return len(self.items)
 
 
-class Summarised(Diagnostics):
-    """A collector for inputs that can repeat one mistake 100,000 times (a network file:
-    issue 26): each finding is kept once (the same finding from ``defaults:`` or a
-    template, reported for every node, is one), and of one rule and severity in one
-    file the first ``limit``; the others are counted in one finding of that rule, at the
-    line of the first one left out: ``... and 99,995 more NET007 findings like this``.
-    Every output format shows that finding, so each says the count; an omitted finding
-    costs a dict lookup instead of a Diagnostic, a line of text and a JSON object."""
-
-    def __init__(self, limit: int = 5):
-        self.limit = limit
-        self._items: list[Diagnostic] = []
-        self._seen: set = set()            # the findings kept
-        self._counted: set[int] = set()    # the hashes of those only counted
-        self._kept: dict = {}          # (file, rule, severity) -> findings kept
-        self._more: dict = {}          # (file, rule, severity) -> [index, count, line]
-        self._stale: set = set()       # the groups whose count changed since ``items``
-
-    @property
-    def items(self) -> list[Diagnostic]:
-        for group in self._stale:
-            file, rule, severity = group
-            at, n, line, first = self._more[group]
-            # one left out is shown as it is: a summary of one would say less in as much
-            self._items[at] = first if n == 1 else Diagnostic(
-                severity, f"... and {n:,} more {rule} findings like this", file, line,
-                rule=rule)
-        self._stale.clear()
-        return self._items
-
-    @items.setter
-    def items(self, value: list[Diagnostic]) -> None:
-        self._items = value
-
-    def add(self, severity: Severity, message: str, where: Where | None = None, *,
-            rule: str = "", column: int | None = None, offset: int | None = None,
-            hint: str = "") -> None:
-        file, line = (where.file, where.line) if where else ("", None)
-        key = (severity, message, file, line, column, offset, rule)
-        if key in self._seen:
-            return
-        group = (file, rule, severity)
-        kept = self._kept.get(group, 0)
-        if rule and kept >= self.limit:
-            # only counted: the finding is remembered by its hash (64 bits: 100,000 of
-            # them would hold 50 MB of messages and tuples otherwise); two distinct ones
-            # of one hash would count as one, once in 2^40 files of a million findings
-            digest = hash(key)
-            if digest in self._counted:
-                return
-            self._counted.add(digest)
-            more = self._more.get(group)
-            if more is None:
-                first = Diagnostic(severity, message, file, line, column, offset, rule, hint)
-                self._more[group] = [len(self._items), 1, line, first]
-                self._items.append(None)   # the summary's place: filled by ``items``
-            else:
-                more[1] += 1
-            self._stale.add(group)
-            return
-        self._seen.add(key)
-        self._kept[group] = kept + 1
-        self._items.append(Diagnostic(severity, message, file, line, column, offset, rule,
-                                      hint))
-
-    def extend(self, other) -> None:
-        for d in other:
-            self.add(d.severity, d.message, Where(d.file, d.line), rule=d.rule,
-                     column=d.column, offset=d.offset, hint=d.hint)
-
-
 # validate and compile keep this many findings of one rule and severity in one file (every
 # output format shows them: a CI job may want each); the others are counted in one summary
 # finding (issue 26: 5 million unknown keys made 5 million findings, and a MemoryError)
@@ -338,6 +267,55 @@ class Capped(Diagnostics):
         for d in other:
             self.add(d.severity, d.message, Where(d.file, d.line), rule=d.rule,
                      column=d.column, offset=d.offset, hint=d.hint)
+
+
+class Summarised(Capped):
+    """A collector for inputs that can repeat one mistake 100,000 times (a network file:
+    issue 26): each finding is kept once (the same finding from ``defaults:`` or a
+    template, reported for every node, is one), and of one rule and severity in one
+    file the first ``limit``; the others are counted in one finding of that rule, at the
+    line of the first one left out: ``... and 99,995 more NET007 findings like this``.
+    Every output format shows that finding, so each says the count; an omitted finding
+    costs a dict lookup instead of a Diagnostic, a line of text and a JSON object.
+    ``Capped`` keeps and counts; this adds the repeats dropped and its own summary."""
+
+    def __init__(self, limit: int = 5):
+        super().__init__(limit)
+        self._seen: set = set()            # the findings kept
+        self._counted: set[int] = set()    # the hashes of those only counted
+
+    @property
+    def items(self) -> list[Diagnostic]:
+        for at, n, first in self._more.values():
+            # one left out is shown as it is: a summary of one would say less in as much
+            self._items[at] = first if n == 1 else Diagnostic(
+                first.severity, f"... and {n:,} more {first.rule} findings like this",
+                first.file, first.line, rule=first.rule)
+        return self._items
+
+    @items.setter
+    def items(self, value: list[Diagnostic]) -> None:
+        self._items = value
+
+    def add(self, severity: Severity, message: str, where: Where | None = None, *,
+            rule: str = "", column: int | None = None, offset: int | None = None,
+            hint: str = "") -> None:
+        file, line = (where.file, where.line) if where else ("", None)
+        key = (severity, message, file, line, column, offset, rule)
+        if key in self._seen:
+            return
+        if rule and self._kept.get((file, rule, severity), 0) >= self.limit:
+            # only counted: the finding is remembered by its hash (64 bits: 100,000 of
+            # them would hold 50 MB of messages and tuples otherwise); two distinct ones
+            # of one hash would count as one, once in 2^40 files of a million findings
+            digest = hash(key)
+            if digest in self._counted:
+                return
+            self._counted.add(digest)
+        else:
+            self._seen.add(key)
+        super().add(severity, message, where, rule=rule, column=column, offset=offset,
+                    hint=hint)
 
 
 def summarise(diags, limit: int = LIMIT) -> list[Diagnostic]:

@@ -632,15 +632,15 @@ def _comments_only(text: str, nl: str, end: int | None = None) -> bool:
     return True
 
 
-def _lone(text: str, nl: str, end: int | None = None) -> bool:
-    """Whether ``text`` (``text[:end]``) has a CR or LF that is not part of a line end
-    ``nl`` (counted, not copied: ``text`` can be most of a 60 MB file)."""
+def _lone(text: str, nl: str, end: int | None = None, start: int = 0) -> bool:
+    """Whether ``text`` (``text[start:end]``) has a CR or LF that is not part of a line
+    end ``nl`` (counted, not copied: ``text`` can be most of a 60 MB file)."""
     if end is None:
         end = len(text)
     if nl == "\n":
-        return text.find("\r", 0, end) >= 0
-    n = text.count("\r\n", 0, end)
-    return text.count("\r", 0, end) != n or text.count("\n", 0, end) != n
+        return text.find("\r", start, end) >= 0
+    n = text.count("\r\n", start, end)
+    return text.count("\r", start, end) != n or text.count("\n", start, end) != n
 
 
 class _Big(str):
@@ -706,12 +706,8 @@ class _Templates:
         name = text[start:end]
         if end <= start or "\n" in name or "\r" in name or "[" in name or "]" in name:
             return None                        # a broken header
-        if nl == "\n":
-            lone = text.find("\r", start, n) >= 0
-        else:
-            crlf = text.count("\r\n", start, n)
-            lone = text.count("\r", start, n) != crlf or text.count("\n", start, n) != crlf
-        if lone or name.strip() != name.strip(" \t") or not name.strip(" \t"):
+        if (_lone(text, nl, n, start) or name.strip() != name.strip(" \t")
+                or not name.strip(" \t")):
             return None                        # a lone CR or LF; blanks in the name
         values = _Template()
         find, n_nl = text.find, len(nl)
