@@ -77,17 +77,18 @@ class XmlSection(ini_mod.Section):
         return got[1] if got is not None else self.line
 
 
-class SharedXmlSection(ini_mod.Section):
+class SharedXmlSection(ini_mod._SharedSection):
     """A section read from XML whose values other than its names are a template shared by
     every section of the same shape (``rest``; the contract of ``ini.Section``: the
     ParameterName and Denotation keys stand in it with empty values, their values are
     ``param_name`` and ``denotation``, None where the section has no such key), so that
     the builder and the rules treat the many alike sub-objects of a CANopenEditor file as
     they treat a DCF's (``model.build_object``: one entry built per shape). ``linev``:
-    the line of each key, in the template's order; ``values``, ``keys`` and the name are
-    worked out when asked for. Made by ``direct.Straight``, without ``__init__``."""
-    __slots__ = ("canon", "line", "param_name", "rest", "denotation", "linev", "_values",
-                 "_keys")
+    the line of each key, in the template's order; ``values``, ``has``, ``get`` and
+    ``key_names`` are the INI fast reader's (``ini._SharedSection``), ``keys`` and the
+    name are worked out here when asked for. Made by ``direct.Straight``, without
+    ``__init__``."""
+    __slots__ = ("canon", "denotation", "linev", "_keys")
 
     @property
     def name(self) -> str:
@@ -97,44 +98,12 @@ class SharedXmlSection(ini_mod.Section):
         return canon[:4].upper() + "sub" + canon[7:].upper()
 
     @property
-    def values(self) -> dict[str, str]:
-        got = self._values
-        if got is None:
-            got = self._values = dict(self.rest)
-            if self.param_name is not None:
-                got["parametername"] = self.param_name      # in its place
-            if self.denotation is not None:
-                got["denotation"] = self.denotation
-        return got
-
-    @property
-    def _lines(self) -> dict[str, tuple[str, int]]:
-        return {low: (WRITTEN[low], line) for low, line in zip(self.rest, self.linev)}
-
-    @property
     def keys(self) -> dict[str, ini_mod.Key]:
         if self._keys is None:
             values = self.values
             self._keys = {low: ini_mod.Key(WRITTEN[low], values[low], line)
                           for low, line in zip(self.rest, self.linev)}
         return self._keys
-
-    def has(self, key: str) -> bool:
-        if self._values is None:         # from the template, without building ``values``
-            return key in self.rest
-        return key in self._values
-
-    def get(self, key: str) -> str | None:
-        if self._values is None:         # from the template, without building ``values``
-            if key == "parametername" and self.param_name is not None:
-                return self.param_name or None
-            if key == "denotation" and self.denotation is not None:
-                return self.denotation or None
-            return self.rest.get(key) or None
-        return self._values.get(key) or None
-
-    def key_names(self):
-        return (self.rest if self._values is None else self._values).keys()
 
     def line_of(self, key: str) -> int:
         for low, line in zip(self.rest, self.linev):
