@@ -113,8 +113,8 @@ def identity_problems(ch, node, identity: dict[int, int],
         try:
             data = ch.upload(index, sub, max_size=4)
         except sdo.Aborted as exc:
-            out.append(Problem(f"{entry} ({what}) cannot be read: SDO abort 0x{exc.code:08X}: "
-                               f"{dl.abort_text(exc.code)}; {expects}: nothing written", where))
+            out.append(Problem(f"{entry} ({what}) cannot be read: {dl.abort_message(exc.code)}; "
+                               f"{expects}: nothing written", where))
             continue
         except sdo.NoAnswer as exc:
             raise dl.Stopped(dl.Write(0, index, sub, b"", None, where), 0, exc,

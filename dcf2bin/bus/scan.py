@@ -30,7 +30,7 @@ import time
 from dataclasses import dataclass, field
 
 from dcf2bin.bus import sdo
-from dcf2bin.bus.link import abort_text, is_virtual
+from dcf2bin.bus.link import abort_message, is_virtual
 
 LISTEN, TIMEOUT, RETRIES = 0.5, 0.3, 0
 NODE_IDS = range(1, 128)
@@ -292,8 +292,8 @@ def compare(scan_: Scan, expected: list[Expected]) -> list[Finding]:
             where = f"{_entry(index, sub)} ({what})"
             if a.code is not None:
                 out.append(Finding("unread", node_id, e.name,
-                                   f"{label}: {where} cannot be read: SDO abort "
-                                   f"0x{a.code:08X}: {abort_text(a.code)}; "
+                                   f"{label}: {where} cannot be read: "
+                                   f"{abort_message(a.code)}; "
                                    f"{e.expects(key, want)}", (index, sub), want, None,
                                    a.code))
             elif a.problem is not None:
