@@ -45,59 +45,11 @@ from dataclasses import dataclass, field
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
+sys.path.insert(0, os.path.join(ROOT, "tests"))
 
-DEVICE = os.path.join(ROOT, "samples", "device.eds")
-IDENTITY = """[1018]
-ParameterName=Identity object
-ObjectType=0x9
-SubNumber=5
-
-[1018sub0]
-ParameterName=Highest sub-index supported
-ObjectType=0x7
-DataType=0x0005
-AccessType=ro
-DefaultValue=4
-
-[1018sub1]
-ParameterName=Vendor-ID
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x000000AB
-
-[1018sub2]
-ParameterName=Product code
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00000008
-
-[1018sub3]
-ParameterName=Revision number
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00010002
-
-[1018sub4]
-ParameterName=Serial number
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-
-"""
-
-
-def io8_eds(folder: str) -> str:
-    """samples/device.eds with 0x1018 sub 1-4."""
-    with open(DEVICE, encoding="utf-8") as f:
-        text = f.read()
-    start, end = text.index("[1018]"), text.index("[1800]")
-    path = os.path.join(folder, "io8.eds")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text[:start] + IDENTITY + text[end:])
-    return path
+# tests/: the software slaves and the runner of the commissioning loop test
+from bus_helpers import Bench, run  # noqa: E402
+from lss_helpers import io8_eds, lss_node  # noqa: E402
 
 
 def network_file(folder: str, eds: str, n: int) -> str:
@@ -204,11 +156,11 @@ class Counting:
             return got
         self._patch(lssnet._BootUp, "wait", timed_boot)
 
-        run = scan._Round.run
+        round_run = scan._Round.run
 
         def timed_round(rnd, timeout, retries):
             start = time.monotonic()
-            got = run(rnd, timeout, retries)
+            got = round_run(rnd, timeout, retries)
             w.heard(len(got) == len(rnd.ids), time.monotonic() - start,
                     "scan round not answered by every node")
             return got
@@ -224,44 +176,12 @@ class Counting:
             setattr(owner, name, value)
 
 
-# -- the bench ---------------------------------------------------------------------------------
-
-class Bench:
-    """``n`` software slaves without a node-ID, each on a network of its own."""
-
-    def __init__(self, eds: str, n: int):
-        from dcf2bin.bus import link
-        from dcf2bin.bus.lss_slave import attach_lss
-        from dcf2bin.bus.node import from_file
-        link.quiet_libraries()
-        self.channel = f"bench-commissioning-{n}-{time.monotonic_ns()}"
-        self.nets, self.nodes = [], []
-        for k in range(n):
-            node, errors = from_file(eds, 1)
-            if errors:
-                raise SystemExit(f"{eds}: {errors[0].format()}")
-            attach_lss(node, serial=0x1000 + k, unconfigured=True)
-            net = link.open_network(link.BusConfig("virtual", self.channel))
-            self.nets.append(net)
-            node.attach(net)
-            self.nodes.append(node)
-
-    def close(self) -> None:
-        from dcf2bin.bus import link
-        for node in self.nodes:
-            node.detach()
-        for net in self.nets:
-            link.close_network(net)
-
-
 STEPS = ("lss", "download", "upload")
 
 
 def one_run(eds: str, network: str, n: int, folder: str) -> dict[str, tuple[float, Waits]]:
-    from click.testing import CliRunner
-
-    from dcf2bin.cli import main
-    bench = Bench(eds, n)
+    """``n`` software slaves without a node-ID, each on a network of its own, commissioned."""
+    bench = Bench(f"bench-commissioning-{n}-{time.monotonic_ns()}")
     bus = ["-i", "virtual", "--channel", bench.channel]
     args = {"lss": ["network", "lss", network, "-q", *bus],
             "download": ["network", "download", network, "-q", *bus],
@@ -269,10 +189,12 @@ def one_run(eds: str, network: str, n: int, folder: str) -> dict[str, tuple[floa
                        *bus]}
     out = {}
     try:
+        for k in range(n):
+            lss_node(bench, 0x1000 + k, path=eds)
         for step in STEPS:
             with Counting() as waits:
                 start = time.perf_counter()
-                r = CliRunner().invoke(main, args[step], catch_exceptions=False)
+                r = run(*args[step])
                 seconds = time.perf_counter() - start
             if r.exit_code != 0:
                 raise SystemExit(f"network {step} failed ({r.exit_code}): {r.stderr}")
@@ -343,9 +265,9 @@ def main() -> None:
         eds = io8_eds(folder)
         network = network_file(folder, eds, a.slaves)
         for _ in range(a.repeat):
-            run = one_run(eds, network, a.slaves, folder)
-            totals.append(sum(run[s][0] for s in STEPS))
-            for step, (seconds, waits) in run.items():
+            steps = one_run(eds, network, a.slaves, folder)
+            totals.append(sum(steps[s][0] for s in STEPS))
+            for step, (seconds, waits) in steps.items():
                 if step not in best or seconds < best[step][0]:
                     best[step] = (seconds, waits)
     n = a.slaves

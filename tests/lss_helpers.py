@@ -2,6 +2,7 @@
 process, each with a network of its own, as separate devices would be)."""
 from __future__ import annotations
 
+import os
 import re
 import threading
 import time
@@ -11,6 +12,61 @@ IO8_INFO = {2: 8, 3: 0x00010002}                   # its 0x1018 has sub 1 only
 AI = "tests/fixtures/network/IoX4_8AI.eds"         # 0x1018: 63, 3001003, 0x01390538
 AI_ID = (0x3F, 0x2DCAAB, 0x01390538)
 DRIVE_ID = (0x1A3, 0xC01, 0x00010004)              # drive_eds
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# 0x1018 with sub 1-4, in io8_eds's EDS (its revision and serial number are read back)
+IO8_IDENTITY = """[1018]
+ParameterName=Identity object
+ObjectType=0x9
+SubNumber=5
+
+[1018sub0]
+ParameterName=Highest sub-index supported
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=4
+
+[1018sub1]
+ParameterName=Vendor-ID
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+DefaultValue=0x000000AB
+
+[1018sub2]
+ParameterName=Product code
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+DefaultValue=0x00000008
+
+[1018sub3]
+ParameterName=Revision number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+DefaultValue=0x00010002
+
+[1018sub4]
+ParameterName=Serial number
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+
+"""
+
+
+def io8_eds(folder) -> str:
+    """samples/device.eds with the whole identity object (sub 1-4), as a real IO module's
+    EDS has it, so that the serial number a slave holds is read back and compared: written
+    as ``folder``/io8.eds (for the tests and benchmarks/commissioning.py)."""
+    with open(os.path.join(ROOT, IO8), encoding="utf-8") as f:
+        text = f.read()
+    start, end = text.index("[1018]"), text.index("[1800]")
+    path = os.path.join(folder, "io8.eds")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text[:start] + IO8_IDENTITY + text[end:])
+    return path
 
 
 def drive_eds(folder, more: str = "") -> str:

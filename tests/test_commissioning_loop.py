@@ -18,7 +18,7 @@ import json
 import pytest
 from bus_helpers import run, run_within
 from conftest import ROOT
-from lss_helpers import drive_eds, lss_node, seconds_out
+from lss_helpers import drive_eds, io8_eds, lss_node, seconds_out
 
 pytest_plugins = ["bus_fixtures"]
 
@@ -29,56 +29,6 @@ SLACK = 3.0                 # what a loaded machine may add to a command's own b
 SERIALS = {"io1": 0x1001, "io2": 0x1002, "io3": 0x1003}
 NODE_IDS = {"io1": 2, "io2": 3, "io3": 4}
 IDENTITY = "0x000000AB  0x00000008    0x00010002"
-
-
-def io8_eds(folder) -> str:
-    """samples/device.eds with the whole identity object (sub 1-4), as a real IO module's
-    EDS has it, so that the serial number a slave holds is read back and compared."""
-    text = (ROOT / "samples" / "device.eds").read_text()
-    full = """[1018]
-ParameterName=Identity object
-ObjectType=0x9
-SubNumber=5
-
-[1018sub0]
-ParameterName=Highest sub-index supported
-ObjectType=0x7
-DataType=0x0005
-AccessType=ro
-DefaultValue=4
-
-[1018sub1]
-ParameterName=Vendor-ID
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x000000AB
-
-[1018sub2]
-ParameterName=Product code
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00000008
-
-[1018sub3]
-ParameterName=Revision number
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00010002
-
-[1018sub4]
-ParameterName=Serial number
-ObjectType=0x7
-DataType=0x0007
-AccessType=ro
-
-"""
-    start, end = text.index("[1018]"), text.index("[1800]")
-    path = folder / "io8.eds"
-    path.write_text(text[:start] + full + text[end:])
-    return str(path)
 
 
 def network_file(folder, eds: str) -> str:

@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from dcf2bin.bus.link import abort_text
+from dcf2bin.bus.link import abort_message
 
 # D-9 attribute bits of the extended info segment
 ATTR_BOOLEAN, ATTR_NUMERIC, ATTR_READ = 0x01, 0x10, 0x20
@@ -154,7 +154,7 @@ class Abort:
 
     @property
     def text(self) -> str:
-        return f"SDO abort 0x{self.code:08X}: {abort_text(self.code)}"
+        return abort_message(self.code)
 
 
 @dataclass
@@ -233,8 +233,7 @@ class Difference:
     @property
     def text(self) -> str:
         if self.read is None:
-            return (f"{self.write.label}: cannot read back: SDO abort 0x{self.code:08X}: "
-                    f"{abort_text(self.code)}")
+            return f"{self.write.label}: cannot read back: {abort_message(self.code)}"
         return (f"{self.write.label}: wrote {_hex(self.write.data)}, "
                 f"the node holds {_hex(self.read)}")
 

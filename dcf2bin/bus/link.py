@@ -91,3 +91,8 @@ def abort_text(code: int) -> str:
     from canopen import SdoAbortedError
     text = SdoAbortedError.CODES.get(code) or _MORE_ABORTS.get(code)
     return text or "not an abort code CiA 301 defines"
+
+
+def abort_message(code: int) -> str:
+    """An SDO abort as every message says it: its code and its meaning."""
+    return f"SDO abort 0x{code:08X}: {abort_text(code)}"

@@ -170,7 +170,7 @@ def _find_all(m: L.Master, rows: list[Row], serial_key: str) -> list[Problem]:
             problems.append(Problem(f"{w.label}: {shared_text(found[0][0])}", w.where))
         elif len(found) > 1:
             problems.append(Problem(f"{w.label}: two nodes match its identity "
-                                    f"({_known_text(w.known)}): {_twins(w, found)}; the "
+                                    f"({known_text(w.known)}): {_twins(w, found)}; the "
                                     f"network file must tell them apart ({serial_key})",
                                     w.where))
         elif found:
@@ -237,12 +237,13 @@ def _twins(w: Wanted, found) -> str:
         if identity is None:
             out.append("another node without a node-ID")
             continue
-        out.append("the one with " + _known_text({k: v for k, v in enumerate(identity.parts)
+        out.append("the one with " + known_text({k: v for k, v in enumerate(identity.parts)
                                                   if k not in w.known}))
     return " and ".join(out)
 
 
-def _known_text(known: dict[int, int]) -> str:
+def known_text(known: dict[int, int]) -> str:
+    """The parts of an identity known, named: 'vendor-ID 0x000000AB, serial 0x00001001'."""
     return ", ".join(f"{L.PARTS[k]} 0x{v:08X}" for k, v in sorted(known.items()))
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin.bus import download as dl
-from dcf2bin.bus.scan import ENFORCED
+from dcf2bin.bus.scan import ENFORCED, entry_label, expects
 
 CONFIGURED, FAILED, SKIPPED = "configured", "failed", "skipped"
 PLC = "not written"          # a .cpj project's PLC: its container goes with its program
@@ -107,25 +107,23 @@ def identity_problems(ch, node, identity: dict[int, int],
         if not want:
             continue
         index, sub, what = ENFORCED[key]
-        entry = f"0x{index:04X}" + (f" sub {sub}" if index != 0x1000 else "")
-        expects = (f"its DCF states 0x{want:08X}" if from_file
-                   else f"the master expects 0x{want:08X} (0x{key:04X})")
+        entry, expected = entry_label(index, sub), expects(key, want, from_file)
         try:
             data = ch.upload(index, sub, max_size=4)
         except sdo.Aborted as exc:
-            out.append(Problem(f"{entry} ({what}) cannot be read: SDO abort 0x{exc.code:08X}: "
-                               f"{dl.abort_text(exc.code)}; {expects}: nothing written", where))
+            out.append(Problem(f"{entry} ({what}) cannot be read: {dl.abort_message(exc.code)}; "
+                               f"{expected}: nothing written", where))
             continue
         except sdo.NoAnswer as exc:
             raise dl.Stopped(dl.Write(0, index, sub, b"", None, where), 0, exc,
                              "identity") from None
         except sdo.SdoError as exc:
-            out.append(Problem(f"{entry} ({what}) cannot be read: {exc}; {expects}: nothing "
+            out.append(Problem(f"{entry} ({what}) cannot be read: {exc}; {expected}: nothing "
                                "written", where))
             return out
         got = int.from_bytes(data, "little")
         if got != want:
-            out.append(Problem(f"{entry} ({what}) is 0x{got:08X}, {expects}: nothing written",
+            out.append(Problem(f"{entry} ({what}) is 0x{got:08X}, {expected}: nothing written",
                                where))
     return out
 

@@ -30,7 +30,7 @@ import time
 from dataclasses import dataclass, field
 
 from dcf2bin.bus import sdo
-from dcf2bin.bus.link import abort_text, is_virtual
+from dcf2bin.bus.link import abort_message, is_virtual
 
 LISTEN, TIMEOUT, RETRIES = 0.5, 0.3, 0
 NODE_IDS = range(1, 128)
@@ -97,9 +97,15 @@ class Expected:
     from_file: bool = False      # a .cpj node: the identity its own DCF states, no master
 
     def expects(self, key: int, want: int) -> str:
-        if self.from_file:
-            return f"its DCF states 0x{want:08X}"
-        return f"the master expects 0x{want:08X} (0x{key:04X})"
+        return expects(key, want, self.from_file)
+
+
+def expects(key: int, want: int, from_file: bool) -> str:
+    """Whose is the identity value ``want`` of 0x1F84… ``key``: the master's, or with
+    ``from_file`` (a .cpj node) the node's own DCF's."""
+    if from_file:
+        return f"its DCF states 0x{want:08X}"
+    return f"the master expects 0x{want:08X} (0x{key:04X})"
 
 
 @dataclass
@@ -254,7 +260,8 @@ def scan(net, *, listen: float = LISTEN, timeout: float = TIMEOUT, retries: int 
 
 # -- the comparison -------------------------------------------------------------------------
 
-def _entry(index: int, sub: int) -> str:
+def entry_label(index: int, sub: int) -> str:
+    """An identity entry as messages name it (0x1000 has no sub-index to name)."""
     return f"0x{index:04X}" if index == 0x1000 else f"0x{index:04X} sub {sub}"
 
 
@@ -289,11 +296,11 @@ def compare(scan_: Scan, expected: list[Expected]) -> list[Finding]:
             want = e.identity[key]
             index, sub, what = ENFORCED[key]
             a = f.entries.get((index, sub), Answer())
-            where = f"{_entry(index, sub)} ({what})"
+            where = f"{entry_label(index, sub)} ({what})"
             if a.code is not None:
                 out.append(Finding("unread", node_id, e.name,
-                                   f"{label}: {where} cannot be read: SDO abort "
-                                   f"0x{a.code:08X}: {abort_text(a.code)}; "
+                                   f"{label}: {where} cannot be read: "
+                                   f"{abort_message(a.code)}; "
                                    f"{e.expects(key, want)}", (index, sub), want, None,
                                    a.code))
             elif a.problem is not None:

@@ -33,7 +33,7 @@ from __future__ import annotations
 import queue
 import time
 
-from dcf2bin.bus.link import VIRTUAL_NOTE, abort_text, is_virtual
+from dcf2bin.bus.link import VIRTUAL_NOTE, abort_message, is_virtual
 
 SDO_TX, SDO_RX, HEARTBEAT = 0x580, 0x600, 0x700     # server -> client, client -> server
 MAX_DOMAIN = 1 << 20      # default bound of an upload whose type has no size (DOMAIN, strings)
@@ -66,7 +66,7 @@ class Aborted(SdoError):
     """The node answered with an SDO abort."""
 
     def __init__(self, code: int, node_id: int | None = None):
-        super().__init__(f"SDO abort 0x{code:08X}: {abort_text(code)}", node_id)
+        super().__init__(abort_message(code), node_id)
         self.code = code
 
 

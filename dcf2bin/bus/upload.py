@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 from dcf2bin import datatypes as dt
 from dcf2bin.bus import sdo
-from dcf2bin.bus.link import abort_text
+from dcf2bin.bus.link import abort_message
 from dcf2bin.diagnostics import Diagnostic, Severity, Where, shorten
 
 STORED_EDS, STORAGE_FORMAT = 0x1021, 0x1022
@@ -238,7 +238,7 @@ def stored_eds(ch, options: Options, deadline: float | None = None
     except sdo.Aborted as exc:
         if exc.code not in NO_SUCH_ENTRY:
             raise UploadError(f"node {n} refused to say the format of its stored EDS "
-                              f"(0x1022): {_abort(exc.code)}; give its EDS with --eds") from None
+                              f"(0x1022): {abort_message(exc.code)}; give its EDS with --eds") from None
         warnings.append(f"node {n} has no 0x1022 (storage format): its stored EDS (0x1021) "
                         "is read as plain text")
     else:
@@ -249,7 +249,7 @@ def stored_eds(ch, options: Options, deadline: float | None = None
     try:
         data = ch.upload(STORED_EDS, 0, max_size=options.max_upload, deadline=deadline)
     except sdo.Aborted as exc:
-        raise UploadError(f"node {n} has no stored EDS (0x1021: {_abort(exc.code)}), and an "
+        raise UploadError(f"node {n} has no stored EDS (0x1021: {abort_message(exc.code)}), and an "
                           "SDO answer carries no data type: give its EDS with --eds") from None
     return data, warnings
 
@@ -278,7 +278,7 @@ def read_node(ch, todo: list[Target], options: Options, *, encoding: str = "utf-
         except sdo.Aborted as exc:
             out.answered += 1
             out.notes.append(Note(t, REFUSED, f"{t.label}: the node refused the upload: "
-                                  f"{_abort(exc.code)}", code=exc.code))
+                                  f"{abort_message(exc.code)}", code=exc.code))
         except sdo.SdoError as exc:
             if deadline is not None and time.monotonic() >= deadline:
                 return _stop(out, todo, k, _late(ch.node_id, options))
@@ -496,10 +496,6 @@ def _encode(text: str, encoding: str, path: str, key: str | None = None) -> byte
 
 
 # -- words -----------------------------------------------------------------------------------
-
-def _abort(code: int) -> str:
-    return f"SDO abort 0x{code:08X}: {abort_text(code)}"
-
 
 def _hex(data: bytes) -> str:
     return data.hex(" ").upper() if data else "(0 bytes)"

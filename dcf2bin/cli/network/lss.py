@@ -169,15 +169,10 @@ def report(result, *, header: str, where: str, file: str | None, fmt: str, outpu
 def _failure(r) -> str:
     from dcf2bin.bus import lssnet
     if r.status == lssnet.NOT_FOUND:
-        return "not found by LSS (" + _known(r.wanted.known) + ")"
+        return "not found by LSS (" + lssnet.known_text(r.wanted.known) + ")"
     if r.status == lssnet.REFUSED:
         return f"refused: {r.text}"
     return f"{r.status}: {r.text}" if r.status != lssnet.ASSIGNED else r.text
-
-
-def _known(known: dict[int, int]) -> str:
-    from dcf2bin.bus.lss import PARTS as NAMES
-    return ", ".join(f"{NAMES[k]} 0x{v:08X}" for k, v in sorted(known.items()))
 
 
 def _was(value: int | None) -> str:
