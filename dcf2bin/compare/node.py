@@ -73,7 +73,7 @@ def _most(dtype) -> int:
 
 def node_side(net, node_id: int, other: Side, scope: Scope, *, timeout: float,
               retries: int, progress: Callable[[], None] | None = None) -> Side:
-    from dcf2bin.bus.link import abort_text
+    from dcf2bin.bus.link import abort_message
     from dcf2bin.bus.upload import NO_SUCH_ENTRY
     read, unread = wanted(other, scope)
     got = read_entries(net, node_id, read, timeout=timeout, retries=retries,
@@ -86,7 +86,7 @@ def node_side(net, node_id: int, other: Side, scope: Scope, *, timeout: float,
         elif data in NO_SUCH_ENTRY:
             continue
         else:
-            value = Value(problem=f"SDO abort 0x{data:08X}: {abort_text(data)}")
+            value = Value(problem=abort_message(data))
         items[key] = Item(key[0], key[1], value, where=label)
     return Side(label, "node", NODE, items, objects_of(items), node_id=node_id,
                 unread=unread)
