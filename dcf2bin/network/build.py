@@ -92,12 +92,6 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
     return res
 
 
-def network_rules(net: Network):
-    """The network's rules (``network check``, D-19): build writes nothing when one fails."""
-    from dcf2bin.network.check import run_rules
-    return list(run_rules(net))
-
-
 def output_names(net: Network, diags: Diagnostics) -> dict[str, str] | None:
     """node name -> output base name; None (reported) when one cannot be a file name."""
     names: dict[str, str] = {}
