@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where, shorten
 from dcf2bin.network.model import Network
 
-from dcf2bin.network.configuration import LELY, PLC, master_kind  # noqa: F401 (re-exported)
+from dcf2bin.network.configuration import LELY, PLC
 _BAD_NAME = re.compile(r"[/\\\x00-\x1f:*?\"<>|]")
 
 
