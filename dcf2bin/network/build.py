@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from dcf2bin.diagnostics import Diagnostic, Diagnostics, Severity, Where, shorten
 from dcf2bin.network.model import Network
 
-from dcf2bin.network.configuration import LELY, PLC, master_kind  # noqa: F401 (re-exported)
+from dcf2bin.network.configuration import LELY, PLC
 _BAD_NAME = re.compile(r"[/\\\x00-\x1f:*?\"<>|]")
 
 
@@ -90,12 +90,6 @@ def _build(path: str, outdir: str | None, data: bytes | None, kind: str | None =
         report = write_all(outdir, outputs, [path, *net.files])
         res.diagnostics += write_warnings(report, outdir)
     return res
-
-
-def network_rules(net: Network):
-    """The network's rules (``network check``, D-19): build writes nothing when one fails."""
-    from dcf2bin.network.check import run_rules
-    return list(run_rules(net))
 
 
 def output_names(net: Network, diags: Diagnostics) -> dict[str, str] | None:

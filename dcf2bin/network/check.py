@@ -9,6 +9,7 @@ line renders them with ``validate``'s formats.
 """
 from __future__ import annotations
 
+import functools
 import gc
 import re
 from dataclasses import dataclass, field
@@ -237,16 +238,15 @@ def is_binding(d: Diagnostic, need: str = CONFIGURES) -> bool:
         return False
     if d.rule in NODE_ID_RULES or need == CONFIGURES and d.rule.startswith("NET1"):
         return True
-    from dcf2bin.lint.registry import RULES
-    r = RULES.get(d.rule)
-    return r is not None and r.source == "core" and d.rule.startswith("DCF")
+    return d.rule in _reading_rules()
 
 
-def _reading_rules() -> set[str]:
+@functools.cache
+def _reading_rules() -> frozenset[str]:
     """validate's core rules of reading a file (syntax, structure, values): ``binding``
     reports their errors whatever ``select``/``ignore`` say (see :func:`is_binding`)."""
     from dcf2bin.lint.registry import RULES
-    return {c for c, r in RULES.items() if r.source == "core" and c.startswith("DCF")}
+    return frozenset(c for c, r in RULES.items() if r.source == "core" and c.startswith("DCF"))
 
 
 def _lint_rules(active: set[str], lint: str) -> set[str]:

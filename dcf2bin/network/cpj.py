@@ -121,9 +121,8 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         m = _NODE_KEY.fullmatch(low)
         if m is None:
             if low not in _NET_KEYS:
-                _add(diags, "NET058", f"[{shorten(sec.name)}] {shorten(k.name)}: not a key of a "
-                                      "CiA "
-                     "306-3 network", Where(path, k.line))
+                _add(diags, "NET058", f"[{shorten(sec.name)}] {shorten(k.name)}: not a key of "
+                     "a CiA 306-3 network", Where(path, k.line))
             continue
         digits = m.group(1)
         if len(digits) > values.MAX_DIGITS:
@@ -133,14 +132,13 @@ def read(path: str, net: int | None = None, *, data: bytes | None = None) -> Net
         x = int(digits)
         if not 1 <= x <= 127:
             _add(diags, "NET053", f"[{shorten(sec.name)}] {shorten(k.name)}: node-ID {x} is "
-                                  "outside "
-                 "1…127", Where(path, k.line))
+                 "outside 1…127", Where(path, k.line))
             continue
         keys = nodes.setdefault(x, {})
         if m.group(2) in keys:               # Node1Present and Node01Present
             _add(diags, "NET050", f"[{shorten(sec.name)}] {shorten(k.name)} repeats "
-                                  f"{keys[m.group(2)][2]} "
-                 f"(line {keys[m.group(2)][1]}; the first is used)", Where(path, k.line))
+                 f"{keys[m.group(2)][2]} (line {keys[m.group(2)][1]}; the first is used)",
+                 Where(path, k.line))
             continue
         keys[m.group(2)] = (k.value, k.line, k.name)
     folder = os.path.dirname(path)

@@ -39,6 +39,7 @@ import re
 from dcf2bin import datatypes as dt
 from dcf2bin.network.model import Network, Node, Pdo
 from dcf2bin.network.show import Link, View, build, carried
+from dcf2bin.network.variables import default_name
 
 MISSING = "dcf2bin network show -f dbc needs cantools: pip install cantools (or, from a checkout, pip install '.[dbc]')"
 _NOT_DBC = re.compile(r"[^A-Za-z0-9_]")
@@ -79,12 +80,6 @@ def node_names(view: View) -> dict[int, str]:
     """node-ID -> its DBC name, in node-ID order."""
     taken: set[str] = set()
     return {n.node_id: unique(identifier(n.node), taken) for n in view.nodes}
-
-
-def default_name(node: str, index: int, sub: int) -> str:
-    """``<node>_<INDEX>_<SUB>``, as a variable without a name is called (D-17)."""
-    from dcf2bin.network.variables import default_name as variable_name
-    return variable_name(node, index, sub)
 
 
 def object_text(node: Node, index: int, sub: int, datatype: int | None) -> str:

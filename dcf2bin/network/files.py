@@ -12,7 +12,7 @@ that text.
 """
 from __future__ import annotations
 
-from dcf2bin.fileio import MAX_INPUT as MAX_SIZE, read_file
+from dcf2bin.fileio import read_file
 
 #: what a network reads as a node's file, for the sentence that refuses another kind
 READS = "a network reads each node's EDS, DCF, XDD or XDC"
@@ -29,7 +29,7 @@ _ADVICE = {
 
 def read_node_file(path: str) -> bytes:
     """The bytes of the file at ``path``, a name written in the network file; OSError
-    (with ``strerror``) when it is missing, not a regular file, or larger than MAX_SIZE.
+    (with ``strerror``) when it is missing, not a regular file, or larger than fileio.MAX_INPUT.
     ``/dev/stdin`` and its kin are paths like any other there (a device, refused): a
     network file never reads this process's input."""
     return read_file(path, descriptors=False)

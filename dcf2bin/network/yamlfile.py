@@ -12,8 +12,9 @@ import os
 import re
 
 from dcf2bin.diagnostics import Summarised, Where, shorten
+from dcf2bin.fileio.reading import MAX_INPUT, read_file
 from dcf2bin.network.model import MASTER, SLAVE, Network, Node
-from dcf2bin.network.yamlkeys import (MASTER_KEYS, MAX_FILE, OPTION_KEYS, SLAVE_KEYS, Items,
+from dcf2bin.network.yamlkeys import (MASTER_KEYS, OPTION_KEYS, SLAVE_KEYS, Items,
                                       _Bad, as_int, kind_of)
 from dcf2bin.network.yamltree import MAX_NODES, YamlError, YMap, read_tree
 
@@ -25,14 +26,13 @@ def load_network(path: str, data: bytes | None = None) -> Network:
     """Read a YAML network file. Problems are collected in ``network.diagnostics``; a
     file that cannot be read raises OSError."""
     if data is None:
-        from dcf2bin.fileio.reading import read_file    # never a FIFO or /dev/zero
-        data = read_file(path, limit=MAX_FILE)
+        data = read_file(path)          # never a FIFO or /dev/zero, at most MAX_INPUT
     # a finding in defaults: or a template is reported once, not once per node, and one
     # mistake repeated 100,000 times five times and then counted (issue 26)
     net = Network(path=path, kind="yaml", diagnostics=Summarised())
     diags = net.diagnostics
-    if len(data) > MAX_FILE:
-        diags.error(f"the network file is larger than {MAX_FILE >> 20} MiB", Where(path, 1),
+    if len(data) > MAX_INPUT:
+        diags.error(f"the network file is larger than {MAX_INPUT >> 20} MiB", Where(path, 1),
                     rule="NET001")
         return net
     try:

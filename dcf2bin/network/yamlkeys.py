@@ -12,7 +12,6 @@ from dcf2bin.network.model import RPDO, TPDO, MapConfig, Network, Node, PdoConfi
 from dcf2bin.network.yamltree import LongInt, YMap, YSeq
 
 PLACEHOLDER = "@BUS_CONFIG_PATH@/"
-MAX_FILE = 64 << 20
 
 # key -> kind of value: int, bool, float (a number), str (a text, not empty), text (a
 # text, maybe empty), cob (a COB-ID), behavior ({sub: value}), or a special reader. Every
